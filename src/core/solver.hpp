@@ -1,0 +1,51 @@
+// What every solver (CPU float, CPU double, GPU) offers the commands: step, read back, describe passes.
+#pragma once
+
+#include "core/scene.hpp"
+#include "core/topology.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace drape {
+
+// Time spent in one named pass, accumulated since the last resetTimings().
+struct PassTiming {
+  std::string name;
+  double ms = 0.0;     // total milliseconds (GPU: timer queries where they work, else wall clock)
+  long long calls = 0;  // dispatches (GPU) or invocations (CPU)
+};
+
+class Solver {
+ public:
+  virtual ~Solver() = default;
+
+  virtual std::string name() const = 0;  // "cpu", "cpu64", "gpu"
+  virtual const Scene& scene() const = 0;
+  virtual const Topology& topology() const = 0;
+
+  virtual void step() = 0;  // one substep: the passes of DESIGN section 2 in order
+  void stepFrame() {
+    for (int s = 0; s < scene().sim.steps_per_frame; ++s) step();
+  }
+  virtual void reset() = 0;  // back to the initial positions, time 0
+
+  // Live parameter change (ks, damping, density, spring types, gravity, wind, ...). The grid size,
+  // orientation and pins cannot change this way (reset with a new scene instead).
+  virtual void setParams(const ClothSpec& cloth, const SimParams& sim) = 0;
+
+  // Explicit, named read-back: never called per frame by the viewer.
+  virtual std::vector<glm::dvec3> readPositions() = 0;
+  virtual std::vector<glm::dvec3> readDisplacements() = 0;  // v = x - x_prev
+
+  virtual long long substeps() const = 0;  // substeps taken since reset
+  double time() const { return double(substeps()) * scene().sim.dt(); }
+
+  virtual std::vector<std::string> passes() const = 0;  // passes dispatched per substep, in order
+  virtual int dispatchesPerFrame() const { return 0; }
+  virtual std::vector<PassTiming> timings() const { return {}; }
+  virtual void resetTimings() {}
+};
+
+}  // namespace drape

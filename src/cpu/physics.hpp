@@ -1,0 +1,168 @@
+// The physics of one spring, one collision, one stretch limit: pure functions of values that return
+// forces or position corrections. glsl/sim/physics.glsl implements the same functions under the same
+// names; keep the two side by side when changing either. Model: ../shared/DESIGN.md section 2.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cmath>
+#include <cstdint>
+
+namespace drape::physics {
+
+template <class T>
+using vec3 = glm::vec<3, T>;
+
+inline constexpr double kSurfaceOffset = 1e-4;  // m, planes keep points this far on their side
+
+// Hooke spring seen from a: k (|b - a| - rest) along the unit vector towards b.
+template <class T>
+vec3<T> springForce(vec3<T> a, vec3<T> b, T rest, T k) {
+  vec3<T> d = b - a;
+  T len = glm::length(d);
+  if (len <= T(0)) return vec3<T>(0);
+  return (k * (len - rest) / len) * d;
+}
+
+// Verlet in displacement form: v = x - x_prev is stored instead of x_prev, because at dt = 1/2700 the
+// difference of two positions near 1 m keeps only a few float digits (g dt^2 is ~11 ulps of 1.0).
+// Returns the new displacement; the new position is x + v'.
+template <class T>
+vec3<T> integrateVerlet(vec3<T> v, vec3<T> accel, T dt2, T keep) {
+  return keep * v + accel * dt2;  // keep = 1 - damping/100
+}
+
+// The same step in the classic CS184 form, kept for the accuracy comparison: returns x'.
+template <class T>
+vec3<T> integrateVerletPrevious(vec3<T> x, vec3<T> x_prev, vec3<T> accel, T dt2, T keep) {
+  return x + keep * (x - x_prev) + accel * dt2;
+}
+
+// Self-collision between two points closer than 2*thickness: push xi away from xj by the overlap.
+// The caller averages these over all such j and divides by steps_per_frame (CS184).
+template <class T>
+vec3<T> selfCollisionCorrection(vec3<T> xi, vec3<T> xj, T thickness) {
+  vec3<T> d = xi - xj;
+  T dist2 = glm::dot(d, d);
+  T range = T(2) * thickness;
+  if (dist2 >= range * range || dist2 <= T(0)) return vec3<T>(0);
+  T dist = std::sqrt(dist2);
+  return ((range - dist) / dist) * d;
+}
+
+// Position-based collision response with friction f, written as a correction c added to both x and
+// v (so x_prev = x - v stays put): x' = x_prev + (1-f)(target - x_prev)  <=>  c = (1-f)(target-x) - f v.
+// Working with the small differences target - x and v keeps float precision.
+template <class T>
+vec3<T> frictionCorrection(vec3<T> target_minus_x, vec3<T> v, T friction) {
+  return (T(1) - friction) * target_minus_x - friction * v;
+}
+
+// Sphere: a point inside (|x - c| <= r, inclusive) goes to the nearest surface point. Returns whether
+// it collided and the correction in `c`.
+template <class T>
+bool collideSphere(vec3<T> x, vec3<T> v, vec3<T> center, T radius, T friction, vec3<T>& c) {
+  vec3<T> d = x - center;
+  T dist = glm::length(d);
+  if (dist > radius) return false;
+  vec3<T> dir = dist > T(0) ? d / dist : vec3<T>(0, 1, 0);  // the exact centre has no direction: go up
+  c = frictionCorrection((radius - dist) * dir, v, friction);
+  return true;
+}
+
+// Plane through p with unit normal n. Collides when x_prev = x - v and x are on different sides or x
+// lies on the plane (inclusive, so points starting on it do not fall through; a point exactly on the
+// plane counts as on the normal's side). The target is where x_prev -> x meets the plane, moved
+// kSurfaceOffset towards x_prev's side.
+template <class T>
+bool collidePlane(vec3<T> x, vec3<T> v, vec3<T> p, vec3<T> n, T friction, vec3<T>& c) {
+  T dx = glm::dot(x - p, n);
+  T vn = glm::dot(v, n);
+  T dprev = dx - vn;
+  T side = dprev >= T(0) ? T(1) : T(-1);
+  bool crossed = (dx >= T(0)) != (dprev >= T(0)) || dx == T(0);
+  if (!crossed) return false;
+  // x(s) = x_prev + s v meets the plane at s = dprev / vn; target - x = (s - 1) v + side*offset*n.
+  vec3<T> target_minus_x = vn != T(0) ? (dprev / vn - T(1)) * v : vec3<T>(0);
+  target_minus_x += (side * T(kSurfaceOffset)) * n;
+  c = frictionCorrection(target_minus_x, v, friction);
+  return true;
+}
+
+// Provot (1995) stretch limit for one spring seen from point i: if |xj - xi| > limit*rest, move xi
+// towards xj by its share of the excess (1/2, all of it if j is pinned, none if i is pinned).
+template <class T>
+vec3<T> stretchCorrection(vec3<T> xi, vec3<T> xj, T rest, T limit, T share) {
+  vec3<T> d = xj - xi;
+  T len = glm::length(d);
+  T max_len = limit * rest;
+  if (len <= max_len) return vec3<T>(0);
+  return (share * (len - max_len) / len) * d;
+}
+
+template <class T>
+T stretchShare(bool pinned_i, bool pinned_j) {
+  return pinned_i ? T(0) : pinned_j ? T(1) : T(0.5);
+}
+
+// Wind: drag along the point's normal, proportional to the normal component of the air velocity
+// relative to the point (sign of n does not matter).
+template <class T>
+vec3<T> windForce(vec3<T> normal, vec3<T> point_velocity, vec3<T> air_velocity, T drag_area) {
+  T rel = glm::dot(air_velocity - point_velocity, normal);
+  return (drag_area * rel) * normal;
+}
+
+// Integer hash (the same 32-bit arithmetic in GLSL) used for noise and the self-collision grid.
+inline std::uint32_t hashU32(std::uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352dU;
+  x ^= x >> 15;
+  x *= 0x846ca68bU;
+  x ^= x >> 16;
+  return x;
+}
+
+inline std::uint32_t hashCell(glm::ivec3 cell) {
+  return hashU32(std::uint32_t(cell.x) + hashU32(std::uint32_t(cell.y) + hashU32(std::uint32_t(cell.z))));
+}
+
+template <class T>
+T quinticFade(T t) {
+  return t * t * t * (t * (t * T(6) - T(15)) + T(10));
+}
+
+// Value noise in [-1, 1]: lattice values from hashCell, quintic interpolation (C2 smooth).
+template <class T>
+T valueNoise(vec3<T> p) {
+  vec3<T> f = glm::floor(p);
+  glm::ivec3 i(f);
+  vec3<T> t = p - f;
+  vec3<T> u(quinticFade(t.x), quinticFade(t.y), quinticFade(t.z));
+  auto corner = [&](int dx, int dy, int dz) {
+    return T(hashCell(i + glm::ivec3(dx, dy, dz)) >> 8) * T(1.0 / 8388608.0) - T(1);
+  };
+  T x00 = glm::mix(corner(0, 0, 0), corner(1, 0, 0), u.x);
+  T x10 = glm::mix(corner(0, 1, 0), corner(1, 1, 0), u.x);
+  T x01 = glm::mix(corner(0, 0, 1), corner(1, 0, 1), u.x);
+  T x11 = glm::mix(corner(0, 1, 1), corner(1, 1, 1), u.x);
+  return glm::mix(glm::mix(x00, x10, u.y), glm::mix(x01, x11, u.y), u.z);
+}
+
+// Air velocity at x and time t: steady velocity plus noise of relative amplitude `turbulence`, its
+// pattern drifting through space at noise_speed (in wavelengths per second).
+template <class T>
+vec3<T> windVelocity(vec3<T> x, T t, vec3<T> velocity, T turbulence, T noise_scale, T noise_speed) {
+  vec3<T> p = x / noise_scale + (t * noise_speed) * vec3<T>(1.0, 0.37, 0.71);
+  vec3<T> n(valueNoise(p), valueNoise(p + vec3<T>(17.3, 5.1, 9.7)), valueNoise(p + vec3<T>(3.7, 23.9, 13.1)));
+  return velocity + (glm::length(velocity) * turbulence) * n;
+}
+
+// Explicit-integration bound: Verlet on a spring of stiffness k and mass m is stable for
+// dt*sqrt(k/m) < 2; with the per-vertex stiffness sum as k this is a conservative estimate.
+template <class T>
+T stabilityNumber(T dt, T stiffness_sum, T mass) {
+  return dt * std::sqrt(stiffness_sum / mass);
+}
+
+}  // namespace drape::physics
