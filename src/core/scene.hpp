@@ -16,23 +16,25 @@ enum class SpringType { Structural = 0, Shearing = 1, Bending = 2 };
 inline constexpr int kSpringTypeCount = 3;
 
 struct ClothSpec {
-  double width = 1.0;                              // m, along x
-  double height = 1.0;                             // m, along z (horizontal) or y (vertical)
-  int num_width_points = 50;                       // W >= 2
-  int num_height_points = 50;                      // H >= 2
-  double thickness = 0.0095;                       // m; self-collision range is 2*thickness
+  double width = 1.0;                                 // m, along x
+  double height = 1.0;                                // m, along z (horizontal) or y (vertical)
+  int num_width_points = 50;                          // W >= 2
+  int num_height_points = 50;                         // H >= 2
+  double thickness = 0.0095;                          // m; self-collision range is 2*thickness
   Orientation orientation = Orientation::Horizontal;  // 0 = horizontal at y = 1, 1 = vertical
-  std::vector<glm::ivec2> pinned;                  // [x, y] grid coordinates that never move
-  bool enable_structural = true;                   // springs to the left and above
-  bool enable_shearing = true;                     // springs to upper-left and upper-right
-  bool enable_bending = true;                      // springs two to the left and two above
-  double damping = 0.2;                            // percent of the displacement lost per substep
-  double density = 15.0;                           // kg/m^2
-  double ks = 5000.0;                              // N/m; bending springs use 0.2*ks
+  std::vector<glm::ivec2> pinned;                     // [x, y] grid coordinates that never move
+  bool enable_structural = true;                      // springs to the left and above
+  bool enable_shearing = true;                        // springs to upper-left and upper-right
+  bool enable_bending = true;                         // springs two to the left and two above
+  double damping = 0.2;                               // percent of the displacement lost per substep
+  double density = 150.0;                             // kg/m^2 (the CS184 scenes use 150)
+  double ks = 5000.0;                                 // N/m; bending springs use 0.2*ks
 
   int pointCount() const { return num_width_points * num_height_points; }
   bool springEnabled(SpringType t) const {
-    return t == SpringType::Structural ? enable_structural : t == SpringType::Shearing ? enable_shearing : enable_bending;
+    return t == SpringType::Structural ? enable_structural
+           : t == SpringType::Shearing ? enable_shearing
+                                       : enable_bending;
   }
 };
 
@@ -43,29 +45,29 @@ struct SphereSpec {
 };
 
 struct PlaneSpec {
-  glm::dvec3 point{0.0};         // m, any point on the plane
-  glm::dvec3 normal{0, 1, 0};    // unit after loading (normalised on load)
-  double friction = 0.5;         // [0, 1]
+  glm::dvec3 point{0.0};       // m, any point on the plane
+  glm::dvec3 normal{0, 1, 0};  // unit after loading (normalised on load)
+  double friction = 0.5;       // [0, 1]
 };
 
 // Wind: a steady air velocity plus smooth gradient noise in space and time. The air pushes each point
 // along its normal in proportion to the relative normal velocity (a simple drag model).
 struct WindSpec {
-  bool enabled = false;             // off unless the scene has a "wind" object
-  glm::dvec3 velocity{0.0};         // m/s, steady air velocity
-  double turbulence = 0.0;          // relative amplitude of the noise, 0 = steady
-  double noise_scale = 1.0;         // m, spatial wavelength of the noise
-  double noise_speed = 1.0;         // 1/s, how fast the noise pattern evolves
-  double drag = 1.0;                // kg/m^3 * drag coefficient: force = drag * area * (v_rel . n) n
+  bool enabled = false;      // off unless the scene has a "wind" object
+  glm::dvec3 velocity{0.0};  // m/s, steady air velocity
+  double turbulence = 0.0;   // relative amplitude of the noise, 0 = steady
+  double noise_scale = 1.0;  // m, spatial wavelength of the noise
+  double noise_speed = 1.0;  // 1/s, how fast the noise pattern evolves
+  double drag = 1.0;         // kg/m^3 * drag coefficient: force = drag * area * (v_rel . n) n
 };
 
 struct SimParams {
-  double frames_per_sec = 90.0;          // frames per simulated second
-  int steps_per_frame = 30;              // substeps per frame; dt = 1/(frames_per_sec*steps_per_frame)
-  glm::dvec3 gravity{0.0, -9.8, 0.0};    // m/s^2
-  bool self_collision = true;            // CS184 always runs it
-  int stretch_passes = 1;                // Provot stretch-limit passes per substep (0 = off)
-  double stretch_limit = 1.1;            // springs are shortened to at most this times rest length
+  double frames_per_sec = 90.0;        // frames per simulated second
+  int steps_per_frame = 30;            // substeps per frame; dt = 1/(frames_per_sec*steps_per_frame)
+  glm::dvec3 gravity{0.0, -9.8, 0.0};  // m/s^2
+  bool self_collision = true;          // CS184 always runs it
+  int stretch_passes = 1;              // Provot stretch-limit passes per substep (0 = off)
+  double stretch_limit = 1.1;          // springs are shortened to at most this times rest length
   WindSpec wind;
 
   double dt() const { return 1.0 / (frames_per_sec * steps_per_frame); }

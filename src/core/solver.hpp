@@ -13,7 +13,7 @@ namespace drape {
 // Time spent in one named pass, accumulated since the last resetTimings().
 struct PassTiming {
   std::string name;
-  double ms = 0.0;     // total milliseconds (GPU: timer queries where they work, else wall clock)
+  double ms = 0.0;      // total milliseconds (GPU: timer queries where they work, else wall clock)
   long long calls = 0;  // dispatches (GPU) or invocations (CPU)
 };
 
@@ -27,7 +27,8 @@ class Solver {
 
   virtual void step() = 0;  // one substep: the passes of DESIGN section 2 in order
   void stepFrame() {
-    for (int s = 0; s < scene().sim.steps_per_frame; ++s) step();
+    for (int s = 0; s < scene().sim.steps_per_frame; ++s)
+      step();
   }
   virtual void reset() = 0;  // back to the initial positions, time 0
 

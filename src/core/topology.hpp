@@ -12,7 +12,7 @@ namespace drape {
 struct Spring {
   std::uint32_t a = 0, b = 0;  // point indices, a < b
   SpringType type = SpringType::Structural;
-  double rest = 0.0;           // m, initial distance
+  double rest = 0.0;  // m, initial distance
 };
 
 // One entry of a point's adjacency: the spring to `other`, seen from this point.

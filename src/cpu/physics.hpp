@@ -3,6 +3,8 @@
 // names; keep the two side by side when changing either. Model: ../shared/DESIGN.md section 2.
 #pragma once
 
+#include "core/hash.hpp"
+
 #include <glm/glm.hpp>
 
 #include <cmath>
@@ -14,6 +16,7 @@ template <class T>
 using vec3 = glm::vec<3, T>;
 
 inline constexpr double kSurfaceOffset = 1e-4;  // m, planes keep points this far on their side
+inline constexpr double kPlaneEpsilon = 1e-6;   // m, "on the plane" for x_prev (16 float ulps at 1 m)
 
 // Hooke spring seen from a: k (|b - a| - rest) along the unit vector towards b.
 template <class T>
@@ -71,20 +74,21 @@ bool collideSphere(vec3<T> x, vec3<T> v, vec3<T> center, T radius, T friction, v
 }
 
 // Plane through p with unit normal n. Collides when x_prev = x - v and x are on different sides or x
-// lies on the plane (inclusive, so points starting on it do not fall through; a point exactly on the
-// plane counts as on the normal's side). The target is where x_prev -> x meets the plane, moved
-// kSurfaceOffset towards x_prev's side.
+// lies on the plane (inclusive, so points starting on it do not fall through). x_prev within
+// kPlaneEpsilon of the plane counts as on the normal's side: x_prev is rebuilt as x - v, which can
+// land an ulp or two below a plane that the point started exactly on. The target is where
+// x_prev -> x meets the plane, moved kSurfaceOffset towards x_prev's side.
 template <class T>
 bool collidePlane(vec3<T> x, vec3<T> v, vec3<T> p, vec3<T> n, T friction, vec3<T>& c) {
   T dx = glm::dot(x - p, n);
   T vn = glm::dot(v, n);
-  T dprev = dx - vn;
-  T side = dprev >= T(0) ? T(1) : T(-1);
-  bool crossed = (dx >= T(0)) != (dprev >= T(0)) || dx == T(0);
+  bool prev_above = dx - vn >= -T(kPlaneEpsilon);
+  bool crossed = prev_above ? dx <= T(0) : dx >= T(0);
   if (!crossed) return false;
-  // x(s) = x_prev + s v meets the plane at s = dprev / vn; target - x = (s - 1) v + side*offset*n.
-  vec3<T> target_minus_x = vn != T(0) ? (dprev / vn - T(1)) * v : vec3<T>(0);
-  target_minus_x += (side * T(kSurfaceOffset)) * n;
+  // x(s) = x_prev + s v meets the plane at 1 - s = dx / vn, so target - x = -(dx / vn) v; a point
+  // moving along the plane (vn = 0) is on it and goes straight to the offset.
+  vec3<T> target_minus_x = vn != T(0) ? (-dx / vn) * v : -dx * n;
+  target_minus_x += ((prev_above ? T(1) : T(-1)) * T(kSurfaceOffset)) * n;
   c = frictionCorrection(target_minus_x, v, friction);
   return true;
 }
@@ -113,19 +117,8 @@ vec3<T> windForce(vec3<T> normal, vec3<T> point_velocity, vec3<T> air_velocity, 
   return (drag_area * rel) * normal;
 }
 
-// Integer hash (the same 32-bit arithmetic in GLSL) used for noise and the self-collision grid.
-inline std::uint32_t hashU32(std::uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352dU;
-  x ^= x >> 15;
-  x *= 0x846ca68bU;
-  x ^= x >> 16;
-  return x;
-}
-
-inline std::uint32_t hashCell(glm::ivec3 cell) {
-  return hashU32(std::uint32_t(cell.x) + hashU32(std::uint32_t(cell.y) + hashU32(std::uint32_t(cell.z))));
-}
+using drape::hashCell;
+using drape::hashU32;
 
 template <class T>
 T quinticFade(T t) {
@@ -156,6 +149,15 @@ vec3<T> windVelocity(vec3<T> x, T t, vec3<T> velocity, T turbulence, T noise_sca
   vec3<T> p = x / noise_scale + (t * noise_speed) * vec3<T>(1.0, 0.37, 0.71);
   vec3<T> n(valueNoise(p), valueNoise(p + vec3<T>(17.3, 5.1, 9.7)), valueNoise(p + vec3<T>(3.7, 23.9, 13.1)));
   return velocity + (glm::length(velocity) * turbulence) * n;
+}
+
+// Normal of a grid point from its neighbours (clamped at the border): central differences along the
+// grid's two directions. Used by wind, which only needs the direction up to sign.
+template <class T>
+vec3<T> gridNormal(vec3<T> left, vec3<T> right, vec3<T> down, vec3<T> up) {
+  vec3<T> n = glm::cross(right - left, up - down);
+  T len = glm::length(n);
+  return len > T(0) ? n / len : vec3<T>(0);
 }
 
 // Explicit-integration bound: Verlet on a spring of stiffness k and mass m is stable for

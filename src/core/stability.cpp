@@ -1,0 +1,111 @@
+#include "core/stability.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace drape {
+
+namespace {
+
+// How many of the two neighbours at grid offset +-d one point can have along an axis of n points,
+// at best (an interior point has both once n - 1 >= 2d).
+int neighboursAlongAxis(int n, int d) {
+  return n - 1 >= 2 * d ? 2 : n - 1 >= d ? 1 : 0;
+}
+
+// core has no fmt dependency; these messages only format doubles.
+template <class... Args>
+std::string format(const char* pattern, Args... args) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, pattern, args...);
+  return buf;
+}
+
+}  // namespace
+
+double maxStiffnessSum(const ClothSpec& cloth) {
+  const int W = cloth.num_width_points, H = cloth.num_height_points;
+  // Left/right and up/down are independent choices, so the best point has the product of the two
+  // axes' best counts for the diagonals and their sum for the straight springs.
+  const int structural = neighboursAlongAxis(W, 1) + neighboursAlongAxis(H, 1);
+  const int shearing = neighboursAlongAxis(W, 1) * neighboursAlongAxis(H, 1);
+  const int bending = neighboursAlongAxis(W, 2) + neighboursAlongAxis(H, 2);
+  double sum = 0.0;
+  if (cloth.enable_structural) sum += structural * cloth.ks;
+  if (cloth.enable_shearing) sum += shearing * cloth.ks;
+  if (cloth.enable_bending) sum += bending * 0.2 * cloth.ks;
+  return sum;
+}
+
+double pointMass(const ClothSpec& cloth) {
+  return cloth.width * cloth.height * cloth.density / double(cloth.pointCount());
+}
+
+double stabilityNumber(const Scene& scene) {
+  const double k = maxStiffnessSum(scene.cloth), m = pointMass(scene.cloth);
+  if (k <= 0.0) return 0.0;
+  if (m <= 0.0) return INFINITY;
+  return scene.sim.dt() * std::sqrt(k / m);
+}
+
+StabilityCheck checkStability(const Scene& scene) {
+  StabilityCheck c;
+  c.number = stabilityNumber(scene);
+  c.ok = c.number < c.limit;
+  if (c.ok) {
+    c.message = format("explicit-integration bound: dt*sqrt(k/m) = %.3g < %.3g (%d substeps per frame)", c.number,
+                       c.limit, scene.sim.steps_per_frame);
+    return c;
+  }
+  const int need = autoSubsteps(scene);
+  c.message = format("explicit-integration bound crossed: dt*sqrt(k/m) = %.3g >= %.3g with %d substeps per frame",
+                     c.number, c.limit, scene.sim.steps_per_frame);
+  c.message += need > 0 ? "; " + std::to_string(need) + " substeps per frame stay inside it (--auto-substeps)"
+                        : "; no substep count up to " + std::to_string(kMaxAutoSubsteps) + " does";
+  return c;
+}
+
+int autoSubsteps(const Scene& scene, int max_steps) {
+  const double k = maxStiffnessSum(scene.cloth), m = pointMass(scene.cloth);
+  if (k <= 0.0) return 1;
+  if (m <= 0.0 || !(scene.sim.frames_per_sec > 0.0)) return 0;
+  // number(s) = sqrt(k/m) / (fps s) < limit  <=>  s > sqrt(k/m) / (fps limit); start at the rounded
+  // estimate and settle the boundary with the same expression checkStability uses.
+  const double estimate = std::sqrt(k / m) / (scene.sim.frames_per_sec * kStabilityLimit);
+  if (!(estimate < double(max_steps))) return 0;
+  Scene s = scene;
+  s.sim.steps_per_frame = std::max(1, int(std::floor(estimate)));
+  while (s.sim.steps_per_frame > 1) {
+    --s.sim.steps_per_frame;
+    if (!(stabilityNumber(s) < kStabilityLimit)) {
+      ++s.sim.steps_per_frame;
+      break;
+    }
+  }
+  while (!(stabilityNumber(s) < kStabilityLimit)) {
+    if (s.sim.steps_per_frame >= max_steps) return 0;
+    ++s.sim.steps_per_frame;
+  }
+  return s.sim.steps_per_frame;
+}
+
+std::string detectBlowUp(const Topology& topo, const ClothSpec& cloth, const Positions& start, const Positions& x,
+                         const BlowUpCriteria& criteria) {
+  const double reach = criteria.max_travel * clothSize(cloth);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const glm::dvec3 p = x[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      return "non-finite position at point " + std::to_string(i);
+    if (i < start.size() && glm::distance(p, start[i]) > reach)
+      return format("point %zu is %.3g m from its start (more than %.3g cloth sizes)", i, glm::distance(p, start[i]),
+                    criteria.max_travel);
+  }
+  const double strain = maxStrain(topo, cloth, x);
+  if (!(strain <= criteria.max_strain))
+    return format("a spring is stretched to %.3g times its rest length (limit %.3g)", 1.0 + strain,
+                  1.0 + criteria.max_strain);
+  return {};
+}
+
+}  // namespace drape

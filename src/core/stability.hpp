@@ -1,0 +1,62 @@
+// The explicit-integration bound of a scene, the substep count that keeps inside it, and the blow-up
+// test every long run applies. Pure functions of the scene and of positions; no solver state.
+//
+// The bound. Linearise the spring forces about any state: the stiffness matrix K is assembled from one
+// 3x3 block per spring, k (u u^T) + k (1 - rest/len) (I - u u^T) with u the spring's unit vector; for
+// len >= rest/2 its spectral norm is at most k. Block Gershgorin (Feingold & Varga 1962) on the free
+// points then gives lambda_max(K) <= max_i (||K_ii|| + sum_j ||K_ij||) <= 2 k_sum, where k_sum is the
+// largest per-vertex sum of enabled spring stiffnesses. Verlet on x'' = -omega^2 x is stable for
+// omega dt < 2, so with omega_max^2 = lambda_max / m it suffices that
+//     dt sqrt(2 k_sum / m) < 2,  i.e.  dt sqrt(k_sum / m) < sqrt(2).
+// Damping (keep < 1) only shrinks the amplification, pins remove rows (eigenvalues interlace). The
+// bound is sufficient, not necessary: on an interior grid point lambda_max is about 8 ks (the x-
+// alternating mode) against 2 k_sum = 17.6 ks, so the true limit of the number is near 2.1 and the
+// guard asks for up to 1.5x more substeps than strictly needed. It does not cover springs compressed
+// below half their rest length (their transverse stiffness exceeds k: a buckling start), nor the
+// position corrections (collisions, stretch limit, self-collision), which are projections, not forces.
+#pragma once
+
+#include "core/metrics.hpp"
+#include "core/scene.hpp"
+#include "core/topology.hpp"
+
+#include <string>
+
+namespace drape {
+
+// The guard's limit on dt sqrt(k_sum / m) (see above).
+inline constexpr double kStabilityLimit = 1.4142135623730951;  // sqrt(2)
+// autoSubsteps never asks for more than this (a scene needing more is reported, not run for hours).
+inline constexpr int kMaxAutoSubsteps = 100000;
+
+struct StabilityCheck {
+  double number = 0.0;             // dt sqrt(k_sum / m)
+  double limit = kStabilityLimit;  // stable when number < limit
+  bool ok = true;
+  std::string message;  // one line; says what to do when !ok
+};
+
+// Largest sum over one point of the stiffness of its enabled springs, N/m (bending counts 0.2 ks),
+// from the grid size alone: an interior point has 4 structural, 4 shearing and 4 bending springs,
+// small grids fewer.
+double maxStiffnessSum(const ClothSpec& cloth);
+double pointMass(const ClothSpec& cloth);  // kg, width*height*density / (W*H)
+double stabilityNumber(const Scene& scene);
+StabilityCheck checkStability(const Scene& scene);
+// Smallest steps_per_frame (>= 1) whose number is below the limit; 0 if more than max_steps would be
+// needed (or the point mass is zero).
+int autoSubsteps(const Scene& scene, int max_steps = kMaxAutoSubsteps);
+
+// What counts as a blow-up in the measurement commands: a non-finite coordinate, a spring longer than
+// (1 + max_strain) times its rest length, or a point farther than max_travel cloth sizes from where it
+// started.
+struct BlowUpCriteria {
+  double max_strain = 10.0;
+  double max_travel = 100.0;  // cloth sizes (diagonals)
+};
+
+// Empty while the state is sane, else one line saying what broke (and at which point).
+std::string detectBlowUp(const Topology& topo, const ClothSpec& cloth, const Positions& start, const Positions& x,
+                         const BlowUpCriteria& criteria = {});
+
+}  // namespace drape

@@ -1,0 +1,95 @@
+#include "core/topology.hpp"
+
+#include "core/hash.hpp"
+
+#include <algorithm>
+
+namespace drape {
+
+double verticalOffset(std::uint32_t index) {
+  // Seeded by the index alone so that every run, and both solvers, start from the same positions.
+  return (double(hashU32(index ^ 0x9e3779b9U)) / 4294967295.0 * 2.0 - 1.0) * 1e-3;
+}
+
+std::size_t Topology::springCount(SpringType t) const {
+  return std::size_t(std::count_if(springs.begin(), springs.end(), [t](const Spring& s) { return s.type == t; }));
+}
+
+namespace {
+
+void addSprings(Topology& topo, SpringType type, int dx, int dy) {
+  // The spring from (x, y) to (x - dx, y - dy): "left" is dx > 0, "above" is dy > 0, upper-right dx < 0.
+  for (int y = 0; y < topo.H; ++y)
+    for (int x = 0; x < topo.W; ++x) {
+      int ox = x - dx, oy = y - dy;
+      if (ox < 0 || ox >= topo.W || oy < 0) continue;
+      auto a = std::uint32_t(oy * topo.W + ox), b = std::uint32_t(y * topo.W + x);
+      topo.springs.push_back({a, b, type, glm::distance(topo.initial_positions[a], topo.initial_positions[b])});
+    }
+}
+
+void buildAdjacency(Topology& topo) {
+  std::size_t n = topo.initial_positions.size();
+  topo.offsets.assign(n + 1, 0);
+  for (const Spring& s : topo.springs) {
+    ++topo.offsets[s.a + 1];
+    ++topo.offsets[s.b + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    topo.offsets[i + 1] += topo.offsets[i];
+  topo.adjacency.resize(topo.offsets[n]);
+  std::vector<std::uint32_t> fill(topo.offsets.begin(), topo.offsets.end() - 1);
+  // Visiting springs in index order leaves every list in ascending spring index: the fixed summation
+  // order that makes CPU and GPU force sums comparable.
+  for (std::uint32_t s = 0; s < topo.springs.size(); ++s) {
+    const Spring& sp = topo.springs[s];
+    topo.adjacency[fill[sp.a]++] = {sp.b, s, sp.type, sp.rest};
+    topo.adjacency[fill[sp.b]++] = {sp.a, s, sp.type, sp.rest};
+  }
+}
+
+}  // namespace
+
+Topology buildTopology(const ClothSpec& cloth) {
+  Topology topo;
+  topo.W = cloth.num_width_points;
+  topo.H = cloth.num_height_points;
+  const int W = topo.W, H = topo.H;
+  const double dx = cloth.width / (W - 1), dy = cloth.height / (H - 1);
+  topo.mass = cloth.width * cloth.height * cloth.density / double(W * H);
+
+  topo.initial_positions.resize(std::size_t(W) * H);
+  topo.uvs.resize(std::size_t(W) * H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      auto i = std::uint32_t(y * W + x);
+      topo.initial_positions[i] = cloth.orientation == Orientation::Horizontal
+                                      ? glm::dvec3(x * dx, 1.0, y * dy)
+                                      : glm::dvec3(x * dx, y * dy, verticalOffset(i));
+      topo.uvs[i] = glm::vec2(float(x) / float(W - 1), float(y) / float(H - 1));
+    }
+
+  topo.pinned.assign(std::size_t(W) * H, 0);
+  for (glm::ivec2 p : cloth.pinned)
+    topo.pinned[std::size_t(p.y) * W + p.x] = 1;
+
+  // Structural, then shearing, then bending (DESIGN section 2 counts).
+  addSprings(topo, SpringType::Structural, 1, 0);
+  addSprings(topo, SpringType::Structural, 0, 1);
+  addSprings(topo, SpringType::Shearing, 1, 1);
+  addSprings(topo, SpringType::Shearing, -1, 1);
+  addSprings(topo, SpringType::Bending, 2, 0);
+  addSprings(topo, SpringType::Bending, 0, 2);
+  buildAdjacency(topo);
+
+  // Two triangles per quad, wound so that a horizontal cloth faces +y.
+  topo.triangles.reserve(std::size_t(W - 1) * (H - 1) * 6);
+  for (int y = 0; y + 1 < H; ++y)
+    for (int x = 0; x + 1 < W; ++x) {
+      auto p00 = std::uint32_t(y * W + x), p10 = p00 + 1, p01 = p00 + std::uint32_t(W), p11 = p01 + 1;
+      topo.triangles.insert(topo.triangles.end(), {p00, p01, p10, p10, p01, p11});
+    }
+  return topo;
+}
+
+}  // namespace drape

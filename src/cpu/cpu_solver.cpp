@@ -1,0 +1,294 @@
+#include "cpu/cpu_solver.hpp"
+
+#include <algorithm>
+
+namespace drape {
+
+namespace {
+
+enum PassId { kForces, kIntegrate, kSelfCollide, kCollide, kLimitStretch, kPassCount };
+const char* const kPassNames[kPassCount] = {"forces", "integrate", "self_collide", "collide", "limit_stretch"};
+
+}  // namespace
+
+template <class T>
+CpuSolver<T>::CpuSolver(Scene scene, VerletForm form)
+    : scene_(std::move(scene)), topo_(buildTopology(scene_.cloth)), form_(form) {
+  rest_.reserve(topo_.adjacency.size());
+  for (const Neighbor& n : topo_.adjacency)
+    rest_.push_back(T(n.rest));
+  const std::size_t n = std::size_t(topo_.pointCount());
+  f_.resize(n);
+  correction_.resize(n);
+  resetTimings();
+  refreshDerived();
+  reset();
+}
+
+template <class T>
+std::string CpuSolver<T>::name() const {
+  std::string base = sizeof(T) == sizeof(double) ? "cpu64" : "cpu";
+  return form_ == VerletForm::Displacement ? base : base + "-xprev";
+}
+
+template <class T>
+void CpuSolver<T>::refreshDerived() {
+  const ClothSpec& c = scene_.cloth;
+  mass_ = T(c.width * c.height * c.density / double(topo_.pointCount()));
+  dt_ = T(scene_.sim.dt());
+  keep_ = T(1.0 - c.damping / 100.0);
+  // A disabled spring type exerts no force: stiffness 0 is never used, the gather skips the type.
+  stiffness_.k[int(SpringType::Structural)] = T(c.ks);
+  stiffness_.k[int(SpringType::Shearing)] = T(c.ks);
+  stiffness_.k[int(SpringType::Bending)] = T(0.2 * c.ks);
+}
+
+template <class T>
+void CpuSolver<T>::setParams(const ClothSpec& cloth, const SimParams& sim) {
+  ClothSpec kept = scene_.cloth;  // grid, orientation and pins stay: they define the topology
+  scene_.cloth = cloth;
+  scene_.cloth.width = kept.width;
+  scene_.cloth.height = kept.height;
+  scene_.cloth.num_width_points = kept.num_width_points;
+  scene_.cloth.num_height_points = kept.num_height_points;
+  scene_.cloth.orientation = kept.orientation;
+  scene_.cloth.pinned = kept.pinned;
+  scene_.sim = sim;
+  refreshDerived();
+}
+
+template <class T>
+void CpuSolver<T>::reset() {
+  const std::size_t n = std::size_t(topo_.pointCount());
+  x_.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    x_[i] = vec3(topo_.initial_positions[i]);
+  // At rest: zero displacement, or x_prev = x in the CS184 form.
+  v_ = form_ == VerletForm::Displacement ? std::vector<vec3>(n, vec3(0)) : x_;
+  substeps_ = 0;
+}
+
+template <class T>
+bool CpuSolver<T>::needsPass(int pass) const {
+  switch (pass) {
+    case kSelfCollide:
+      return scene_.sim.self_collision;
+    case kCollide:
+      return !scene_.spheres.empty() || !scene_.planes.empty();
+    case kLimitStretch:
+      return scene_.sim.stretch_passes > 0;
+    default:
+      return true;
+  }
+}
+
+template <class T>
+std::vector<std::string> CpuSolver<T>::passes() const {
+  std::vector<std::string> out;
+  for (int p = 0; p < kPassCount; ++p)
+    if (needsPass(p)) out.push_back(kPassNames[p]);
+  return out;
+}
+
+template <class T>
+template <class F>
+void CpuSolver<T>::timed(int pass, F&& f) {
+  auto start = std::chrono::steady_clock::now();
+  f();
+  timings_[pass].ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  ++timings_[pass].calls;
+}
+
+template <class T>
+void CpuSolver<T>::step() {
+  timed(kForces, [&] { accumulateForces(); });
+  timed(kIntegrate, [&] { integrate(); });
+  if (needsPass(kSelfCollide)) timed(kSelfCollide, [&] { selfCollide(); });
+  if (needsPass(kCollide)) timed(kCollide, [&] { collide(); });
+  if (needsPass(kLimitStretch)) timed(kLimitStretch, [&] { limitStretch(); });
+  ++substeps_;
+}
+
+template <class T>
+typename CpuSolver<T>::vec3 CpuSolver<T>::pointNormal(int i) const {
+  const int W = topo_.W, H = topo_.H, x = i % W, y = i / W;
+  auto at = [&](int px, int py) { return x_[std::size_t(py * W + px)]; };
+  return physics::gridNormal(at(std::max(x - 1, 0), y), at(std::min(x + 1, W - 1), y), at(x, std::max(y - 1, 0)),
+                             at(x, std::min(y + 1, H - 1)));
+}
+
+template <class T>
+void CpuSolver<T>::accumulateForces() {
+  const ClothSpec& cloth = scene_.cloth;
+  const WindSpec& wind = scene_.sim.wind;
+  const bool enabled[kSpringTypeCount] = {cloth.enable_structural, cloth.enable_shearing, cloth.enable_bending};
+  const vec3 weight = vec3(scene_.sim.gravity) * mass_;
+  const T time = T(double(substeps_) * scene_.sim.dt());
+  const T drag_area = T(wind.drag * cloth.width * cloth.height / double(topo_.pointCount()));
+  const std::size_t n = x_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    vec3 f = weight;
+    for (std::uint32_t e = topo_.offsets[i]; e < topo_.offsets[i + 1]; ++e) {
+      const Neighbor& nb = topo_.adjacency[e];
+      const int type = int(nb.type);
+      if (enabled[type]) f += physics::springForce(x_[i], x_[nb.other], rest_[e], stiffness_.k[type]);
+    }
+    if (wind.enabled) {
+      vec3 air = physics::windVelocity(x_[i], time, vec3(wind.velocity), T(wind.turbulence), T(wind.noise_scale),
+                                       T(wind.noise_speed));
+      vec3 disp = form_ == VerletForm::Displacement ? v_[i] : x_[i] - v_[i];
+      f += physics::windForce(pointNormal(int(i)), disp / dt_, air, drag_area);
+    }
+    f_[i] = f;
+  }
+}
+
+template <class T>
+void CpuSolver<T>::integrate() {
+  const T dt2 = dt_ * dt_;
+  const T inv_mass = T(1) / mass_;
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    if (topo_.pinned[i]) {
+      if (form_ == VerletForm::Displacement)
+        v_[i] = vec3(0);
+      else
+        v_[i] = x_[i];
+      continue;
+    }
+    if (form_ == VerletForm::Displacement) {
+      v_[i] = physics::integrateVerlet(v_[i], f_[i] * inv_mass, dt2, keep_);
+      x_[i] += v_[i];
+    } else {
+      vec3 next = physics::integrateVerletPrevious(x_[i], v_[i], f_[i] * inv_mass, dt2, keep_);
+      v_[i] = x_[i];
+      x_[i] = next;
+    }
+  }
+}
+
+template <class T>
+void CpuSolver<T>::applyCorrections() {
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    x_[i] += correction_[i];
+    // x_prev stays where it was: in displacement form that is v += c.
+    if (form_ == VerletForm::Displacement) v_[i] += correction_[i];
+  }
+}
+
+template <class T>
+void CpuSolver<T>::selfCollide() {
+  const T thickness = T(scene_.cloth.thickness);
+  grid_.build(x_, T(2) * thickness);
+  const T steps = T(scene_.sim.steps_per_frame);
+  // Jacobi: every correction is computed from the positions before the pass, so the result does not
+  // depend on the order points are visited (nor, on the GPU, on thread order).
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    vec3 sum(0);
+    int count = 0;
+    if (!topo_.pinned[i]) {
+      grid_.forEachCandidate(i, [&](std::uint32_t j) {
+        vec3 c = physics::selfCollisionCorrection(x_[i], x_[j], thickness);
+        if (c != vec3(0)) {
+          sum += c;
+          ++count;
+        }
+      });
+    }
+    correction_[i] = count > 0 ? sum / (T(count) * steps) : vec3(0);
+  }
+  applyCorrections();
+}
+
+template <class T>
+void CpuSolver<T>::collide() {
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    if (topo_.pinned[i]) continue;
+    vec3 x = x_[i];
+    vec3 v = form_ == VerletForm::Displacement ? v_[i] : x_[i] - v_[i];
+    vec3 c;
+    // Objects in turn, each seeing the result of the previous one (CS184 order: spheres, then planes).
+    for (const SphereSpec& s : scene_.spheres)
+      if (physics::collideSphere(x, v, vec3(s.origin), T(s.radius), T(s.friction), c)) {
+        x += c;
+        v += c;
+      }
+    for (const PlaneSpec& p : scene_.planes)
+      if (physics::collidePlane(x, v, vec3(p.point), vec3(p.normal), T(p.friction), c)) {
+        x += c;
+        v += c;
+      }
+    x_[i] = x;
+    if (form_ == VerletForm::Displacement) v_[i] = v;
+  }
+}
+
+template <class T>
+void CpuSolver<T>::limitStretch() {
+  const ClothSpec& cloth = scene_.cloth;
+  const bool enabled[kSpringTypeCount] = {cloth.enable_structural, cloth.enable_shearing, cloth.enable_bending};
+  const T limit = T(scene_.sim.stretch_limit);
+  for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass) {
+    // Provot (1995) per spring, gathered per vertex (Jacobi) so the GPU can do the same with no atomics.
+    for (std::size_t i = 0; i < x_.size(); ++i) {
+      vec3 sum(0);
+      int violated = 0;
+      if (!topo_.pinned[i]) {
+        for (std::uint32_t e = topo_.offsets[i]; e < topo_.offsets[i + 1]; ++e) {
+          const Neighbor& nb = topo_.adjacency[e];
+          if (!enabled[int(nb.type)]) continue;
+          T share = physics::stretchShare<T>(false, topo_.pinned[nb.other] != 0);
+          vec3 c = physics::stretchCorrection(x_[i], x_[nb.other], rest_[e], limit, share);
+          if (c != vec3(0)) {
+            sum += c;
+            ++violated;
+          }
+        }
+      }
+      // Averaged, not summed: the springs of a hanging point mostly pull the same way, and their summed
+      // Jacobi corrections overshoot and diverge (measured: strain 9.6 -> 1e52 over 64 passes).
+      correction_[i] = violated > 0 ? sum / T(violated) : vec3(0);
+    }
+    applyCorrections();
+  }
+}
+
+template <class T>
+void CpuSolver<T>::setState(const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& v) {
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    x_[i] = vec3(x[i]);
+    v_[i] = form_ == VerletForm::Displacement ? vec3(v[i]) : vec3(x[i] - v[i]);
+  }
+}
+
+template <class T>
+std::vector<glm::dvec3> CpuSolver<T>::readPositions() {
+  return std::vector<glm::dvec3>(x_.begin(), x_.end());
+}
+
+template <class T>
+std::vector<glm::dvec3> CpuSolver<T>::readDisplacements() {
+  std::vector<glm::dvec3> out(x_.size());
+  for (std::size_t i = 0; i < x_.size(); ++i)
+    out[i] = form_ == VerletForm::Displacement ? glm::dvec3(v_[i]) : glm::dvec3(x_[i]) - glm::dvec3(v_[i]);
+  return out;
+}
+
+template <class T>
+std::vector<PassTiming> CpuSolver<T>::timings() const {
+  std::vector<PassTiming> out;
+  for (int p = 0; p < kPassCount; ++p)
+    if (needsPass(p)) out.push_back(timings_[p]);
+  return out;
+}
+
+template <class T>
+void CpuSolver<T>::resetTimings() {
+  timings_.clear();
+  for (const char* name : kPassNames)
+    timings_.push_back({name, 0.0, 0});
+}
+
+template class CpuSolver<float>;
+template class CpuSolver<double>;
+
+}  // namespace drape

@@ -1,0 +1,79 @@
+#include "cpu/hash_grid.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+
+namespace drape {
+namespace {
+
+using Pairs = std::set<std::pair<std::uint32_t, std::uint32_t>>;
+
+template <class T>
+Pairs bruteForce(const std::vector<glm::vec<3, T>>& p, T range) {
+  Pairs out;
+  for (std::uint32_t i = 0; i < p.size(); ++i)
+    for (std::uint32_t j = 0; j < p.size(); ++j)
+      if (i != j && glm::distance(p[i], p[j]) < range) out.insert({i, j});
+  return out;
+}
+
+template <class T>
+Pairs viaGrid(const std::vector<glm::vec<3, T>>& p, T range) {
+  HashGrid<T> grid;
+  grid.build(p, range);
+  Pairs out;
+  for (std::uint32_t i = 0; i < p.size(); ++i) {
+    std::vector<std::uint32_t> seen;
+    grid.forEachCandidate(i, [&](std::uint32_t j) {
+      seen.push_back(j);
+      if (glm::distance(p[i], p[j]) < range) out.insert({i, j});
+    });
+    std::sort(seen.begin(), seen.end());
+    EXPECT_TRUE(std::adjacent_find(seen.begin(), seen.end()) == seen.end()) << "candidate visited twice";
+  }
+  return out;
+}
+
+struct CloudCase {
+  const char* name;
+  int points;
+  double lo, hi;  // coordinate range
+  bool snap;      // put coordinates exactly on cell borders
+};
+
+class HashGridCloud : public ::testing::TestWithParam<CloudCase> {};
+
+TEST_P(HashGridCloud, FindsExactlyTheBruteForcePairs) {
+  const CloudCase c = GetParam();
+  const double range = 2 * 0.0095;
+  std::mt19937 rng(1234);
+  std::uniform_real_distribution<double> u(c.lo, c.hi);
+  std::vector<glm::dvec3> pd(std::size_t(c.points));
+  for (auto& p : pd) {
+    p = {u(rng), u(rng), u(rng)};
+    if (c.snap) p = glm::round(p / range) * range;  // many points exactly on cell borders
+  }
+  std::vector<glm::vec3> pf(pd.begin(), pd.end());
+  Pairs expected_d = bruteForce(pd, range), expected_f = bruteForce(pf, float(range));
+  EXPECT_GT(expected_d.size(), 0u) << "the cloud must contain close pairs for the test to mean anything";
+  EXPECT_EQ(viaGrid(pd, range), expected_d);
+  EXPECT_EQ(viaGrid(pf, float(range)), expected_f);
+}
+
+INSTANTIATE_TEST_SUITE_P(Clouds, HashGridCloud,
+                         ::testing::Values(CloudCase{"positive", 1500, 0.0, 0.3, false},
+                                           CloudCase{"negative", 1500, -0.3, 0.0, false},
+                                           CloudCase{"straddling_zero", 1500, -0.15, 0.15, false},
+                                           CloudCase{"on_cell_borders", 800, -0.1, 0.1, true},
+                                           CloudCase{"far_from_origin", 1500, 100.0, 100.3, false}),
+                         [](const auto& row) { return std::string(row.param.name); });
+
+TEST(HashGrid, CellOfFloorsNegativeCoordinates) {
+  EXPECT_EQ(HashGrid<double>::cellOf({-0.01, 0.0, 0.029}, 0.02), glm::ivec3(-1, 0, 1));
+}
+
+}  // namespace
+}  // namespace drape

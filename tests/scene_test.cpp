@@ -1,0 +1,478 @@
+// Scene loading: every malformed input is refused with "<file>: <key>: <problem>", every shipped scene
+// loads, the CS184 scenes carry CS184's values, and omitted optional keys take the documented defaults.
+#include "core/scene.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace drape {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kScenesDir = fs::path(DRAPE_SOURCE_DIR) / "scenes";
+
+// A valid scene using every key, so that each bad case below changes exactly one thing.
+nlohmann::json fullScene() {
+  return nlohmann::json::parse(R"({
+    "cloth": {"width": 1, "height": 1, "num_width_points": 4, "num_height_points": 3, "thickness": 0.01,
+              "orientation": 0, "pinned": [[0, 0], [3, 2]], "enable_structural": true, "enable_shearing": true,
+              "enable_bending": true, "damping": 0.2, "density": 150, "ks": 5000},
+    "sphere": {"origin": [0.5, 0.2, 0.5], "radius": 0.2, "friction": 0.3},
+    "plane": {"point": [0, 0, 0], "normal": [0, 1, 0], "friction": 0.5},
+    "spheres": [{"origin": [0, 0, 0], "radius": 0.1, "friction": 0.1}],
+    "planes": [{"point": [0, -1, 0], "normal": [0, 1, 0], "friction": 0.2}],
+    "simulation": {"frames_per_sec": 90, "steps_per_frame": 30, "gravity": [0, -9.8, 0], "self_collision": true,
+                   "stretch_passes": 1, "stretch_limit": 1.1,
+                   "wind": {"enabled": true, "velocity": [1, 0, 0], "turbulence": 0.1, "noise_scale": 1,
+                            "noise_speed": 1, "drag": 1}}
+  })");
+}
+
+// Required cloth keys only, for scenes written as raw text.
+const std::string kCloth =
+    R"("cloth": {"width": 1, "height": 1, "num_width_points": 4, "num_height_points": 3, "thickness": 0.01,
+                 "orientation": 0})";
+
+// Expects SceneError whose single line starts with "<file>: <key>: " and names the problem.
+void expectRejected(const std::string& text, const std::string& file, const std::string& key,
+                    const std::string& problem) {
+  try {
+    parseScene(text, file);
+    ADD_FAILURE() << "accepted:\n" << text;
+  } catch (const SceneError& e) {
+    std::string message = e.what();
+    EXPECT_EQ(message.rfind(file + ": " + key + ": ", 0), 0u) << message;
+    EXPECT_NE(message.find(problem), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// One change (a JSON merge patch, RFC 7386: null removes a key) applied to the full scene.
+struct PatchCase {
+  std::string name;
+  std::string patch;
+  std::string key;
+  std::string problem;
+};
+
+class BadPatch : public testing::TestWithParam<PatchCase> {};
+
+TEST_P(BadPatch, IsRejectedNamingFileKeyAndProblem) {
+  const PatchCase& c = GetParam();
+  nlohmann::json scene = fullScene();
+  scene.merge_patch(nlohmann::json::parse(c.patch));
+  expectRejected(scene.dump(2), c.name + ".json", c.key, c.problem);
+}
+
+// clang-format off
+const PatchCase kPatchCases[] = {
+  // unknown keys at every level
+  {"unknown_top_key", R"({"clth": {}})", "clth", "unknown key"},
+  {"unknown_cloth_key", R"({"cloth": {"kss": 1}})", "cloth.kss", "unknown key (did you mean 'ks'?)"},
+  {"unknown_sphere_key", R"({"sphere": {"centre": [0, 0, 0]}})", "sphere.centre", "unknown key"},
+  {"unknown_plane_key", R"({"plane": {"offset": 1}})", "plane.offset", "unknown key"},
+  {"unknown_spheres_key", R"({"spheres": [{"origin": [0, 0, 0], "radius": 1, "colour": 1}]})", "spheres[0].colour", "unknown key"},
+  {"unknown_planes_key", R"({"planes": [{"point": [0, 0, 0], "normal": [0, 1, 0], "fricton": 1}]})", "planes[0].fricton", "unknown key (did you mean 'friction'?)"},
+  {"unknown_simulation_key", R"({"simulation": {"substeps": 3}})", "simulation.substeps", "unknown key"},
+  {"unknown_wind_key", R"({"simulation": {"wind": {"speed": 3}}})", "simulation.wind.speed", "unknown key"},
+  // missing required keys
+  {"missing_cloth", R"({"cloth": null})", "cloth", "missing required key"},
+  {"missing_width", R"({"cloth": {"width": null}})", "cloth.width", "missing required key"},
+  {"missing_height", R"({"cloth": {"height": null}})", "cloth.height", "missing required key"},
+  {"missing_num_width_points", R"({"cloth": {"num_width_points": null}})", "cloth.num_width_points", "missing required key"},
+  {"missing_num_height_points", R"({"cloth": {"num_height_points": null}})", "cloth.num_height_points", "missing required key"},
+  {"missing_thickness", R"({"cloth": {"thickness": null}})", "cloth.thickness", "missing required key"},
+  {"missing_orientation", R"({"cloth": {"orientation": null}})", "cloth.orientation", "missing required key"},
+  {"missing_sphere_origin", R"({"sphere": {"origin": null}})", "sphere.origin", "missing required key"},
+  {"missing_sphere_radius", R"({"sphere": {"radius": null}})", "sphere.radius", "missing required key"},
+  {"missing_plane_point", R"({"plane": {"point": null}})", "plane.point", "missing required key"},
+  {"missing_plane_normal", R"({"plane": {"normal": null}})", "plane.normal", "missing required key"},
+  // wrong types
+  {"cloth_not_object", R"({"cloth": [1, 2]})", "cloth", "expected an object, got array"},
+  {"ks_string", R"({"cloth": {"ks": "5000"}})", "cloth.ks", "expected a number, got string"},
+  {"width_boolean", R"({"cloth": {"width": true}})", "cloth.width", "expected a number, got boolean"},
+  {"points_string", R"({"cloth": {"num_width_points": "4"}})", "cloth.num_width_points", "expected a number, got string"},
+  {"points_fraction", R"({"cloth": {"num_height_points": 3.5}})", "cloth.num_height_points", "expected an integer"},
+  {"enable_bending_number", R"({"cloth": {"enable_bending": 1}})", "cloth.enable_bending", "expected true or false, got number"},
+  {"orientation_string", R"({"cloth": {"orientation": "vertical"}})", "cloth.orientation", "expected a number, got string"},
+  {"pinned_object", R"({"cloth": {"pinned": {"x": 0}}})", "cloth.pinned", "expected an array, got object"},
+  {"origin_two_numbers", R"({"sphere": {"origin": [0, 0]}})", "sphere.origin", "expected [x, y, z]"},
+  {"origin_string_element", R"({"sphere": {"origin": [0, "1", 0]}})", "sphere.origin[1]", "expected a number, got string"},
+  {"spheres_object", R"({"spheres": {"origin": [0, 0, 0], "radius": 1}})", "spheres", "expected an array, got object"},
+  {"sphere_array", R"({"sphere": [0, 0, 0]})", "sphere", "expected an object, got array"},
+  {"simulation_number", R"({"simulation": 3})", "simulation", "expected an object, got number"},
+  {"gravity_string", R"({"simulation": {"gravity": "down"}})", "simulation.gravity", "expected [x, y, z]"},
+  {"self_collision_string", R"({"simulation": {"self_collision": "yes"}})", "simulation.self_collision", "expected true or false, got string"},
+  {"steps_fraction", R"({"simulation": {"steps_per_frame": 2.5}})", "simulation.steps_per_frame", "expected an integer"},
+  {"wind_number", R"({"simulation": {"wind": 3}})", "simulation.wind", "expected an object, got number"},
+  {"wind_enabled_string", R"({"simulation": {"wind": {"enabled": "no"}}})", "simulation.wind.enabled", "expected true or false"},
+  // grid size
+  {"width_points_1", R"({"cloth": {"num_width_points": 1}})", "cloth.num_width_points", "must be >= 2 (got 1)"},
+  {"height_points_0", R"({"cloth": {"num_height_points": 0}})", "cloth.num_height_points", "must be >= 2 (got 0)"},
+  {"height_points_negative", R"({"cloth": {"num_height_points": -7}})", "cloth.num_height_points", "must be >= 2"},
+  {"width_points_beyond_int", R"({"cloth": {"num_width_points": 1e10}})", "cloth.num_width_points", "must be <="},
+  {"grid_too_large", R"({"cloth": {"num_width_points": 5000, "num_height_points": 5000}})", "cloth", "grid too large"},
+  // non-positive sizes and material
+  {"width_zero", R"({"cloth": {"width": 0}})", "cloth.width", "must be > 0"},
+  {"height_negative", R"({"cloth": {"height": -1}})", "cloth.height", "must be > 0"},
+  {"density_zero", R"({"cloth": {"density": 0}})", "cloth.density", "must be > 0"},
+  {"density_negative", R"({"cloth": {"density": -150}})", "cloth.density", "must be > 0"},
+  {"thickness_zero", R"({"cloth": {"thickness": 0}})", "cloth.thickness", "must be > 0"},
+  {"ks_negative", R"({"cloth": {"ks": -5}})", "cloth.ks", "must be > 0"},
+  {"damping_negative", R"({"cloth": {"damping": -0.1}})", "cloth.damping", "must be in [0, 100]"},
+  {"damping_over_100", R"({"cloth": {"damping": 100.5}})", "cloth.damping", "must be in [0, 100]"},
+  // colliders
+  {"sphere_friction_over_1", R"({"sphere": {"friction": 1.5}})", "sphere.friction", "must be in [0, 1]"},
+  {"plane_friction_negative", R"({"plane": {"friction": -0.1}})", "plane.friction", "must be in [0, 1]"},
+  {"planes_friction_over_1", R"({"planes": [{"point": [0, 0, 0], "normal": [0, 1, 0], "friction": 2}]})", "planes[0].friction", "must be in [0, 1]"},
+  {"radius_zero", R"({"sphere": {"radius": 0}})", "sphere.radius", "must be > 0"},
+  {"radius_negative", R"({"sphere": {"radius": -1}})", "sphere.radius", "must be > 0"},
+  {"spheres_radius_zero", R"({"spheres": [{"origin": [0, 0, 0], "radius": 1}, {"origin": [0, 0, 0], "radius": 0}]})", "spheres[1].radius", "must be > 0"},
+  {"normal_zero", R"({"plane": {"normal": [0, 0, 0]}})", "plane.normal", "zero length"},
+  {"planes_normal_zero", R"({"planes": [{"point": [0, 0, 0], "normal": [0.0, -0.0, 0]}]})", "planes[0].normal", "zero length"},
+  // pins
+  {"pin_x_outside", R"({"cloth": {"pinned": [[0, 0], [4, 0]]}})", "cloth.pinned[1]", "outside the 4 x 3 grid"},
+  {"pin_y_outside", R"({"cloth": {"pinned": [[0, 3]]}})", "cloth.pinned[0]", "outside the 4 x 3 grid"},
+  {"pin_negative", R"({"cloth": {"pinned": [[-1, 0]]}})", "cloth.pinned[0]", "outside the 4 x 3 grid"},
+  {"pin_one_number", R"({"cloth": {"pinned": [[1]]}})", "cloth.pinned[0]", "expected [x, y]"},
+  {"pin_three_numbers", R"({"cloth": {"pinned": [[1, 2, 3]]}})", "cloth.pinned[0]", "expected [x, y]"},
+  {"pin_not_array", R"({"cloth": {"pinned": [5]}})", "cloth.pinned[0]", "expected an array, got number"},
+  {"pin_string", R"({"cloth": {"pinned": [["a", 0]]}})", "cloth.pinned[0][0]", "expected a number, got string"},
+  {"pin_fraction", R"({"cloth": {"pinned": [[1.5, 0]]}})", "cloth.pinned[0][0]", "expected an integer"},
+  // enumerations
+  {"orientation_2", R"({"cloth": {"orientation": 2}})", "cloth.orientation", "must be 0 (horizontal) or 1 (vertical)"},
+  {"orientation_negative", R"({"cloth": {"orientation": -1}})", "cloth.orientation", "must be 0 (horizontal) or 1 (vertical)"},
+  // simulation
+  {"fps_zero", R"({"simulation": {"frames_per_sec": 0}})", "simulation.frames_per_sec", "must be > 0"},
+  {"fps_negative", R"({"simulation": {"frames_per_sec": -90}})", "simulation.frames_per_sec", "must be > 0"},
+  {"steps_zero", R"({"simulation": {"steps_per_frame": 0}})", "simulation.steps_per_frame", "must be >= 1"},
+  {"stretch_passes_negative", R"({"simulation": {"stretch_passes": -1}})", "simulation.stretch_passes", "must be >= 0"},
+  {"stretch_limit_below_1", R"({"simulation": {"stretch_limit": 0.9}})", "simulation.stretch_limit", "must be >= 1"},
+  {"wind_noise_scale_zero", R"({"simulation": {"wind": {"noise_scale": 0}}})", "simulation.wind.noise_scale", "must be > 0"},
+  {"wind_drag_negative", R"({"simulation": {"wind": {"drag": -1}}})", "simulation.wind.drag", "must be >= 0"},
+  {"wind_turbulence_negative", R"({"simulation": {"wind": {"turbulence": -0.5}}})", "simulation.wind.turbulence", "must be >= 0"},
+  {"wind_noise_speed_negative", R"({"simulation": {"wind": {"noise_speed": -1}}})", "simulation.wind.noise_speed", "must be >= 0"},
+  {"wind_velocity_short", R"({"simulation": {"wind": {"velocity": [1, 0]}}})", "simulation.wind.velocity", "expected [x, y, z]"},
+};
+// clang-format on
+
+INSTANTIATE_TEST_SUITE_P(Scene, BadPatch, testing::ValuesIn(kPatchCases),
+                         [](const testing::TestParamInfo<PatchCase>& p) { return p.param.name; });
+
+// ---------------------------------------------------------------------------------------------------
+// Inputs that are not a change to a valid scene: broken syntax, duplicates, overflow, wrong top level.
+struct RawCase {
+  std::string name;
+  std::string text;
+  std::string key;  // or "line L, column C" for syntax errors
+  std::string problem;
+};
+
+class BadText : public testing::TestWithParam<RawCase> {};
+
+TEST_P(BadText, IsRejectedNamingFileKeyAndProblem) {
+  const RawCase& c = GetParam();
+  expectRejected(c.text, c.name + ".json", c.key, c.problem);
+}
+
+// clang-format off
+const RawCase kRawCases[] = {
+  {"syntax_missing_value", "{\n  \"cloth\": {\n    \"width\": ,\n  }\n}", "line 3, column 14", "invalid JSON"},
+  {"syntax_bad_literal", "{\n  \"cloth\": tru\n}", "line 2, column 14", "invalid JSON"},
+  {"syntax_unterminated", "{\n  \"cloth\": {\"width\": 1,\n", "line 2, column 23", "unexpected end of input"},
+  {"syntax_trailing_garbage", "{" + kCloth + "} x", "line 2, column 37", "invalid JSON"},
+  {"syntax_single_quotes", "{'cloth': 1}", "line 1, column 2", "invalid JSON"},
+  {"empty_text", "", "line 1, column 1", "invalid JSON"},
+  {"whitespace_only", "  \n  ", "line 1, column 1", "invalid JSON"},
+  {"overflow_ks", "{\"cloth\": {\"ks\": 1e999}}", "cloth.ks", "number too large"},
+  {"overflow_negative", "{" + kCloth + ", \"sphere\": {\"origin\": [0, -1e999, 0], \"radius\": 1}}", "sphere.origin[1]", "number too large"},
+  {"overflow_in_pins", "{\"cloth\": {\"pinned\": [[0, 0], [1e400, 0]]}}", "cloth.pinned[1][0]", "number too large"},
+  {"duplicate_cloth_key", "{\"cloth\": {\"ks\": 1, \"ks\": 2}}", "cloth.ks", "duplicate key"},
+  {"duplicate_top_key", "{" + kCloth + ", " + kCloth + "}", "cloth", "duplicate key"},
+  {"duplicate_in_list", "{" + kCloth + ", \"spheres\": [{\"radius\": 1}, {\"radius\": 1, \"radius\": 2}]}", "spheres[1].radius", "duplicate key"},
+  {"escaped_key", R"({"cloth": {"k\ns": 1}})", R"(cloth."k\ns")", "unknown key"},
+  {"top_level_array", "[1, 2]", "top level", "expected an object, got array"},
+  {"top_level_number", "3", "top level", "expected an object, got number"},
+  {"empty_object", "{}", "cloth", "missing required key"},
+  {"deep_nesting", "{\"x\": " + std::string(100, '[') + std::string(100, ']') + "}", [] { std::string p = "x"; for (int i = 0; i < 31; ++i) p += "[0]"; return p; }(), "nested more than 32 levels"},
+};
+// clang-format on
+
+INSTANTIATE_TEST_SUITE_P(Scene, BadText, testing::ValuesIn(kRawCases),
+                         [](const testing::TestParamInfo<RawCase>& p) { return p.param.name; });
+
+// ---------------------------------------------------------------------------------------------------
+TEST(SceneFile, MissingFileIsRejected) {
+  const std::string path = (fs::temp_directory_path() / "drape_no_such_scene.json").string();
+  try {
+    loadScene(path);
+    ADD_FAILURE() << "loaded a missing file";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": cannot open: no such file");
+  }
+}
+
+TEST(SceneFile, DirectoryIsRejected) {
+  try {
+    loadScene(kScenesDir);
+    ADD_FAILURE() << "loaded a directory";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()), kScenesDir.string() + ": cannot open: is a directory, not a file");
+  }
+}
+
+TEST(SceneFile, ErrorsInAFileNameThePath) {
+  const fs::path path = fs::temp_directory_path() / "drape_scene_test_bad.json";
+  std::ofstream(path) << "{" << kCloth << ",\n  \"plane\": {\"point\": [0, 0, 0], \"normal\": [0, 0, 0]}}";
+  try {
+    loadScene(path);
+    ADD_FAILURE() << "loaded a zero normal";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()), path.string() + ": plane.normal: zero length, a plane needs a direction");
+  }
+  fs::remove(path);
+}
+
+// ---------------------------------------------------------------------------------------------------
+std::vector<std::string> sceneFiles() {
+  std::vector<std::string> files;
+  for (const auto& entry : fs::directory_iterator(kScenesDir)) {
+    if (entry.path().extension() == ".json") files.push_back(entry.path().filename().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+TEST(ShippedScenes, IncludeTheStandardAndExtensionScenes) {
+  std::vector<std::string> files = sceneFiles();
+  for (const char* name : {"pinned2.json", "pinned4.json", "sphere.json", "plane.json", "selfCollision.json",
+                           "wind.json", "two_spheres.json"}) {
+    EXPECT_NE(std::find(files.begin(), files.end(), name), files.end()) << name;
+  }
+}
+
+class ShippedScene : public testing::TestWithParam<std::string> {};
+
+// Loads, and is within the explicit-integration stability bound with margin: per point the springs sum
+// to about 8.8*ks (4 structural + 4 shearing + 4 bending at 0.2*ks), and Verlet needs dt*sqrt(k/m) < 2.
+TEST_P(ShippedScene, LoadsAndIsStable) {
+  Scene scene = loadScene(kScenesDir / GetParam());
+  EXPECT_EQ(scene.path, (kScenesDir / GetParam()).string());
+  const ClothSpec& c = scene.cloth;
+  double mass = c.width * c.height * c.density / c.pointCount();
+  double bound = scene.sim.dt() * std::sqrt(8.8 * c.ks / mass);
+  EXPECT_LT(bound, 1.0) << "dt*sqrt(sum k/m) = " << bound;
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, ShippedScene, testing::ValuesIn(sceneFiles()),
+                         [](const testing::TestParamInfo<std::string>& p) {
+                           std::string name = fs::path(p.param).stem().string();
+                           std::replace_if(
+                               name.begin(), name.end(), [](char ch) { return !std::isalnum(ch); }, '_');
+                           return name;
+                         });
+
+// The five CS184 scenes: a 1 m x 1 m, 50 x 50 cloth with CS184's material, all spring types on.
+struct StandardCase {
+  std::string name;
+  Orientation orientation;
+  std::vector<glm::ivec2> pinned;
+  int spheres;
+  int planes;
+  bool self_collision;
+};
+
+class StandardScene : public testing::TestWithParam<StandardCase> {};
+
+TEST_P(StandardScene, HasCs184Values) {
+  const StandardCase& want = GetParam();
+  Scene scene = loadScene(kScenesDir / (want.name + ".json"));
+  const ClothSpec& c = scene.cloth;
+  EXPECT_EQ(c.width, 1.0);
+  EXPECT_EQ(c.height, 1.0);
+  EXPECT_EQ(c.num_width_points, 50);
+  EXPECT_EQ(c.num_height_points, 50);
+  EXPECT_EQ(c.ks, 5000.0);
+  EXPECT_EQ(c.density, 150.0);
+  EXPECT_EQ(c.damping, 0.2);
+  EXPECT_EQ(c.thickness, 0.0095);
+  EXPECT_TRUE(c.enable_structural && c.enable_shearing && c.enable_bending);
+  EXPECT_EQ(c.orientation, want.orientation);
+  EXPECT_EQ(c.pinned, want.pinned);
+  ASSERT_EQ(int(scene.spheres.size()), want.spheres);
+  ASSERT_EQ(int(scene.planes.size()), want.planes);
+  for (const SphereSpec& s : scene.spheres) {
+    EXPECT_EQ(s.origin, glm::dvec3(0.5, 0.2, 0.5));
+    EXPECT_EQ(s.radius, 0.2);
+    EXPECT_EQ(s.friction, 0.3);
+  }
+  for (const PlaneSpec& p : scene.planes) {
+    EXPECT_EQ(p.point, glm::dvec3(0.0));
+    EXPECT_EQ(p.normal, glm::dvec3(0, 1, 0));
+    EXPECT_EQ(p.friction, 0.5);
+  }
+  EXPECT_EQ(scene.sim.self_collision, want.self_collision);
+  EXPECT_FALSE(scene.sim.wind.enabled);
+  EXPECT_EQ(scene.sim.frames_per_sec, 90.0);
+  EXPECT_EQ(scene.sim.steps_per_frame, 30);
+}
+
+using O = Orientation;
+// clang-format off
+INSTANTIATE_TEST_SUITE_P(Scenes, StandardScene, testing::Values(
+    StandardCase{"pinned2", O::Horizontal, {{0, 0}, {49, 0}}, 0, 0, false},
+    StandardCase{"pinned4", O::Horizontal, {{0, 0}, {0, 49}, {49, 0}, {49, 49}}, 0, 0, false},
+    StandardCase{"sphere", O::Horizontal, {}, 1, 0, true},
+    StandardCase{"plane", O::Horizontal, {}, 0, 1, true},
+    StandardCase{"selfCollision", O::Vertical, {}, 0, 1, true}),
+  [](const testing::TestParamInfo<StandardCase>& p) { return p.param.name; });
+// clang-format on
+
+TEST(ExtensionScenes, WindIsAVerticalClothPinnedAlongItsTopEdgeInTurbulentWind) {
+  Scene scene = loadScene(kScenesDir / "wind.json");
+  EXPECT_EQ(scene.cloth.orientation, Orientation::Vertical);
+  std::vector<glm::ivec2> top_edge;
+  for (int x = 0; x < scene.cloth.num_width_points; ++x)
+    top_edge.emplace_back(x, scene.cloth.num_height_points - 1);
+  EXPECT_EQ(scene.cloth.pinned, top_edge);
+  EXPECT_TRUE(scene.sim.wind.enabled);
+  EXPECT_GT(glm::length(scene.sim.wind.velocity), 0.0);
+  EXPECT_GT(scene.sim.wind.turbulence, 0.0);
+  EXPECT_FALSE(scene.sim.self_collision);
+}
+
+TEST(ExtensionScenes, TwoSpheresUsesTheListKeys) {
+  Scene scene = loadScene(kScenesDir / "two_spheres.json");
+  EXPECT_EQ(scene.spheres.size(), 2u);
+  EXPECT_EQ(scene.planes.size(), 1u);
+}
+
+// ---------------------------------------------------------------------------------------------------
+TEST(SceneDefaults, Cs184FileWithoutSimulationRunsSelfCollisionAndDefaultTiming) {
+  Scene scene = parseScene("{" + kCloth + "}", "cs184.json");
+  const SimParams defaults;
+  EXPECT_TRUE(scene.sim.self_collision);
+  EXPECT_EQ(scene.sim.frames_per_sec, defaults.frames_per_sec);
+  EXPECT_EQ(scene.sim.steps_per_frame, defaults.steps_per_frame);
+  EXPECT_EQ(scene.sim.gravity, defaults.gravity);
+  EXPECT_EQ(scene.sim.stretch_passes, defaults.stretch_passes);
+  EXPECT_EQ(scene.sim.stretch_limit, defaults.stretch_limit);
+  EXPECT_FALSE(scene.sim.wind.enabled);
+  EXPECT_TRUE(scene.spheres.empty());
+  EXPECT_TRUE(scene.planes.empty());
+  EXPECT_EQ(scene.path, "cs184.json");
+}
+
+TEST(SceneDefaults, OptionalClothKeysTakeTheStructDefaults) {
+  Scene scene = parseScene("{" + kCloth + "}", "minimal.json");
+  const ClothSpec defaults;
+  const ClothSpec& c = scene.cloth;
+  EXPECT_EQ(c.width, 1.0);
+  EXPECT_EQ(c.num_width_points, 4);
+  EXPECT_EQ(c.num_height_points, 3);
+  EXPECT_EQ(c.thickness, 0.01);
+  EXPECT_EQ(c.orientation, Orientation::Horizontal);
+  EXPECT_TRUE(c.pinned.empty());
+  EXPECT_EQ(c.enable_structural, defaults.enable_structural);
+  EXPECT_EQ(c.enable_shearing, defaults.enable_shearing);
+  EXPECT_EQ(c.enable_bending, defaults.enable_bending);
+  EXPECT_EQ(c.damping, defaults.damping);
+  EXPECT_EQ(c.density, defaults.density);
+  EXPECT_EQ(c.ks, defaults.ks);
+}
+
+TEST(SceneDefaults, ColliderFrictionDefaults) {
+  Scene scene = parseScene("{" + kCloth +
+                               R"(, "sphere": {"origin": [1, 2, 3], "radius": 0.5},
+                                    "plane": {"point": [0, 1, 0], "normal": [0, 1, 0]}})",
+                           "colliders.json");
+  ASSERT_EQ(scene.spheres.size(), 1u);
+  ASSERT_EQ(scene.planes.size(), 1u);
+  EXPECT_EQ(scene.spheres[0].origin, glm::dvec3(1, 2, 3));
+  EXPECT_EQ(scene.spheres[0].radius, 0.5);
+  EXPECT_EQ(scene.spheres[0].friction, SphereSpec{}.friction);
+  EXPECT_EQ(scene.planes[0].friction, PlaneSpec{}.friction);
+}
+
+TEST(SceneDefaults, WindSectionEnablesWindWithDefaultsUnlessDisabled) {
+  const WindSpec defaults;
+  Scene on = parseScene("{" + kCloth + R"(, "simulation": {"wind": {}}})", "wind_on.json");
+  EXPECT_TRUE(on.sim.wind.enabled);
+  EXPECT_EQ(on.sim.wind.velocity, defaults.velocity);
+  EXPECT_EQ(on.sim.wind.turbulence, defaults.turbulence);
+  EXPECT_EQ(on.sim.wind.noise_scale, defaults.noise_scale);
+  EXPECT_EQ(on.sim.wind.noise_speed, defaults.noise_speed);
+  EXPECT_EQ(on.sim.wind.drag, defaults.drag);
+  Scene off = parseScene("{" + kCloth + R"(, "simulation": {"wind": {"enabled": false, "velocity": [3, 0, 0]}}})",
+                         "wind_off.json");
+  EXPECT_FALSE(off.sim.wind.enabled);
+  EXPECT_EQ(off.sim.wind.velocity, glm::dvec3(3, 0, 0));
+}
+
+TEST(SceneValues, EveryKeyOfTheFullSceneIsRead) {
+  Scene scene = parseScene(fullScene().dump(), "full.json");
+  EXPECT_EQ(scene.cloth.pinned, (std::vector<glm::ivec2>{{0, 0}, {3, 2}}));
+  EXPECT_EQ(scene.cloth.ks, 5000.0);
+  EXPECT_EQ(scene.sim.wind.velocity, glm::dvec3(1, 0, 0));
+  EXPECT_EQ(scene.sim.wind.turbulence, 0.1);
+  EXPECT_EQ(scene.sim.gravity, glm::dvec3(0, -9.8, 0));
+  EXPECT_EQ(scene.sim.stretch_limit, 1.1);
+  EXPECT_DOUBLE_EQ(scene.sim.dt(), 1.0 / 2700.0);
+}
+
+TEST(SceneValues, SingleAndListCollidersCombineSingleFirst) {
+  Scene scene = parseScene(fullScene().dump(), "full.json");
+  ASSERT_EQ(scene.spheres.size(), 2u);
+  EXPECT_EQ(scene.spheres[0].radius, 0.2);  // "sphere"
+  EXPECT_EQ(scene.spheres[1].radius, 0.1);  // "spheres"[0]
+  ASSERT_EQ(scene.planes.size(), 2u);
+  EXPECT_EQ(scene.planes[0].friction, 0.5);
+  EXPECT_EQ(scene.planes[1].friction, 0.2);
+}
+
+TEST(SceneValues, NormalIsNormalised) {
+  struct Row {
+    glm::dvec3 given, unit;
+  };
+  const double h = std::sqrt(0.5);
+  for (const Row& row : {Row{{0, 3, 4}, {0, 0.6, 0.8}}, Row{{0, -2, 0}, {0, -1, 0}}, Row{{1e-200, 0, 0}, {1, 0, 0}},
+                         Row{{1e200, 1e200, 0}, {h, h, 0}}}) {
+    nlohmann::json scene = fullScene();
+    scene["plane"]["normal"] = {row.given.x, row.given.y, row.given.z};
+    glm::dvec3 n = parseScene(scene.dump(), "normal.json").planes[0].normal;
+    EXPECT_NEAR(glm::length(n), 1.0, 1e-15);
+    EXPECT_NEAR(glm::length(n - row.unit), 0.0, 1e-15) << row.given.x << " " << row.given.y << " " << row.given.z;
+  }
+}
+
+// CS184's loader converts 50.0 to an int; a file that relies on this must still load.
+TEST(SceneValues, IntegralFloatsAreIntegers) {
+  nlohmann::json scene = fullScene();
+  scene["cloth"]["num_width_points"] = 4.0;
+  scene["cloth"]["orientation"] = 1.0;
+  scene["cloth"]["pinned"] = {{3.0, 2.0}};
+  Scene s = parseScene(scene.dump(), "floats.json");
+  EXPECT_EQ(s.cloth.num_width_points, 4);
+  EXPECT_EQ(s.cloth.orientation, Orientation::Vertical);
+  EXPECT_EQ(s.cloth.pinned, (std::vector<glm::ivec2>{{3, 2}}));
+}
+
+TEST(SceneValues, LargestGridIsAccepted) {
+  nlohmann::json scene = fullScene();
+  scene["cloth"]["num_width_points"] = 4096;
+  scene["cloth"]["num_height_points"] = 4096;
+  EXPECT_EQ(parseScene(scene.dump(), "large.json").cloth.pointCount(), kMaxClothPoints);
+}
+
+}  // namespace
+}  // namespace drape
