@@ -1,0 +1,63 @@
+// Forces and Verlet integration of one point in one kernel (DESIGN section 2, steps 1 and 2), followed
+// by what else only needs the point's own new state: its collisions when no self-collision pass sits
+// in between, else its hash-grid count for that pass. Mirrors CpuSolver::accumulateForces, integrate
+// (and collide). Reads *In and writes *Out: the force gather reads the neighbours' positions while
+// other invocations move theirs, so integrating in place would race.
+#include "common.glsl"
+#include "physics.glsl"
+#include "collide.glsl"
+#if SELF_COLLISION
+#include "grid.glsl"
+#endif
+
+layout(local_size_x = kLocalSize) in;
+
+#if WIND
+uniform float u_time;  // s, simulated time at the start of the substep (substeps * dt, as the CPU)
+
+// CpuSolver::pointNormal: central differences over the grid, clamped at the border.
+vec3 pointNormal(uint i) {
+  int W = int(params.grid_width), H = int(params.grid_height);
+  int x = int(i) % W, y = int(i) / W;
+  vec3 left = posIn[y * W + max(x - 1, 0)].xyz;
+  vec3 right = posIn[y * W + min(x + 1, W - 1)].xyz;
+  vec3 down = posIn[max(y - 1, 0) * W + x].xyz;
+  vec3 up = posIn[min(y + 1, H - 1) * W + x].xyz;
+  return gridNormal(left, right, down, up);
+}
+#endif
+
+void main() {
+  uint i = globalIndex();
+  if (i >= params.point_count) return;
+  precise vec3 x = posIn[i].xyz;
+  precise vec3 v = dispIn[i].xyz;
+  float pin = dispIn[i].w;
+  if (pin != 0.0) {
+    v = vec3(0.0);  // pinned points never move; their force is never needed
+  } else {
+    precise vec3 f = params.weight.xyz;
+    // Ascending spring index, the CPU's order, so the sums round alike. Disabled spring types are not
+    // in the GPU's adjacency at all.
+    for (uint e = offsets[i]; e < offsets[i + 1u]; ++e) {
+      Neighbor nb = neighbors[e];
+      f += springForce(x, posIn[neighborIndex(nb)].xyz, nb.rest, params.stiffness[neighborType(nb)]);
+    }
+#if WIND
+    precise vec3 air = windVelocity(x, u_time, params.wind_velocity.xyz, params.wind_velocity.w, params.noise_scale,
+                                    params.noise_speed);
+    f += windForce(pointNormal(i), v / params.dt, air, params.drag_area);
+#endif
+    v = integrateVerlet(v, f * params.inv_mass, params.dt2, params.keep);
+    x += v;
+#if COLLIDERS && !SELF_COLLISION
+    collideObjects(x, v);
+#endif
+  }
+#if SELF_COLLISION
+  countIntoGrid(i, x);
+#endif
+  checkHealth(i, x, v);
+  posOut[i] = vec4(x, 1.0);
+  dispOut[i] = vec4(v, pin);
+}

@@ -1,0 +1,165 @@
+// The physics of one spring, one collision, one stretch limit: the same pure functions, by the same
+// names and with the same operations in the same order, as src/cpu/physics.hpp. Keep the two side
+// by side when changing either. Model: DESIGN.md section 2.
+//
+// Every result is `precise`: without it the compiler may contract a*b + c into one fused multiply-add
+// (rounded once, where the CPU rounds twice) or reassociate sums, and the GPU would drift from the CPU
+// float reference by more than the ulps the consistency tests allow. dot3/length3/cross3/mix1 spell
+// out glm's operation order instead of trusting the driver's built-ins to use the same one.
+#pragma once
+
+const float kSurfaceOffset = 1e-4;  // m, planes keep points this far on their side
+const float kPlaneEpsilon = 1e-6;   // m, "on the plane" for x_prev
+
+float dot3(vec3 a, vec3 b) {
+  precise float r = a.x * b.x + a.y * b.y + a.z * b.z;  // glm: (x + y) + z
+  return r;
+}
+
+float length3(vec3 v) {
+  precise float r = sqrt(dot3(v, v));
+  return r;
+}
+
+vec3 cross3(vec3 a, vec3 b) {
+  precise vec3 r = vec3(a.y * b.z - b.y * a.z, a.z * b.x - b.z * a.x, a.x * b.y - b.x * a.y);
+  return r;
+}
+
+float mix1(float a, float b, float t) {
+  precise float r = a * (1.0 - t) + b * t;  // glm::mix, not a + t (b - a)
+  return r;
+}
+
+// Hooke spring seen from a: k (|b - a| - rest) along the unit vector towards b.
+vec3 springForce(vec3 a, vec3 b, float rest, float k) {
+  precise vec3 d = b - a;
+  precise float len = length3(d);
+  if (len <= 0.0) return vec3(0.0);
+  precise vec3 f = (k * (len - rest) / len) * d;
+  return f;
+}
+
+// Verlet in displacement form (v = x - x_prev); returns v', the new position is x + v'.
+vec3 integrateVerlet(vec3 v, vec3 accel, float dt2, float keep) {
+  precise vec3 r = keep * v + accel * dt2;
+  return r;
+}
+
+// Push xi away from xj by the overlap when closer than 2 * thickness (averaged by the caller).
+vec3 selfCollisionCorrection(vec3 xi, vec3 xj, float thickness) {
+  precise vec3 d = xi - xj;
+  precise float dist2 = dot3(d, d);
+  precise float range = 2.0 * thickness;
+  if (dist2 >= range * range || dist2 <= 0.0) return vec3(0.0);
+  precise float dist = sqrt(dist2);
+  precise vec3 r = ((range - dist) / dist) * d;
+  return r;
+}
+
+// x' = x_prev + (1-f)(target - x_prev) written as a correction added to both x and v.
+vec3 frictionCorrection(vec3 target_minus_x, vec3 v, float friction) {
+  precise vec3 r = (1.0 - friction) * target_minus_x - friction * v;
+  return r;
+}
+
+bool collideSphere(vec3 x, vec3 v, vec3 center, float radius, float friction, out vec3 c) {
+  c = vec3(0.0);
+  precise vec3 d = x - center;
+  precise float dist = length3(d);
+  if (dist > radius) return false;
+  precise vec3 dir = dist > 0.0 ? d / dist : vec3(0.0, 1.0, 0.0);
+  precise vec3 r = frictionCorrection((radius - dist) * dir, v, friction);
+  c = r;
+  return true;
+}
+
+// Plane through p with unit normal n. x_prev within kPlaneEpsilon of the plane counts as on the
+// normal's side (x_prev = x - v can land an ulp below a plane the point started on).
+bool collidePlane(vec3 x, vec3 v, vec3 p, vec3 n, float friction, out vec3 c) {
+  c = vec3(0.0);
+  precise float dx = dot3(x - p, n);
+  precise float vn = dot3(v, n);
+  precise float dprev = dx - vn;
+  bool prev_above = dprev >= -kPlaneEpsilon;
+  bool crossed = prev_above ? dx <= 0.0 : dx >= 0.0;
+  if (!crossed) return false;
+  // x(s) = x_prev + s v meets the plane at 1 - s = dx / vn; moving along the plane: straight to it.
+  precise vec3 target_minus_x = vn != 0.0 ? (-dx / vn) * v : -dx * n;
+  target_minus_x += ((prev_above ? 1.0 : -1.0) * kSurfaceOffset) * n;
+  precise vec3 r = frictionCorrection(target_minus_x, v, friction);
+  c = r;
+  return true;
+}
+
+// Provot (1995) stretch limit for one spring seen from point i.
+vec3 stretchCorrection(vec3 xi, vec3 xj, float rest, float limit, float share) {
+  precise vec3 d = xj - xi;
+  precise float len = length3(d);
+  precise float max_len = limit * rest;
+  if (len <= max_len) return vec3(0.0);
+  precise vec3 r = (share * (len - max_len) / len) * d;
+  return r;
+}
+
+float stretchShare(bool pinned_i, bool pinned_j) {
+  return pinned_i ? 0.0 : pinned_j ? 1.0 : 0.5;
+}
+
+vec3 windForce(vec3 normal, vec3 point_velocity, vec3 air_velocity, float drag_area) {
+  precise float rel = dot3(air_velocity - point_velocity, normal);
+  precise vec3 r = (drag_area * rel) * normal;
+  return r;
+}
+
+uint hashU32(uint x) {
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return x;
+}
+
+uint hashCell(ivec3 cell) {
+  return hashU32(uint(cell.x) + hashU32(uint(cell.y) + hashU32(uint(cell.z))));
+}
+
+float quinticFade(float t) {
+  precise float r = t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
+  return r;
+}
+
+float noiseCorner(ivec3 cell) {
+  precise float r = float(hashCell(cell) >> 8) * (1.0 / 8388608.0) - 1.0;
+  return r;
+}
+
+// Value noise in [-1, 1]: lattice values from hashCell, quintic interpolation.
+float valueNoise(vec3 p) {
+  precise vec3 f = floor(p);
+  ivec3 i = ivec3(f);
+  precise vec3 t = p - f;
+  precise vec3 u = vec3(quinticFade(t.x), quinticFade(t.y), quinticFade(t.z));
+  precise float x00 = mix1(noiseCorner(i), noiseCorner(i + ivec3(1, 0, 0)), u.x);
+  precise float x10 = mix1(noiseCorner(i + ivec3(0, 1, 0)), noiseCorner(i + ivec3(1, 1, 0)), u.x);
+  precise float x01 = mix1(noiseCorner(i + ivec3(0, 0, 1)), noiseCorner(i + ivec3(1, 0, 1)), u.x);
+  precise float x11 = mix1(noiseCorner(i + ivec3(0, 1, 1)), noiseCorner(i + ivec3(1, 1, 1)), u.x);
+  precise float r = mix1(mix1(x00, x10, u.y), mix1(x01, x11, u.y), u.z);
+  return r;
+}
+
+vec3 windVelocity(vec3 x, float t, vec3 velocity, float turbulence, float noise_scale, float noise_speed) {
+  precise vec3 p = x / noise_scale + (t * noise_speed) * vec3(1.0, 0.37, 0.71);
+  precise vec3 n = vec3(valueNoise(p), valueNoise(p + vec3(17.3, 5.1, 9.7)), valueNoise(p + vec3(3.7, 23.9, 13.1)));
+  precise vec3 r = velocity + (length3(velocity) * turbulence) * n;
+  return r;
+}
+
+// Normal of a grid point from its neighbours (clamped at the border), for wind.
+vec3 gridNormal(vec3 left, vec3 right, vec3 down, vec3 up) {
+  precise vec3 n = cross3(right - left, up - down);
+  precise float len = length3(n);
+  precise vec3 r = len > 0.0 ? n / len : vec3(0.0);
+  return r;
+}

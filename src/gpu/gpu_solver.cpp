@@ -1,0 +1,295 @@
+#include "gpu/gpu_solver.hpp"
+
+#include "gl/shader.hpp"
+#include "gpu/layout.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cstdio>
+#include <string>
+
+namespace drape {
+
+namespace {
+
+constexpr GLbitfield kUpdatable = GL_DYNAMIC_STORAGE_BIT;
+
+std::string mebibytes(std::uint64_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / (1024.0 * 1024.0));
+  return text;
+}
+
+std::uint64_t springCount(const ClothSpec& c, SpringType type) {
+  const std::uint64_t W = std::uint64_t(c.num_width_points), H = std::uint64_t(c.num_height_points);
+  switch (type) {
+    case SpringType::Structural:
+      return 2 * W * H - W - H;
+    case SpringType::Shearing:
+      return 2 * (W - 1) * (H - 1);
+    case SpringType::Bending:
+      return 2 * W * H - 2 * W - 2 * H;
+  }
+  return 0;
+}
+
+}  // namespace
+
+GpuSolver::GpuSolver(Scene scene, GpuSolverOptions options, gl::HeadlessContext context)
+    : owned_context_(std::move(context)), scene_(std::move(scene)), options_(options) {
+  if (owned_context_) owned_context_.makeCurrent();
+  // Without a current context the GL entry points are null or answer nothing: say so, do not crash.
+  if (glGetString == nullptr || glGetString(GL_VERSION) == nullptr)
+    throw std::logic_error("GpuSolver: no current OpenGL 4.5 context (make one, e.g. gl::HeadlessContext::create())");
+  context_info_ = gl::queryContextInfo();
+  if (options_.buckets != 0 && !std::has_single_bit(options_.buckets))
+    throw std::invalid_argument("gpu solver: buckets must be a power of two, not " + std::to_string(options_.buckets));
+  for (int t = 0; t < kSpringTypeCount; ++t)
+    enabled_springs_[t] = scene_.cloth.springEnabled(SpringType(t));
+  GLint groups = 0;
+  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups);
+  max_groups_x_ = std::uint32_t(groups);
+  // Before the topology: a cloth too large for this GPU must fail fast, without building gigabytes of
+  // springs on the CPU first.
+  checkLimits();
+  topo_ = buildTopology(scene_.cloth);
+  try {
+    allocate();
+  } catch (const gl::GlError& e) {
+    throw GpuLimitError("gpu solver: allocating the buffers for a " + std::to_string(topo_.W) + "x" +
+                        std::to_string(topo_.H) + " cloth failed: " + e.what());
+  }
+  if (glGetError() == GL_OUT_OF_MEMORY)
+    throw GpuLimitError("gpu solver: out of GPU memory allocating the buffers for a " + std::to_string(topo_.W) + "x" +
+                        std::to_string(topo_.H) + " cloth");
+  timer_queries_ = options_.timing && gl::timerQueriesWork();
+  resetTimings();
+  compilePrograms();
+  reset();
+}
+
+GpuSolver::~GpuSolver() {
+  // The members' GL objects are deleted after this body, in the owned context if there is one.
+  if (owned_context_) owned_context_.makeCurrent();
+}
+
+void GpuSolver::checkLimits() const {
+  const ClothSpec& c = scene_.cloth;
+  const std::uint64_t n = std::uint64_t(c.num_width_points) * std::uint64_t(c.num_height_points);
+  std::uint64_t springs = 0;
+  for (int t = 0; t < kSpringTypeCount; ++t)
+    if (enabled_springs_[t]) springs += springCount(c, SpringType(t));
+  const std::uint64_t buckets = options_.buckets ? options_.buckets : std::bit_ceil(std::max<std::uint64_t>(n, 1));
+  GLint64 block = 0;
+  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+  const std::uint64_t limit = options_.max_buffer_bytes ? options_.max_buffer_bytes : std::uint64_t(block);
+  const std::string cloth = std::to_string(c.num_width_points) + "x" + std::to_string(c.num_height_points) + " cloth";
+  struct Need {
+    const char* what;
+    std::uint64_t bytes;
+  };
+  const Need needs[] = {
+      {"positions", n * sizeof(glm::vec4)},
+      {"spring adjacency", 2 * springs * sizeof(gpu::Neighbor)},
+      {"hash-grid points", scene_.sim.self_collision ? n * sizeof(gpu::GridPoint) : 0},
+      {"hash-grid buckets", scene_.sim.self_collision ? (buckets + 1) * sizeof(std::uint32_t) : 0},
+  };
+  for (const Need& need : needs)
+    if (need.bytes > limit)
+      throw GpuLimitError("gpu solver: a " + cloth + " needs " + mebibytes(need.bytes) + " for its " + need.what +
+                          ", more than the " + mebibytes(limit) + " one shader storage buffer may hold here" +
+                          (options_.max_buffer_bytes ? " (GpuSolverOptions::max_buffer_bytes)"
+                                                     : " (GL_MAX_SHADER_STORAGE_BLOCK_SIZE)"));
+  static_assert(kMaxClothPoints <= gpu::kNeighborIndexMask + 1LL, "point indices must fit Neighbor::index_type");
+  GLint bindings = 0;
+  glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &bindings);
+  if (bindings <= GLint(gpu::kBindingPick))
+    throw GpuLimitError("gpu solver: needs " + std::to_string(gpu::kBindingPick + 1) +
+                        " shader storage binding points, this GPU has " + std::to_string(bindings) +
+                        " (GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS)");
+  GLint max_y = 0;
+  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 1, &max_y);
+  const std::uint64_t groups = (n + gpu::kLocalSize - 1) / gpu::kLocalSize;
+  if (groups > std::uint64_t(max_groups_x_) * std::uint64_t(max_y))
+    throw GpuLimitError("gpu solver: a " + cloth + " needs " + std::to_string(groups) +
+                        " work groups, more than GL_MAX_COMPUTE_WORK_GROUP_COUNT allows");
+  if ((buckets + gpu::kScanBlock - 1) / gpu::kScanBlock > max_groups_x_)
+    throw GpuLimitError("gpu solver: " + std::to_string(buckets) + " hash-grid buckets need more scan work groups " +
+                        "than GL_MAX_COMPUTE_WORK_GROUP_COUNT allows");
+}
+
+std::uint32_t GpuSolver::bucketCount() const {
+  return options_.buckets ? options_.buckets : std::bit_ceil(std::uint32_t(std::max(topo_.pointCount(), 1)));
+}
+
+std::uint32_t GpuSolver::scanBlocks() const {
+  return (bucketCount() + gpu::kScanBlock - 1) / gpu::kScanBlock;
+}
+
+bool GpuSolver::gridInOneGroup() const {
+  return scanBlocks() == 1;
+}
+
+void GpuSolver::allocate() {
+  const std::size_t n = std::size_t(topo_.pointCount());
+  for (StateBuffers& s : state_) {
+    s.position = gl::Buffer::create(n * sizeof(glm::vec4), nullptr, kUpdatable);
+    s.displacement = gl::Buffer::create(n * sizeof(glm::vec4), nullptr, kUpdatable);
+  }
+  params_ = gl::Buffer::create(sizeof(gpu::SimParams), nullptr, kUpdatable);
+  uploadParams();
+  uploadAdjacency();
+
+  std::vector<gpu::Collider> colliders;
+  for (const SphereSpec& s : scene_.spheres)
+    colliders.push_back({glm::vec4(glm::vec3(s.origin), float(s.radius)), glm::vec4(float(s.friction), 0, 0, 0)});
+  for (const PlaneSpec& p : scene_.planes)
+    colliders.push_back({glm::vec4(glm::vec3(p.point), float(p.friction)), glm::vec4(glm::vec3(p.normal), 0)});
+  colliders_ = gl::Buffer::fromVector(colliders, 0);
+  health_ = gl::Buffer::create(sizeof(gpu::Health), nullptr, kUpdatable);
+  pick_ = gl::Buffer::create(sizeof(gpu::PickResult), nullptr, kUpdatable);
+
+  // Render data: the triangles around each vertex as CSR lists, in ascending triangle order.
+  normals_ = gl::Buffer::create(n * sizeof(glm::vec4), nullptr, 0);
+  tangents_ = gl::Buffer::create(n * sizeof(glm::vec4), nullptr, 0);
+  normals_.clear();
+  tangents_.clear();
+  std::vector<std::uint32_t> tri_offsets(n + 1, 0);
+  for (std::uint32_t v : topo_.triangles)
+    ++tri_offsets[v + 1];
+  for (std::size_t i = 0; i < n; ++i)
+    tri_offsets[i + 1] += tri_offsets[i];
+  std::vector<std::uint32_t> vertex_tris(topo_.triangles.size());
+  std::vector<std::uint32_t> fill(tri_offsets.begin(), tri_offsets.end() - 1);
+  for (std::size_t k = 0; k < topo_.triangles.size(); ++k)
+    vertex_tris[fill[topo_.triangles[k]]++] = std::uint32_t(k / 3);
+  vertex_tri_offsets_ = gl::Buffer::fromVector(tri_offsets, 0);
+  vertex_tris_ = gl::Buffer::fromVector(vertex_tris, 0);
+  triangles_ = gl::Buffer::fromVector(topo_.triangles, 0);
+  uvs_ = gl::Buffer::fromVector(topo_.uvs, 0);
+
+  if (scene_.sim.self_collision) allocateGrid();
+}
+
+void GpuSolver::allocateGrid() {
+  const std::size_t n = std::size_t(topo_.pointCount());
+  const std::size_t buckets = bucketCount();
+  grid_points_ = gl::Buffer::create(n * sizeof(gpu::GridPoint), nullptr, 0);
+  // Counted into with atomics, then zeroed by the scan that reads them: zero once here.
+  grid_counts_ = gl::Buffer::create(buckets * sizeof(std::uint32_t), nullptr, 0);
+  grid_counts_.clear();
+  grid_start_ = gl::Buffer::create((buckets + 1) * sizeof(std::uint32_t), nullptr, 0);
+  grid_blocks_ = gl::Buffer::create(scanBlocks() * sizeof(std::uint32_t), nullptr, 0);
+  grid_scatter_ = gl::Buffer::create(n * sizeof(std::uint32_t), nullptr, 0);
+  grid_sorted_ = gl::Buffer::create(n * sizeof(std::uint32_t), nullptr, 0);
+}
+
+// The same float operations as CpuSolver<float>::refreshDerived and its passes, so the kernels start
+// from bit-identical constants.
+void GpuSolver::uploadParams() {
+  const ClothSpec& c = scene_.cloth;
+  const SimParams& sim = scene_.sim;
+  const WindSpec& wind = sim.wind;
+  const int n = c.num_width_points * c.num_height_points;
+  const float mass = float(c.width * c.height * c.density / double(n));
+  const float dt = float(sim.dt());
+  const float thickness = float(c.thickness);
+  gpu::SimParams p{};
+  p.weight = glm::vec4(glm::vec3(sim.gravity) * mass, 0.0f);
+  p.stiffness = glm::vec4(float(c.ks), float(c.ks), float(0.2 * c.ks), 0.0f);
+  p.wind_velocity = glm::vec4(glm::vec3(wind.velocity), float(wind.turbulence));
+  p.inv_mass = 1.0f / mass;
+  p.dt = dt;
+  p.dt2 = dt * dt;
+  p.keep = float(1.0 - c.damping / 100.0);
+  p.thickness = thickness;
+  p.cell_size = 2.0f * thickness;
+  p.steps_per_frame = float(sim.steps_per_frame);
+  p.stretch_limit = float(sim.stretch_limit);
+  p.drag_area = float(wind.drag * c.width * c.height / double(n));
+  p.noise_scale = float(wind.noise_scale);
+  p.noise_speed = float(wind.noise_speed);
+  p.sane_bound = float(options_.sane_bound);
+  p.point_count = std::uint32_t(n);
+  p.grid_width = std::uint32_t(c.num_width_points);
+  p.grid_height = std::uint32_t(c.num_height_points);
+  p.bucket_count = options_.buckets ? options_.buckets : std::bit_ceil(std::uint32_t(std::max(n, 1)));
+  p.bucket_mask = p.bucket_count - 1;
+  p.scan_blocks = (p.bucket_count + gpu::kScanBlock - 1) / gpu::kScanBlock;
+  params_.upload(0, sizeof p, &p);
+}
+
+// Only the enabled spring types go to the GPU, in the CPU's order (ascending spring index): a disabled
+// type costs no memory traffic, and the kernels need no per-entry test.
+void GpuSolver::uploadAdjacency() {
+  const std::size_t n = std::size_t(topo_.pointCount());
+  std::vector<std::uint32_t> offsets(n + 1, 0);
+  std::vector<gpu::Neighbor> neighbors;
+  neighbors.reserve(topo_.adjacency.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::uint32_t e = topo_.offsets[i]; e < topo_.offsets[i + 1]; ++e) {
+      const Neighbor& nb = topo_.adjacency[e];
+      if (enabled_springs_[int(nb.type)])
+        neighbors.push_back({nb.other | (std::uint32_t(nb.type) << gpu::kNeighborIndexBits), float(nb.rest)});
+    }
+    offsets[i + 1] = std::uint32_t(neighbors.size());
+  }
+  offsets_ = gl::Buffer::fromVector(offsets, 0);
+  neighbors_ = gl::Buffer::fromVector(neighbors, 0);
+}
+
+gl::Defines GpuSolver::sceneDefines() const {
+  return {{"NUM_SPHERES", std::to_string(scene_.spheres.size())},
+          {"NUM_PLANES", std::to_string(scene_.planes.size())},
+          {"SELF_COLLISION", scene_.sim.self_collision ? "1" : "0"},
+          {"WIND", scene_.sim.wind.enabled ? "1" : "0"}};
+}
+
+// Kernels are compiled for this scene, so code for absent features does not exist in them. Kernels
+// whose code does not depend on the scene (normals, pick) are compiled on first use.
+void GpuSolver::compilePrograms() {
+  defines_ = sceneDefines();
+  programs_.forces_integrate = gl::compileCompute("sim/forces_integrate.comp", defines_);
+  programs_.limit_stretch = gl::compileCompute("sim/limit_stretch.comp", defines_);
+  if (scene_.sim.self_collision) {
+    programs_.grid_count = gl::compileCompute("sim/grid_count.comp", defines_);
+    if (gridInOneGroup()) {
+      programs_.grid_build = gl::compileCompute("sim/grid_build.comp", defines_);
+    } else {
+      for (int stage = 0; stage < 3; ++stage) {
+        gl::Defines d = defines_;
+        d.emplace_back("SCAN_STAGE", std::to_string(stage));
+        programs_.grid_scan[stage] = gl::compileCompute("sim/grid_scan.comp", d);
+      }
+      programs_.grid_scatter = gl::compileCompute("sim/grid_scatter.comp", defines_);
+      programs_.grid_rank = gl::compileCompute("sim/grid_rank.comp", defines_);
+    }
+    programs_.self_collide = gl::compileCompute("sim/self_collide.comp", defines_);
+  }
+}
+
+void GpuSolver::setParams(const ClothSpec& cloth, const SimParams& sim) {
+  const ClothSpec kept = scene_.cloth;  // grid, orientation and pins stay: they define the topology
+  scene_.cloth = cloth;
+  scene_.cloth.width = kept.width;
+  scene_.cloth.height = kept.height;
+  scene_.cloth.num_width_points = kept.num_width_points;
+  scene_.cloth.num_height_points = kept.num_height_points;
+  scene_.cloth.orientation = kept.orientation;
+  scene_.cloth.pinned = kept.pinned;
+  scene_.sim = sim;
+  bool springs_changed = false;
+  for (int t = 0; t < kSpringTypeCount; ++t) {
+    const bool enabled = scene_.cloth.springEnabled(SpringType(t));
+    springs_changed |= enabled != enabled_springs_[t];
+    enabled_springs_[t] = enabled;
+  }
+  checkLimits();
+  if (grid_points_.id() != 0) discardGridCount();  // self-collision may be turned off before a scan
+  if (springs_changed) uploadAdjacency();
+  if (scene_.sim.self_collision && grid_points_.id() == 0) allocateGrid();
+  uploadParams();
+  if (sceneDefines() != defines_) compilePrograms();
+}
+
+}  // namespace drape

@@ -1,0 +1,304 @@
+// GpuSolver: the substep as a list of dispatches, the state's ping-pong, timing and read-back.
+#include "gpu/gpu_solver.hpp"
+#include "gpu/layout.hpp"
+
+#include <chrono>
+
+namespace drape {
+
+void GpuSolver::step() {
+  forcesIntegrate();
+  if (scene_.sim.self_collision) selfCollide();
+  limitStretch();
+  ++substeps_;
+}
+
+void GpuSolver::forcesIntegrate() {
+  bindShared();
+  if (scene_.sim.wind.enabled)
+    programs_.forces_integrate.setUniform("u_time", float(double(substeps_) * scene_.sim.dt()));
+  dispatchPingPong(kForcesIntegrate, programs_.forces_integrate);
+  grid_counted_ = scene_.sim.self_collision;
+}
+
+void GpuSolver::selfCollide() {
+  if (!scene_.sim.self_collision) return;
+  bindShared();
+  const glm::uvec3 per_point = groupsFor(std::uint64_t(topo_.pointCount()), gpu::kLocalSize);
+  bindState(current_, 1 - current_);
+  if (!grid_counted_) dispatch(kGridCount, programs_.grid_count, per_point);
+  if (gridInOneGroup()) {
+    dispatch(kGridBuild, programs_.grid_build, {1, 1, 1});
+  } else {
+    const std::uint32_t blocks = scanBlocks();
+    dispatch(kGridScan, programs_.grid_scan[0], {blocks, 1, 1});
+    dispatch(kGridScanBlocks, programs_.grid_scan[1], {1, 1, 1});
+    dispatch(kGridScanOffsets, programs_.grid_scan[2], {blocks, 1, 1});
+    dispatch(kGridScatter, programs_.grid_scatter, per_point);
+    dispatch(kGridRank, programs_.grid_rank, per_point);
+  }
+  dispatchPingPong(kSelfCollide, programs_.self_collide);
+  grid_counted_ = false;
+}
+
+void GpuSolver::limitStretch() {
+  if (scene_.sim.stretch_passes > 0) bindShared();
+  for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass)
+    dispatchPingPong(kLimitStretch, programs_.limit_stretch);
+}
+
+std::vector<std::string> GpuSolver::passes() const {
+  std::vector<std::string> out{passName(kForcesIntegrate)};
+  if (scene_.sim.self_collision) {
+    if (gridInOneGroup()) {
+      out.push_back(passName(kGridBuild));
+    } else {
+      for (PassId p : {kGridScan, kGridScanBlocks, kGridScanOffsets, kGridScatter, kGridRank})
+        out.push_back(passName(p));
+    }
+    out.push_back(passName(kSelfCollide));
+  }
+  for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass)
+    out.push_back(passName(kLimitStretch));
+  return out;
+}
+
+int GpuSolver::dispatchesPerFrame() const {
+  return int(passes().size()) * scene_.sim.steps_per_frame;
+}
+
+std::string GpuSolver::passName(PassId pass) const {
+  const bool colliders = !scene_.spheres.empty() || !scene_.planes.empty();
+  switch (pass) {
+    case kForcesIntegrate:
+      return std::string("forces+integrate") + (scene_.sim.self_collision ? "+grid_count"
+                                                : colliders               ? "+collide"
+                                                                          : "");
+    case kGridCount:
+      return "grid_count";
+    case kGridBuild:
+      return "grid_build";
+    case kGridScan:
+      return "grid_scan";
+    case kGridScanBlocks:
+      return "grid_scan_blocks";
+    case kGridScanOffsets:
+      return "grid_scan_offsets";
+    case kGridScatter:
+      return "grid_scatter";
+    case kGridRank:
+      return "grid_rank";
+    case kSelfCollide:
+      return colliders ? "self_collide+collide" : "self_collide";
+    case kLimitStretch:
+      return "limit_stretch";
+    case kNormals:
+      return "normals";
+    case kPick:
+      return "pick";
+    case kPassCount:
+      break;
+  }
+  return "?";
+}
+
+// The renderer (or anything else) may bind its own buffers to the same indices between our calls, so
+// every stage binds what it uses; a binding is a cheap state change.
+void GpuSolver::bindShared() const {
+  params_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingParams);
+  offsets_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingOffsets);
+  neighbors_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingNeighbors);
+  colliders_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColliders);
+  health_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingHealth);
+  if (grid_points_.id() != 0) {
+    grid_points_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingGridPoints);
+    grid_counts_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingGridCounts);
+    grid_start_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingGridStart);
+    grid_blocks_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingGridBlocks);
+    grid_scatter_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingGridScatter);
+    grid_sorted_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingGridSorted);
+  }
+}
+
+void GpuSolver::bindState(int in, int out) const {
+  state_[in].position.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingPosIn);
+  state_[in].displacement.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingDispIn);
+  state_[out].position.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingPosOut);
+  state_[out].displacement.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingDispOut);
+}
+
+// Work groups covering `invocations`, spread over y when x alone would pass the guaranteed limit
+// (the kernels fold the 2D index back, see globalIndex() in glsl/sim/common.glsl).
+glm::uvec3 GpuSolver::groupsFor(std::uint64_t invocations, std::uint32_t local_size) const {
+  const std::uint64_t groups = std::max<std::uint64_t>((invocations + local_size - 1) / local_size, 1);
+  if (groups <= max_groups_x_) return {std::uint32_t(groups), 1, 1};
+  const std::uint64_t rows = (groups + max_groups_x_ - 1) / max_groups_x_;
+  return {max_groups_x_, std::uint32_t(rows), 1};
+}
+
+void GpuSolver::dispatch(PassId pass, const gl::Program& program, glm::uvec3 groups) {
+  PassTiming& timing = timings_[pass];
+  ++timing.calls;
+  if (!options_.timing) {
+    program.dispatch(groups);
+  } else if (timer_queries_) {
+    gl::Query query;
+    if (spare_queries_.empty()) {
+      query = gl::Query::create(GL_TIME_ELAPSED);
+    } else {
+      query = std::move(spare_queries_.back());
+      spare_queries_.pop_back();
+    }
+    query.begin();
+    program.dispatch(groups);
+    query.end();
+    pending_.push_back({pass, std::move(query)});
+    if (pending_.size() >= 1024) resolveQueries();  // bounded memory; results are ready long before
+  } else {
+    // No GPU timer (llvmpipe): wall clock around the dispatch, with the pipeline drained on both sides.
+    glFinish();
+    const auto start = std::chrono::steady_clock::now();
+    program.dispatch(groups);
+    glFinish();
+    timing.ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  }
+  // Every later pass reads through SSBOs what this one wrote. Shader storage writes are incoherent:
+  // without this barrier the next dispatch may still read the old values.
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+void GpuSolver::dispatchPingPong(PassId pass, const gl::Program& program) {
+  bindState(current_, 1 - current_);
+  dispatch(pass, program, groupsFor(std::uint64_t(topo_.pointCount()), gpu::kLocalSize));
+  current_ = 1 - current_;
+}
+
+void GpuSolver::resolveQueries() const {
+  for (PendingQuery& p : pending_) {
+    timings_[p.pass].ms += double(p.query.result()) * 1e-6;
+    spare_queries_.push_back(std::move(p.query));
+  }
+  pending_.clear();
+}
+
+std::vector<PassTiming> GpuSolver::timings() const {
+  resolveQueries();
+  std::vector<PassTiming> out;
+  for (int p = 0; p < kPassCount; ++p) {
+    if (timings_[p].calls == 0) continue;
+    out.push_back(timings_[p]);
+    out.back().name = passName(PassId(p));
+  }
+  return out;
+}
+
+void GpuSolver::resetTimings() {
+  resolveQueries();
+  timings_.assign(kPassCount, PassTiming{});
+  for (int p = 0; p < kPassCount; ++p)
+    timings_[p].name = passName(PassId(p));
+}
+
+void GpuSolver::reset() {
+  const std::size_t n = std::size_t(topo_.pointCount());
+  std::vector<glm::vec4> x(n), v(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = glm::vec4(glm::vec3(topo_.initial_positions[i]), 1.0f);
+    v[i] = glm::vec4(0.0f, 0.0f, 0.0f, topo_.pinned[i] ? 1.0f : 0.0f);
+  }
+  // Uploads must not overtake shader writes still in flight to the same buffers.
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  current_ = 0;
+  state_[0].position.upload(x);
+  state_[0].displacement.upload(v);
+  substeps_ = 0;
+  held_ = -1;
+  discardGridCount();
+  clearHealth();
+}
+
+void GpuSolver::uploadState(const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& v, long long substeps) {
+  const std::size_t n = std::size_t(topo_.pointCount());
+  if (x.size() != n || v.size() != n)
+    throw std::invalid_argument("GpuSolver::uploadState: expected " + std::to_string(n) + " points");
+  std::vector<glm::vec4> px(n), pv(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool pinned = topo_.pinned[i] != 0 || int(i) == held_;
+    px[i] = glm::vec4(glm::vec3(x[i]), 1.0f);
+    pv[i] = glm::vec4(glm::vec3(v[i]), pinned ? 1.0f : 0.0f);
+  }
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  state_[current_].position.upload(px);
+  state_[current_].displacement.upload(pv);
+  substeps_ = substeps;
+  discardGridCount();
+}
+
+// Counts of positions that were replaced before a scan consumed them would add to the next count.
+void GpuSolver::discardGridCount() {
+  if (grid_counted_) grid_counts_.clear();
+  grid_counted_ = false;
+}
+
+std::vector<glm::dvec3> GpuSolver::readPositions() {
+  // glGetBufferSubData after shader writes needs this barrier to see them.
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  const auto x = state_[current_].position.download<glm::vec4>(std::size_t(topo_.pointCount()));
+  std::vector<glm::dvec3> out(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i)
+    out[i] = glm::dvec3(glm::vec3(x[i]));
+  return out;
+}
+
+std::vector<glm::dvec3> GpuSolver::readDisplacements() {
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  const auto v = state_[current_].displacement.download<glm::vec4>(std::size_t(topo_.pointCount()));
+  std::vector<glm::dvec3> out(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i)
+    out[i] = glm::dvec3(glm::vec3(v[i]));
+  return out;
+}
+
+GpuGrid GpuSolver::readGrid() {
+  GpuGrid grid;
+  if (grid_points_.id() == 0) return grid;
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  const std::size_t n = std::size_t(topo_.pointCount());
+  for (const gpu::GridPoint& g : grid_points_.download<gpu::GridPoint>(n)) {
+    grid.cells.emplace_back(g.cell_x, g.cell_y, g.cell_z);
+    grid.buckets.push_back(g.bucket);
+    grid.arrival.push_back(g.arrival);
+  }
+  grid.start = grid_start_.download<std::uint32_t>(std::size_t(bucketCount()) + 1);
+  grid.sorted = grid_sorted_.download<std::uint32_t>(n);
+  return grid;
+}
+
+GpuHealth GpuSolver::readHealth() {
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  const gpu::Health h = health_.download<gpu::Health>(1)[0];
+  GpuHealth out;
+  out.non_finite = (h.flags & gpu::kHealthNonFinite) != 0;
+  out.out_of_bounds = (h.flags & gpu::kHealthOutOfBounds) != 0;
+  out.first_point = h.flags != 0 ? (long long)h.first_point : -1;
+  return out;
+}
+
+void GpuSolver::clearHealth() {
+  const gpu::Health clean{0u, 0xffffffffu, 0u, 0u};
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  health_.upload(0, sizeof clean, &clean);
+}
+
+std::size_t GpuSolver::gpuMemoryBytes() const {
+  std::size_t total = 0;
+  for (const StateBuffers& s : state_)
+    total += s.position.size() + s.displacement.size();
+  for (const gl::Buffer* b : {&params_, &offsets_, &neighbors_, &colliders_, &health_, &grid_points_, &grid_counts_,
+                              &grid_start_, &grid_blocks_, &grid_scatter_, &grid_sorted_, &normals_, &tangents_,
+                              &vertex_tri_offsets_, &vertex_tris_, &triangles_, &uvs_, &pick_})
+    total += b->size();
+  return total;
+}
+
+}  // namespace drape

@@ -1,0 +1,136 @@
+// Whole runs of the standard scenes on the GPU against the CPU float solver, and the physical checks
+// of the self-collision scene once the two are allowed to part.
+#include "gl_fixture.hpp"
+#include "gpu/gpu_solver.hpp"
+#include "gpu_test_support.hpp"
+
+#include <cstdio>
+#include <ostream>
+
+namespace drape {
+namespace {
+
+// Largest vertex deviation allowed after `substeps`, relative to the cloth size. Each pass agrees with
+// the CPU within 4 float ulps of the coordinates (tests/gpu_passes_gl_test.cpp); the cloth is damped
+// and, away from contact, does not amplify a perturbation, so the differences at most add up:
+// substeps * 4 ulps of the largest coordinate. After 1 s (2700 substeps) at 1 m that is 1.3 mm, 9e-4
+// of the 1.41 m diagonal. Self-collision contact can amplify differences, which is why the
+// selfCollision scene is compared for 0.2 s only.
+double runBound(long long substeps, double coordinate_scale, double cloth_size) {
+  return double(substeps) * 4.0 * gpu_test::floatUlp(std::max(coordinate_scale, 1.0)) / cloth_size;
+}
+
+// Sanity limit: a run whose points leave a box 100x the cloth size has blown up (no use comparing).
+bool sane(const std::vector<glm::dvec3>& x, double cloth_size) {
+  return allFinite(x) && gpu_test::maxAbs(x) < 100.0 * cloth_size;
+}
+
+// Runs both solvers for `frames`, comparing every frame. Returns false when one of them blew up.
+bool compareRuns(GpuSolver& gpu, CpuSolver<float>& cpu, int frames, const char* name) {
+  const double size = clothSize(cpu.scene().cloth);
+  double worst = 0, worst_bound = 0;
+  int worst_frame = 0;
+  for (int f = 1; f <= frames; ++f) {
+    gpu.stepFrame();
+    cpu.stepFrame();
+    const auto xg = gpu.readPositions(), xc = cpu.readPositions();
+    if (!sane(xc, size)) {
+      ADD_FAILURE() << name << ": the CPU float reference blew up by frame " << f << " (nothing to compare)";
+      return false;
+    }
+    if (!sane(xg, size)) {
+      ADD_FAILURE() << name << ": the GPU run blew up by frame " << f << " while the CPU did not";
+      return false;
+    }
+    const double relative = maxDeviation(xg, xc) / size;
+    const double bound = runBound(gpu.substeps(), gpu_test::maxAbs(xc), size);
+    if (relative >= worst) {
+      worst = relative;
+      worst_bound = bound;
+      worst_frame = f;
+    }
+    EXPECT_LE(relative, bound) << name << " frame " << f;
+  }
+  std::printf("%-14s %d frames: largest deviation %.3g of the cloth size (frame %d; bound there %.3g)\n", name, frames,
+              worst, worst_frame, worst_bound);
+  return true;
+}
+
+struct RunCase {
+  const char* name;
+  const char* scene;
+};
+
+// Test names and CTest listings show the case's name instead of its bytes.
+void PrintTo(const RunCase& c, std::ostream* os) {
+  *os << c.name;
+}
+
+class GpuRunTest : public GlTest, public ::testing::WithParamInterface<RunCase> {};
+
+// One simulated second: 90 frames of 30 substeps.
+TEST_P(GpuRunTest, OneSecondStaysWithTheCpuFloatRun) {
+  const Scene scene = gpu_test::standardScene(GetParam().scene);
+  GpuSolver gpu(scene);
+  CpuSolver<float> cpu(scene);
+  compareRuns(gpu, cpu, int(scene.sim.frames_per_sec), GetParam().name);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, GpuRunTest,
+                         ::testing::Values(RunCase{"pinned2", "pinned2.json"}, RunCase{"pinned4", "pinned4.json"},
+                                           RunCase{"sphere", "sphere.json"}, RunCase{"plane", "plane.json"},
+                                           RunCase{"wind", "wind.json"}),
+                         [](const ::testing::TestParamInfo<RunCase>& param) { return std::string(param.param.name); });
+
+double closestPair(const std::vector<glm::dvec3>& x) {
+  double closest = 1e30;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (std::size_t j = i + 1; j < x.size(); ++j)
+      closest = std::min(closest, glm::distance(x[i], x[j]));
+  return closest;
+}
+
+class GpuSelfCollisionRun : public GlTest {};
+
+// The first 0.2 s against the CPU; then, to 1 s, the physical checks: no point below the floor after
+// any frame, and right after the self-collision pass no two points closer than half the collision
+// range 2 * thickness. Half: one pass moves a point by at most the average overlap / steps_per_frame
+// (CS184), so a fold landing on itself is pushed apart over several substeps, not at once; on this
+// scene the closest pair after the pass stays near 0.6 of the range.
+TEST_F(GpuSelfCollisionRun, AgreesForTwoTenthsThenStaysPhysical) {
+  const Scene scene = gpu_test::standardScene("selfCollision.json");
+  ASSERT_EQ(scene.planes.size(), 1u);
+  GpuSolver gpu(scene);
+  CpuSolver<float> cpu(scene);
+  const int compared = int(0.2 * scene.sim.frames_per_sec);
+  if (!compareRuns(gpu, cpu, compared, "selfCollision")) return;
+
+  const double range = 2 * scene.cloth.thickness;
+  double lowest = 1e30, closest = 1e30;
+  for (int f = compared + 1; f <= int(scene.sim.frames_per_sec); ++f) {
+    // Every tenth frame its last substep runs stage by stage, to look between the passes (without
+    // counting the substep: only wind depends on time, and this scene has none).
+    const bool inspect = f % 10 == 0;
+    for (int s = 0; s < scene.sim.steps_per_frame - (inspect ? 1 : 0); ++s)
+      gpu.step();
+    if (inspect) {
+      gpu.forcesIntegrate();
+      gpu.selfCollide();
+      const double pair = closestPair(gpu.readPositions());
+      closest = std::min(closest, pair);
+      EXPECT_GE(pair, 0.5 * range) << "frame " << f << ": closest pair after the self-collision pass";
+      gpu.limitStretch();
+    }
+    const auto x = gpu.readPositions();
+    ASSERT_TRUE(allFinite(x)) << "frame " << f;
+    const double below = colliderDistances(scene, x)[0];
+    lowest = std::min(lowest, below);
+    EXPECT_GE(below, 0.0) << "frame " << f << ": a point is below the floor";
+  }
+  std::printf(
+      "selfCollision  0.2-1 s: lowest point %.3g m above the floor, closest pair after the pass %.3g of 2 thickness\n",
+      lowest, closest / range);
+}
+
+}  // namespace
+}  // namespace drape

@@ -1,0 +1,416 @@
+// The GPU solver's own contract: which passes a scene dispatches, timing, limits and errors, the
+// renderer's buffers (normals, tangents), picking and dragging, live parameter changes, blow-up flags.
+#include "gl/shader_source.hpp"
+#include "gl_fixture.hpp"
+#include "gpu/gpu_solver.hpp"
+#include "gpu_test_support.hpp"
+
+#include <sys/wait.h>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+namespace drape {
+namespace {
+
+using gpu_test::standardScene;
+using Strings = std::vector<std::string>;
+
+Scene smallScene(int n, bool self_collision = false) {
+  Scene s;
+  s.path = "small";
+  s.cloth.num_width_points = n;
+  s.cloth.num_height_points = n;
+  s.sim.self_collision = self_collision;
+  return s;
+}
+
+class GpuSolverTest : public GlTest {};
+
+TEST_F(GpuSolverTest, PassListsFollowTheScene) {
+  // pinned2: no collider, no self-collision: nothing but the two kernels every cloth needs.
+  GpuSolver pinned2(standardScene("pinned2.json"));
+  EXPECT_EQ(pinned2.passes(), (Strings{"forces+integrate", "limit_stretch"}));
+  EXPECT_EQ(pinned2.dispatchesPerFrame(), 2 * 30);
+  for (const std::string& pass : pinned2.passes()) {
+    EXPECT_EQ(pass.find("collide"), std::string::npos) << pass;
+    EXPECT_EQ(pass.find("grid"), std::string::npos) << pass;
+  }
+  // selfCollision: the hash grid (one work group for 2500 points), the correction with the floor fused.
+  GpuSolver self(standardScene("selfCollision.json"));
+  EXPECT_EQ(self.passes(),
+            (Strings{"forces+integrate+grid_count", "grid_build", "self_collide+collide", "limit_stretch"}));
+  EXPECT_EQ(self.dispatchesPerFrame(), 4 * 30);
+  // A collider without self-collision rides on the integrate kernel.
+  Scene sphere = standardScene("sphere.json");
+  sphere.sim.self_collision = false;
+  EXPECT_EQ(GpuSolver(sphere).passes(), (Strings{"forces+integrate+collide", "limit_stretch"}));
+  // No stretch limit, or three passes of it.
+  Scene loose = standardScene("pinned2.json");
+  loose.sim.stretch_passes = 0;
+  EXPECT_EQ(GpuSolver(loose).passes(), (Strings{"forces+integrate"}));
+  loose.sim.stretch_passes = 3;
+  loose.sim.steps_per_frame = 10;
+  GpuSolver three(loose);
+  EXPECT_EQ(three.passes(), (Strings{"forces+integrate", "limit_stretch", "limit_stretch", "limit_stretch"}));
+  EXPECT_EQ(three.dispatchesPerFrame(), 4 * 10);
+  // Past 4096 buckets the grid build takes five dispatches.
+  EXPECT_EQ(GpuSolver(smallScene(80, true)).passes(),
+            (Strings{"forces+integrate+grid_count", "grid_scan", "grid_scan_blocks", "grid_scan_offsets",
+                     "grid_scatter", "grid_rank", "self_collide", "limit_stretch"}));
+}
+
+TEST_F(GpuSolverTest, TimingsNameEveryDispatchedPass) {
+  GpuSolver gpu(standardScene("selfCollision.json"), {.timing = true});
+  gpu.stepFrame();
+  const std::vector<PassTiming> timings = gpu.timings();
+  Strings names;
+  for (const PassTiming& t : timings) {
+    names.push_back(t.name);
+    EXPECT_EQ(t.calls, 30) << t.name;
+    EXPECT_GE(t.ms, 0.0) << t.name;
+  }
+  EXPECT_EQ(names, gpu.passes());
+  gpu.resetTimings();
+  EXPECT_TRUE(gpu.timings().empty());
+  // Without timing the dispatches are still counted, never timed.
+  GpuSolver plain(standardScene("pinned2.json"));
+  plain.step();
+  for (const PassTiming& t : plain.timings()) {
+    EXPECT_EQ(t.calls, 1) << t.name;
+    EXPECT_EQ(t.ms, 0.0) << t.name;
+  }
+}
+
+TEST_F(GpuSolverTest, PinnedPointsNeverMoveAndResetRestores) {
+  GpuSolver gpu(standardScene("pinned4.json"));
+  for (int f = 0; f < 20; ++f)
+    gpu.stepFrame();
+  const auto x = gpu.readPositions();
+  const Topology& t = gpu.topology();
+  int pinned = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!t.pinned[i]) continue;
+    EXPECT_EQ(x[i], gpu_test::asFloat(t.initial_positions[i])) << "point " << i;
+    ++pinned;
+  }
+  EXPECT_EQ(pinned, 4);
+  EXPECT_LT(centroid(x).y, 0.95) << "the free part of the cloth must have fallen";
+  EXPECT_EQ(gpu.substeps(), 600);
+  gpu.reset();
+  EXPECT_EQ(gpu.substeps(), 0);
+  const auto x0 = gpu.readPositions(), v0 = gpu.readDisplacements();
+  for (std::size_t i = 0; i < x0.size(); ++i) {
+    ASSERT_EQ(x0[i], gpu_test::asFloat(t.initial_positions[i])) << "point " << i;
+    ASSERT_EQ(v0[i], glm::dvec3(0)) << "point " << i;
+  }
+}
+
+TEST_F(GpuSolverTest, ClothAtRestWithoutGravityStaysAtRest) {
+  Scene scene = smallScene(20, true);  // spacing 1/19 m > 2 thickness: no pair interacts
+  scene.sim.gravity = glm::dvec3(0);
+  GpuSolver gpu(scene);
+  for (int f = 0; f < 30; ++f)
+    gpu.stepFrame();
+  EXPECT_LT(maxDeviation(gpu.readPositions(), gpu.topology().initial_positions), 1e-6);
+  EXPECT_TRUE(gpu.readHealth().ok());
+}
+
+TEST_F(GpuSolverTest, StateRoundTripsExactly) {
+  GpuSolver gpu(smallScene(8));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-2, 2);
+  std::vector<glm::dvec3> x(64), v(64);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    x[i] = gpu_test::asFloat({u(rng), u(rng), u(rng)});
+    v[i] = gpu_test::asFloat(glm::dvec3(u(rng), u(rng), u(rng)) * 1e-3);
+  }
+  gpu.uploadState(x, v, 5);
+  EXPECT_EQ(gpu.readPositions(), x);
+  EXPECT_EQ(gpu.readDisplacements(), v);
+  EXPECT_EQ(gpu.substeps(), 5);
+  EXPECT_THROW(gpu.uploadState(std::vector<glm::dvec3>(3), std::vector<glm::dvec3>(3), 0), std::invalid_argument);
+}
+
+TEST_F(GpuSolverTest, HeldPointStaysAtTheTargetUntilReleased) {
+  GpuSolver gpu(standardScene("pinned2.json"));
+  const int W = gpu.topology().W;
+  const int held = 25 * W + 25;
+  const glm::vec3 target(0.5f, 1.2f, 0.5f);
+  gpu.holdPoint(held, target);
+  for (int f = 0; f < 10; ++f)
+    gpu.stepFrame();
+  auto x = gpu.readPositions();
+  EXPECT_EQ(x[std::size_t(held)], glm::dvec3(target));
+  EXPECT_GT(x[std::size_t(held + 1)].y, 1.0) << "a neighbour is pulled up with the held point";
+  gpu.releasePoint();
+  for (int f = 0; f < 10; ++f)
+    gpu.stepFrame();
+  x = gpu.readPositions();
+  EXPECT_LT(x[std::size_t(held)].y, double(target.y)) << "released, it falls";
+  // setPosition moves a point and keeps its displacement.
+  const auto v = gpu.readDisplacements();
+  gpu.setPosition(7, glm::vec3(3, 4, 5));
+  EXPECT_EQ(gpu.readPositions()[7], glm::dvec3(3, 4, 5));
+  EXPECT_EQ(gpu.readDisplacements()[7], v[7]);
+  EXPECT_THROW(gpu.holdPoint(W * W, target), std::out_of_range);
+}
+
+// The sphere scene without self-collision: the same draping, at a fraction of the llvmpipe time.
+Scene drapedScene() {
+  Scene scene = standardScene("sphere.json");
+  scene.sim.self_collision = false;
+  return scene;
+}
+
+TEST_F(GpuSolverTest, PickFindsTheNearestPointAlongTheRay) {
+  GpuSolver gpu(drapedScene());
+  for (int f = 0; f < 50; ++f)
+    gpu.stepFrame();  // draped over the sphere: a curved surface
+  const auto x = gpu.readPositions();
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  int hits = 0;
+  for (int k = 0; k < 20; ++k) {
+    const glm::vec3 origin(u(rng), 2.0f, u(rng));
+    const glm::vec3 direction = glm::normalize(glm::vec3(u(rng) - 0.5f, -2.0f, u(rng) - 0.5f));
+    const float radius = 0.02f;
+    // The same choice on the CPU: smallest t >= 0 within the radius, ties to the smaller index.
+    int expected = -1;
+    float best = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const glm::vec3 p = glm::vec3(x[i]) - origin;
+      const float t = glm::dot(p, direction);
+      const glm::vec3 off = p - t * direction;
+      if (t < 0 || glm::dot(off, off) > radius * radius) continue;
+      if (expected < 0 || t < best) {
+        expected = int(i);
+        best = t;
+      }
+    }
+    const int picked = gpu.pickPoint(origin, direction, radius);
+    if (expected >= 0 && picked != expected) {
+      // Only a tie within float rounding may differ: the GPU's t for its choice is as small.
+      const glm::vec3 p = glm::vec3(x[std::size_t(picked)]) - origin;
+      EXPECT_NEAR(glm::dot(p, direction), best, 1e-6f) << "ray " << k;
+    } else {
+      EXPECT_EQ(picked, expected) << "ray " << k;
+    }
+    hits += picked >= 0;
+  }
+  EXPECT_GT(hits, 5) << "most rays must hit the cloth for the test to mean anything";
+  EXPECT_EQ(gpu.pickPoint({0, 2, 0}, {0, 1, 0}, 0.05f), -1) << "a ray pointing away hits nothing";
+  EXPECT_EQ(gpu.pickPoint({0, 2, 0}, {0, 0, 0}, 0.05f), -1);
+}
+
+// Area-weighted vertex normal from the triangles around each vertex, computed on the CPU.
+std::vector<glm::dvec3> cpuNormals(const Topology& t, const std::vector<glm::dvec3>& x) {
+  std::vector<glm::dvec3> n(x.size(), glm::dvec3(0));
+  for (std::size_t k = 0; k < t.triangles.size(); k += 3) {
+    const auto a = t.triangles[k], b = t.triangles[k + 1], c = t.triangles[k + 2];
+    const glm::dvec3 face = glm::cross(x[b] - x[a], x[c] - x[a]);
+    n[a] += face;
+    n[b] += face;
+    n[c] += face;
+  }
+  for (glm::dvec3& v : n)
+    v = glm::normalize(v);
+  return n;
+}
+
+TEST_F(GpuSolverTest, NormalsAndTangentsForTheRenderer) {
+  GpuSolver gpu(drapedScene());
+  const std::size_t n = std::size_t(gpu.topology().pointCount());
+  // Flat horizontal cloth: facing +y, u along +x, v along +z.
+  gpu.computeNormals();
+  auto normals = gpu.normalBuffer().download<glm::vec4>(n);
+  auto tangents = gpu.tangentBuffer().download<glm::vec4>(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    ASSERT_LT(glm::distance(glm::vec3(normals[i]), glm::vec3(0, 1, 0)), 1e-6f) << "point " << i;
+    ASSERT_LT(glm::distance(glm::vec3(tangents[i]), glm::vec3(1, 0, 0)), 1e-6f) << "point " << i;
+    // The bitangent (+v) is +z = -cross(n, t): handedness -1.
+    ASSERT_EQ(tangents[i].w, -1.0f) << "point " << i;
+  }
+  // Draped: unit, orthogonal, and the normals as the CPU computes them.
+  for (int f = 0; f < 60; ++f)
+    gpu.stepFrame();
+  gpu.computeNormals();
+  normals = gpu.normalBuffer().download<glm::vec4>(n);
+  tangents = gpu.tangentBuffer().download<glm::vec4>(n);
+  const auto expected = cpuNormals(gpu.topology(), gpu.readPositions());
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::vec3 nn(normals[i]), tt(tangents[i]);
+    ASSERT_NEAR(glm::length(nn), 1.0f, 1e-5f) << "point " << i;
+    ASSERT_NEAR(glm::length(tt), 1.0f, 1e-5f) << "point " << i;
+    ASSERT_NEAR(glm::dot(nn, tt), 0.0f, 1e-5f) << "point " << i;
+    ASSERT_LT(glm::distance(glm::dvec3(nn), expected[i]), 1e-4) << "point " << i;
+  }
+}
+
+TEST_F(GpuSolverTest, LiveParameterChangesMatchTheCpu) {
+  Scene scene = standardScene("pinned2.json");
+  GpuSolver gpu(scene);
+  CpuSolver<float> cpu(scene);
+  for (int f = 0; f < 5; ++f) {
+    gpu.stepFrame();
+    cpu.stepFrame();
+  }
+  ClothSpec cloth = scene.cloth;
+  cloth.ks *= 2;
+  cloth.damping = 1.0;
+  cloth.enable_bending = false;
+  SimParams sim = scene.sim;
+  sim.gravity = {0.5, -9.8, 0};
+  sim.wind.enabled = true;  // a new #define: the kernels are recompiled
+  sim.wind.velocity = {0, 0, 2};
+  sim.wind.turbulence = 0.3;
+  gpu.setParams(cloth, sim);
+  cpu.setParams(cloth, sim);
+  for (int f = 0; f < 5; ++f) {
+    gpu.stepFrame();
+    cpu.stepFrame();
+  }
+  const double size = clothSize(scene.cloth);
+  const double bound = 300 * 4.0 * gpu_test::floatUlp(1.0) / size;  // tests/gpu_runs_gl_test.cpp
+  EXPECT_LE(maxDeviation(gpu.readPositions(), cpu.readPositions()) / size, bound);
+  EXPECT_EQ(gpu.scene().cloth.ks, cloth.ks);
+  // Turning self-collision on adds its passes (and allocates the grid).
+  sim.self_collision = true;
+  gpu.setParams(cloth, sim);
+  EXPECT_EQ(gpu.passes(), (Strings{"forces+integrate+grid_count", "grid_build", "self_collide", "limit_stretch"}));
+  gpu.stepFrame();
+  EXPECT_TRUE(allFinite(gpu.readPositions()));
+}
+
+TEST_F(GpuSolverTest, ABlowUpIsFlagged) {
+  Scene scene = smallScene(10);
+  scene.cloth.ks = 1e7;  // far beyond the explicit bound at 1 substep per frame
+  scene.sim.steps_per_frame = 1;
+  scene.sim.stretch_passes = 0;
+  scene.cloth.pinned = {{0, 0}};
+  GpuSolver gpu(scene, {.sane_bound = 1e3});
+  gpu.stepFrame();
+  EXPECT_TRUE(gpu.readHealth().ok());
+  for (int f = 0; f < 200 && gpu.readHealth().ok(); ++f)
+    gpu.stepFrame();
+  const GpuHealth health = gpu.readHealth();
+  EXPECT_FALSE(health.ok());
+  EXPECT_GE(health.first_point, 0);
+  gpu.clearHealth();
+  EXPECT_TRUE(gpu.readHealth().ok());
+}
+
+TEST_F(GpuSolverTest, ClothBeyondTheBufferLimitFailsBeforeAnything) {
+  // An explicit limit: 300 x 300 points need 1.4 MiB of positions alone.
+  Scene scene = smallScene(300);
+  try {
+    GpuSolver gpu(scene, {.max_buffer_bytes = 1 << 20});
+    FAIL() << "a 300x300 cloth fits in 1 MiB buffers";
+  } catch (const GpuLimitError& e) {
+    EXPECT_NE(std::string(e.what()).find("300x300"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("max_buffer_bytes"), std::string::npos) << e.what();
+  }
+  // The driver's own limit, with the largest cloth a scene may ask for: the adjacency alone is
+  // 4096 * 4096 * 24 entries of 8 bytes. Checked from the grid size before the topology is built, so
+  // this takes no time and no memory.
+  GLint64 block = 0;
+  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+  const double adjacency = 4096.0 * 4096.0 * 24.0 * 8.0;
+  if (double(block) >= adjacency) GTEST_SKIP() << "this GPU allows " << block << " byte buffers";
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    GpuSolver gpu(smallScene(4096));
+    FAIL() << "a 4096x4096 cloth fits in " << block << " byte buffers";
+  } catch (const GpuLimitError& e) {
+    EXPECT_NE(std::string(e.what()).find("GL_MAX_SHADER_STORAGE_BLOCK_SIZE"), std::string::npos) << e.what();
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0)
+      << "the limit must be found before any topology or buffer is made";
+}
+
+TEST_F(GpuSolverTest, AKernelThatFailsToCompileNamesItsFileAndLine) {
+  // A copy of glsl/ with one broken line in a simulation kernel, found through $DRAPE_GLSL_DIR.
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("drape_broken_glsl_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::copy(fs::path(DRAPE_SOURCE_DIR) / "glsl", dir, fs::copy_options::recursive);
+  const fs::path kernel = dir / "sim" / "limit_stretch.comp";
+  int lines = 0;
+  {
+    std::ifstream in(kernel);
+    std::string line;
+    while (std::getline(in, line))
+      ++lines;
+  }
+  std::ofstream(kernel, std::ios::app) << "this is not glsl;\n";
+  setenv("DRAPE_GLSL_DIR", dir.c_str(), 1);
+  try {
+    GpuSolver gpu(standardScene("pinned2.json"));
+    ADD_FAILURE() << "the broken kernel compiled";
+  } catch (const gl::ShaderError& e) {
+    EXPECT_NE(e.file().find("sim/limit_stretch.comp"), std::string::npos) << e.what();
+    EXPECT_EQ(e.line(), lines + 1) << e.what();
+  }
+  unsetenv("DRAPE_GLSL_DIR");
+  fs::remove_all(dir);
+}
+
+// `drape simulate --solver gpu` as a user runs it (a subprocess; no context is needed in this one).
+struct CommandResult {
+  int status = -1;
+  std::string output;  // stdout and stderr
+};
+
+CommandResult runDrape(const std::string& environment, const std::string& args) {
+  CommandResult result;
+  const std::string command = environment + " " + DRAPE_BINARY + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return result;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe))
+    result.output += buffer;
+  const int status = pclose(pipe);
+  result.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+class GpuSolverCommand : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!std::filesystem::exists(DRAPE_BINARY)) GTEST_SKIP() << DRAPE_BINARY << " is not built";
+  }
+  const std::string scene_ = std::string(DRAPE_SOURCE_DIR) + "/scenes/";
+};
+
+TEST_F(GpuSolverCommand, VerboseListsThePassesOfTheScene) {
+  const CommandResult pinned2 = runDrape("", "simulate " + scene_ + "pinned2.json --solver gpu --frames 1 --verbose");
+  if (pinned2.status == 3) GTEST_SKIP() << "no OpenGL 4.5 context: " << pinned2.output;
+  ASSERT_EQ(pinned2.status, 0) << pinned2.output;
+  EXPECT_NE(pinned2.output.find("GL_RENDERER"), std::string::npos) << pinned2.output;
+  EXPECT_NE(pinned2.output.find("2 dispatches per substep, 60 per frame"), std::string::npos) << pinned2.output;
+  EXPECT_EQ(pinned2.output.find("collide"), std::string::npos) << "pinned2 has no colliders and no self-collision";
+  EXPECT_EQ(pinned2.output.find("grid"), std::string::npos) << pinned2.output;
+  const CommandResult self =
+      runDrape("", "simulate " + scene_ + "selfCollision.json --solver gpu --frames 1 --verbose");
+  ASSERT_EQ(self.status, 0) << self.output;
+  EXPECT_NE(self.output.find("self_collide+collide"), std::string::npos) << self.output;
+  EXPECT_NE(self.output.find("4 dispatches per substep, 120 per frame"), std::string::npos) << self.output;
+}
+
+TEST_F(GpuSolverCommand, WithoutAContextTheGpuSolverExitsWith3AndTheCpuStillRuns) {
+  // libglvnd finds no EGL vendor library: no context of any kind can be made.
+  const std::string no_egl = "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent";
+  const CommandResult gpu = runDrape(no_egl, "simulate " + scene_ + "pinned2.json --solver gpu --frames 1");
+  EXPECT_EQ(gpu.status, 3) << gpu.output;
+  EXPECT_NE(gpu.output.find("gpu solver: "), std::string::npos) << gpu.output;
+  EXPECT_NE(gpu.output.find("tried"), std::string::npos) << "the line says what was tried: " << gpu.output;
+  EXPECT_NE(gpu.output.find("no OpenGL 4.5"), std::string::npos) << "and what is missing: " << gpu.output;
+  const CommandResult cpu = runDrape(no_egl, "simulate " + scene_ + "pinned2.json --solver cpu --frames 1");
+  EXPECT_EQ(cpu.status, 0) << cpu.output;
+}
+
+}  // namespace
+}  // namespace drape
