@@ -30,6 +30,17 @@ class CommandError : public std::runtime_error {
   int status_;
 };
 
+// Option check for counts: "must be >= 0" rather than CLI11's range message with DBL_MAX in it.
+inline const CLI::Validator kNonNegative(
+    [](std::string& value) {
+      try {
+        if (std::stod(value) >= 0) return std::string();
+      } catch (const std::exception&) {
+      }
+      return "must be a number >= 0, got " + value;
+    },
+    "N>=0");
+
 // Each returns nothing; the subcommand's callback throws CommandError on failure.
 void addSimulateCommand(CLI::App& app);
 void addViewCommand(CLI::App& app);

@@ -18,9 +18,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    // Usage errors are bad input too: status 2, one line.
-    int status = app.exit(e);
-    return status == 0 ? 0 : drape::kExitBadInput;
+    // --help and --version are "errors" that exit 0; usage errors are bad input: status 2, one line.
+    if (e.get_exit_code() == 0) return app.exit(e);
+    fmt::print(stderr, "drape: {}\n", e.what());
+    return drape::kExitBadInput;
   } catch (const drape::CommandError& e) {
     fmt::print(stderr, "drape: {}\n", e.what());
     return e.status();

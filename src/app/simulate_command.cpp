@@ -1,8 +1,10 @@
 // `drape simulate`: run a scene headless and print a summary; --out writes the final positions.
 #include "app/commands.hpp"
+#include "app/measure.hpp"
 #include "app/output.hpp"
 #include "app/solver_factory.hpp"
 #include "core/metrics.hpp"
+#include "core/stability.hpp"
 
 #include <fmt/core.h>
 #include <fmt/format.h>
@@ -19,6 +21,7 @@ struct SimulateOptions {
   std::string solver = "cpu";
   std::string out;
   bool verbose = false;
+  bool auto_substeps = false;
 };
 
 void printSummary(const Scene& scene, Solver& solver, int frames, double wall_ms) {
@@ -41,13 +44,32 @@ void printSummary(const Scene& scene, Solver& solver, int frames, double wall_ms
   fmt::print("time         {:.3f} ms per frame\n", frames > 0 ? wall_ms / frames : 0.0);
 }
 
+// Warns when the scene is beyond the explicit-integration bound; with --auto-substeps raises its substeps
+// to the smallest count inside it instead (same damping and friction per second).
+Scene guardStability(Scene scene, bool auto_substeps) {
+  const StabilityCheck bound = checkStability(scene);
+  if (bound.ok) return scene;
+  if (!auto_substeps) {
+    fmt::print(stderr, "drape: warning: {}: {}\n", scene.path, bound.message);
+    return scene;
+  }
+  const int steps = autoSubsteps(scene);
+  if (steps == 0) throw CommandError(kExitBadInput, fmt::format("{}: {}", scene.path, bound.message));
+  fmt::print(stderr, "drape: {}: --auto-substeps: {} substeps per frame instead of {}\n", scene.path, steps,
+             scene.sim.steps_per_frame);
+  return withSubsteps(scene, steps);
+}
+
 void runSimulate(const SimulateOptions& o) {
-  const Scene scene = loadScene(o.scene);
+  const Scene scene = guardStability(loadScene(o.scene), o.auto_substeps);
   auto solver = makeSolver(scene, o.solver, o.verbose);
   if (o.verbose) fmt::print(stderr, "{}", describePasses(*solver));
   const auto start = std::chrono::steady_clock::now();
   for (int f = 0; f < o.frames; ++f) {
     solver->stepFrame();
+    // Cheap: a few bytes from the GPU, a scan of the positions on the CPU. A garbage run stops here.
+    if (const std::string why = checkHealth(*solver); !why.empty())
+      throw CommandError(kExitBlowUp, fmt::format("{}: blew up at frame {}: {}", scene.path, f + 1, why));
   }
   const Positions x = solver->readPositions();  // also waits for the GPU before the clock stops
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -64,11 +86,13 @@ void addSimulateCommand(CLI::App& app) {
   auto opts = std::make_shared<SimulateOptions>();
   CLI::App* cmd = app.add_subcommand("simulate", "Run a scene headless and print a summary");
   cmd->add_option("scene", opts->scene, "Scene JSON file")->required();
-  cmd->add_option("--frames", opts->frames, "Frames to simulate")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--frames", opts->frames, "Frames to simulate")->check(kNonNegative);
   cmd->add_option("--solver", opts->solver, "cpu (float), cpu64 (double) or gpu")
       ->check(CLI::IsMember({"cpu", "cpu64", "gpu"}));
   cmd->add_option("--out", opts->out, "Write the final positions as JSON [[x,y,z],...]");
   cmd->add_flag("--verbose,-v", opts->verbose, "List the passes and dispatches per frame");
+  cmd->add_flag("--auto-substeps", opts->auto_substeps,
+                "Raise the substeps per frame to stay inside the explicit-integration bound");
   cmd->callback([opts] { runSimulate(*opts); });
 }
 

@@ -8,10 +8,9 @@ namespace drape {
 
 namespace {
 
-// How many of the two neighbours at grid offset +-d one point can have along an axis of n points,
-// at best (an interior point has both once n - 1 >= 2d).
-int neighboursAlongAxis(int n, int d) {
-  return n - 1 >= 2 * d ? 2 : n - 1 >= d ? 1 : 0;
+// How many of the two neighbours at grid offset +-d point x has along an axis of n points.
+int neighboursAt(int x, int n, int d) {
+  return (x - d >= 0 ? 1 : 0) + (x + d <= n - 1 ? 1 : 0);
 }
 
 // core has no fmt dependency; these messages only format doubles.
@@ -26,16 +25,20 @@ std::string format(const char* pattern, Args... args) {
 
 double maxStiffnessSum(const ClothSpec& cloth) {
   const int W = cloth.num_width_points, H = cloth.num_height_points;
-  // Left/right and up/down are independent choices, so the best point has the product of the two
-  // axes' best counts for the diagonals and their sum for the straight springs.
-  const int structural = neighboursAlongAxis(W, 1) + neighboursAlongAxis(H, 1);
-  const int shearing = neighboursAlongAxis(W, 1) * neighboursAlongAxis(H, 1);
-  const int bending = neighboursAlongAxis(W, 2) + neighboursAlongAxis(H, 2);
-  double sum = 0.0;
-  if (cloth.enable_structural) sum += structural * cloth.ks;
-  if (cloth.enable_shearing) sum += shearing * cloth.ks;
-  if (cloth.enable_bending) sum += bending * 0.2 * cloth.ks;
-  return sum;
+  const double k_straight = cloth.enable_structural ? cloth.ks : 0.0;
+  const double k_diagonal = cloth.enable_shearing ? cloth.ks : 0.0;
+  const double k_bending = cloth.enable_bending ? 0.2 * cloth.ks : 0.0;
+  // A point's springs depend only on its distance to the nearest edge along each axis, and every
+  // distance beyond 2 looks like 2, so x, y in 0..2 cover every kind of point (small grids have fewer).
+  double best = 0.0;
+  for (int x = 0; x <= std::min(W - 1, 2); ++x)
+    for (int y = 0; y <= std::min(H - 1, 2); ++y) {
+      const int sx = neighboursAt(x, W, 1), sy = neighboursAt(y, H, 1);
+      const double sum =
+          k_straight * (sx + sy) + k_diagonal * sx * sy + k_bending * (neighboursAt(x, W, 2) + neighboursAt(y, H, 2));
+      best = std::max(best, sum);
+    }
+  return best;
 }
 
 double pointMass(const ClothSpec& cloth) {
@@ -88,6 +91,19 @@ int autoSubsteps(const Scene& scene, int max_steps) {
     ++s.sim.steps_per_frame;
   }
   return s.sim.steps_per_frame;
+}
+
+Scene withSubsteps(const Scene& scene, int steps_per_frame) {
+  Scene out = scene;
+  out.sim.steps_per_frame = steps_per_frame;
+  const double ratio = double(scene.sim.steps_per_frame) / steps_per_frame;
+  const auto rescale = [ratio](double loss) { return 1.0 - std::pow(1.0 - loss, ratio); };
+  out.cloth.damping = 100.0 * rescale(scene.cloth.damping / 100.0);
+  for (SphereSpec& s : out.spheres)
+    s.friction = rescale(s.friction);
+  for (PlaneSpec& p : out.planes)
+    p.friction = rescale(p.friction);
+  return out;
 }
 
 std::string detectBlowUp(const Topology& topo, const ClothSpec& cloth, const Positions& start, const Positions& x,

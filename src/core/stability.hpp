@@ -9,9 +9,9 @@
 // omega dt < 2, so with omega_max^2 = lambda_max / m it suffices that
 //     dt sqrt(2 k_sum / m) < 2,  i.e.  dt sqrt(k_sum / m) < sqrt(2).
 // Damping (keep < 1) only shrinks the amplification, pins remove rows (eigenvalues interlace). The
-// bound is sufficient, not necessary: on an interior grid point lambda_max is about 8 ks (the x-
-// alternating mode) against 2 k_sum = 17.6 ks, so the true limit of the number is near 2.1 and the
-// guard asks for up to 1.5x more substeps than strictly needed. It does not cover springs compressed
+// bound is sufficient, not necessary: for a full grid lambda_max is about 8 ks at rest (8.3 ks stretched
+// by 10%) against 2 k_sum = 17.6 ks, so the true limit of the number is near 2.1 (2.06) and the guard
+// asks for up to 1.5x more substeps than strictly needed. It does not cover springs compressed
 // below half their rest length (their transverse stiffness exceeds k: a buckling start), nor the
 // position corrections (collisions, stretch limit, self-collision), which are projections, not forces.
 #pragma once
@@ -37,8 +37,8 @@ struct StabilityCheck {
 };
 
 // Largest sum over one point of the stiffness of its enabled springs, N/m (bending counts 0.2 ks),
-// from the grid size alone: an interior point has 4 structural, 4 shearing and 4 bending springs,
-// small grids fewer.
+// from the grid size alone (an interior point has 4 structural, 4 shearing and 4 bending springs; on
+// small grids no point has them all). Pins are ignored, which can only overestimate.
 double maxStiffnessSum(const ClothSpec& cloth);
 double pointMass(const ClothSpec& cloth);  // kg, width*height*density / (W*H)
 double stabilityNumber(const Scene& scene);
@@ -46,6 +46,13 @@ StabilityCheck checkStability(const Scene& scene);
 // Smallest steps_per_frame (>= 1) whose number is below the limit; 0 if more than max_steps would be
 // needed (or the point mass is zero).
 int autoSubsteps(const Scene& scene, int max_steps = kMaxAutoSubsteps);
+
+// The scene at another substep count with the same physics. Damping is a fraction of the displacement
+// lost per substep (CS184), so the same number at s substeps instead of S is a different material (at
+// 16x the substeps it loses 16x as much per second); this keeps the loss per simulated second:
+// 1 - d_s = (1 - d)^(S/s). Collision friction is the same kind of per-substep factor (a point in
+// contact keeps (1 - f) of its displacement each substep) and is rescaled the same way.
+Scene withSubsteps(const Scene& scene, int steps_per_frame);
 
 // What counts as a blow-up in the measurement commands: a non-finite coordinate, a spring longer than
 // (1 + max_strain) times its rest length, or a point farther than max_travel cloth sizes from where it
