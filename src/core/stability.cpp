@@ -52,9 +52,15 @@ double stabilityNumber(const Scene& scene) {
   return scene.sim.dt() * std::sqrt(k / m);
 }
 
+double stabilityLimit(double damping_percent) {
+  const double keep = std::clamp(1.0 - damping_percent / 100.0, 0.0, 1.0);
+  return std::sqrt(1.0 + keep);
+}
+
 StabilityCheck checkStability(const Scene& scene) {
   StabilityCheck c;
   c.number = stabilityNumber(scene);
+  c.limit = stabilityLimit(scene.cloth.damping);
   c.ok = c.number < c.limit;
   if (c.ok) {
     c.message = format("explicit-integration bound: dt*sqrt(k/m) = %.3g < %.3g (%d substeps per frame)", c.number,
@@ -73,24 +79,22 @@ int autoSubsteps(const Scene& scene, int max_steps) {
   const double k = maxStiffnessSum(scene.cloth), m = pointMass(scene.cloth);
   if (k <= 0.0) return 1;
   if (m <= 0.0 || !(scene.sim.frames_per_sec > 0.0)) return 0;
-  // number(s) = sqrt(k/m) / (fps s) < limit  <=>  s > sqrt(k/m) / (fps limit); start at the rounded
-  // estimate and settle the boundary with the same expression checkStability uses.
-  const double estimate = std::sqrt(k / m) / (scene.sim.frames_per_sec * kStabilityLimit);
-  if (!(estimate < double(max_steps))) return 0;
-  Scene s = scene;
-  s.sim.steps_per_frame = std::max(1, int(std::floor(estimate)));
-  while (s.sim.steps_per_frame > 1) {
-    --s.sim.steps_per_frame;
-    if (!(stabilityNumber(s) < kStabilityLimit)) {
-      ++s.sim.steps_per_frame;
-      break;
-    }
+  // More substeps lower the number and (with the damping rescaled) raise the limit, so "inside" is
+  // monotonic in the count: bisect between a count that is outside (or 0) and one that is inside.
+  auto inside = [&](int steps) {
+    const Scene s = withSubsteps(scene, steps);
+    return stabilityNumber(s) < stabilityLimit(s.cloth.damping);
+  };
+  if (inside(1)) return 1;
+  // Undamped limit sqrt(2) >= any limit >= 1, so the count for limit 1 is always inside.
+  const double enough = std::ceil(std::sqrt(k / m) / scene.sim.frames_per_sec) + 1.0;
+  int lo = 1, hi = int(std::min(enough, double(max_steps)));
+  if (!inside(hi)) return 0;
+  while (hi - lo > 1) {
+    const int mid = lo + (hi - lo) / 2;
+    (inside(mid) ? hi : lo) = mid;
   }
-  while (!(stabilityNumber(s) < kStabilityLimit)) {
-    if (s.sim.steps_per_frame >= max_steps) return 0;
-    ++s.sim.steps_per_frame;
-  }
-  return s.sim.steps_per_frame;
+  return hi;
 }
 
 Scene withSubsteps(const Scene& scene, int steps_per_frame) {

@@ -5,13 +5,17 @@
 // 3x3 block per spring, k (u u^T) + k (1 - rest/len) (I - u u^T) with u the spring's unit vector; for
 // len >= rest/2 its spectral norm is at most k. Block Gershgorin (Feingold & Varga 1962) on the free
 // points then gives lambda_max(K) <= max_i (||K_ii|| + sum_j ||K_ij||) <= 2 k_sum, where k_sum is the
-// largest per-vertex sum of enabled spring stiffnesses. Verlet on x'' = -omega^2 x is stable for
-// omega dt < 2, so with omega_max^2 = lambda_max / m it suffices that
-//     dt sqrt(2 k_sum / m) < 2,  i.e.  dt sqrt(k_sum / m) < sqrt(2).
-// Damping (keep < 1) only shrinks the amplification, pins remove rows (eigenvalues interlace). The
-// bound is sufficient, not necessary: for a full grid lambda_max is about 8 ks at rest (8.3 ks stretched
-// by 10%) against 2 k_sum = 17.6 ks, so the true limit of the number is near 2.1 (2.06) and the guard
-// asks for up to 1.5x more substeps than strictly needed. It does not cover springs compressed
+// largest per-vertex sum of enabled spring stiffnesses. Damped Verlet on x'' = -omega^2 x,
+// x' = x + keep (x - x_prev) - (omega dt)^2 x, has the characteristic polynomial
+// z^2 - (1 + keep - (omega dt)^2) z + keep; by the Jury criterion both roots lie in the unit circle iff
+// (omega dt)^2 < 2 (1 + keep): omega dt < 2 undamped, but only sqrt(2) at 100 % damping (damping
+// shrinks the stable range: with keep = 0 the step is gradient descent). With omega_max^2 = lambda_max/m
+// it suffices that
+//     dt sqrt(2 k_sum / m) < sqrt(2 (1 + keep)),  i.e.  dt sqrt(k_sum / m) < sqrt(1 + keep).
+// Pins remove rows (eigenvalues interlace). The bound is sufficient, not necessary: for a full grid
+// lambda_max is about 8 ks at rest (8.3 ks stretched by 10%) against 2 k_sum = 17.6 ks, so undamped the
+// true limit of the number is near 2.1 (2.06) and the guard asks for up to 1.5x more substeps than
+// strictly needed. It does not cover springs compressed
 // below half their rest length (their transverse stiffness exceeds k: a buckling start), nor the
 // position corrections (collisions, stretch limit, self-collision), which are projections, not forces.
 #pragma once
@@ -24,14 +28,16 @@
 
 namespace drape {
 
-// The guard's limit on dt sqrt(k_sum / m) (see above).
-inline constexpr double kStabilityLimit = 1.4142135623730951;  // sqrt(2)
+// The guard's limit on dt sqrt(k_sum / m) without damping (see above): sqrt(2).
+inline constexpr double kStabilityLimit = 1.4142135623730951;
+// The limit for a damping percentage: sqrt(1 + keep), keep = 1 - damping/100; from sqrt(2) to 1.
+double stabilityLimit(double damping_percent);
 // autoSubsteps never asks for more than this (a scene needing more is reported, not run for hours).
 inline constexpr int kMaxAutoSubsteps = 100000;
 
 struct StabilityCheck {
   double number = 0.0;             // dt sqrt(k_sum / m)
-  double limit = kStabilityLimit;  // stable when number < limit
+  double limit = kStabilityLimit;  // stable when number < limit (stabilityLimit of the scene's damping)
   bool ok = true;
   std::string message;  // one line; says what to do when !ok
 };
@@ -43,8 +49,8 @@ double maxStiffnessSum(const ClothSpec& cloth);
 double pointMass(const ClothSpec& cloth);  // kg, width*height*density / (W*H)
 double stabilityNumber(const Scene& scene);
 StabilityCheck checkStability(const Scene& scene);
-// Smallest steps_per_frame (>= 1) whose number is below the limit; 0 if more than max_steps would be
-// needed (or the point mass is zero).
+// Smallest steps_per_frame (>= 1) at which withSubsteps(scene, steps) is inside the bound; 0 if more than
+// max_steps would be needed (or the point mass is zero).
 int autoSubsteps(const Scene& scene, int max_steps = kMaxAutoSubsteps);
 
 // The scene at another substep count with the same physics. Damping is a fraction of the displacement

@@ -1,0 +1,73 @@
+// `drape accuracy`: error against run time. Every configuration (solver x substeps x stretch passes)
+// is compared with a double-precision CPU run at reference_factor times the scene's substeps, whose
+// own convergence is measured against twice as many substeps.
+#pragma once
+
+#include "app/measure.hpp"
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace drape {
+
+struct AccuracyOptions {
+  std::string scene;  // scene file
+  std::vector<int> steps = {5, 10, 20, 30, 60, 120};
+  std::vector<std::string> solvers = {"cpu-xprev", "cpu", "cpu64", "gpu"};
+  std::vector<int> stretch_passes = {1, 2, 4};
+  std::vector<double> times = {0.5, 1.0, 2.0};  // s; rounded to whole frames
+  int reference_factor = 16;                    // reference substeps = this x the scene's
+};
+
+// One configuration's state at one sample time, against the reference with the same stretch passes.
+struct ErrorSample {
+  double t = 0;  // s, frame / frames_per_sec
+  int frame = 0;
+  double rms_error = 0;    // RMS position error / cloth size (diagonal)
+  double max_error = 0;    // m, largest vertex error
+  double max_strain = 0;   // of this configuration's state
+  double penetration = 0;  // m, deepest point inside a collider (0 if none)
+  double vs_double = -1;   // RMS distance / cloth size to cpu64 at the same substeps and passes; -1 if none
+};
+
+struct AccuracyRun {
+  std::string solver;
+  int steps_per_frame = 0;
+  int stretch_passes = 0;
+  std::string skipped;      // why it did not run
+  std::string unstable;     // what happened, when it blew up
+  int unstable_frame = -1;  // first frame the blow-up check failed
+  double ms_per_sim_s = 0;  // wall ms per simulated second, stepping only
+  std::vector<ErrorSample> samples;
+};
+
+// The reference (reference_factor x substeps) against its check (twice that), per stretch-pass count.
+struct ReferenceCheck {
+  int stretch_passes = 0;
+  int steps_per_frame = 0, check_steps_per_frame = 0;
+  std::string unstable;
+  std::vector<ErrorSample> samples;  // error = reference vs check; strain and penetration of the reference
+  double wall_s = 0;
+};
+
+struct AccuracyReport {
+  std::string scene;
+  std::string started_at;
+  double wall_s = 0;
+  MachineInfo machine;
+  std::optional<GlInfo> gl;
+  AccuracyOptions options;
+  std::vector<ReferenceCheck> references;
+  std::vector<AccuracyRun> runs;
+};
+
+AccuracyReport runAccuracy(const AccuracyOptions& options,
+                           const std::function<void(const std::string&)>& progress = {});
+
+std::string accuracyCsv(const AccuracyReport& report);
+std::string referenceCsv(const AccuracyReport& report);
+std::string accuracyMarkdown(const AccuracyReport& report);
+
+}  // namespace drape

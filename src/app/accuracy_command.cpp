@@ -1,0 +1,96 @@
+// `drape accuracy SCENE`: error against run time for every solver, substep count and stretch-pass
+// count; CSV, a markdown summary, and a log-log plot by tools/plot_accuracy.py.
+#include "app/accuracy.hpp"
+#include "app/commands.hpp"
+#include "app/output.hpp"
+
+#include <fmt/core.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+namespace drape {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct AccuracyCommandOptions {
+  std::string scene;
+  std::string out;
+  std::string steps = "5,10,20,30,60,120";
+  std::string solvers = "cpu-xprev,cpu,cpu64,gpu";
+  std::string passes = "1,2,4";
+  std::string times = "0.5,1,2";
+  int reference_factor = 16;
+  bool quick = false;
+  bool no_plot = false;
+};
+
+// The plot needs Debian's matplotlib, which a pyenv python3 on PATH may not see (DESIGN section 4).
+void plot(const fs::path& dir, const std::string& title) {
+  const fs::path script = fs::path(DRAPE_SOURCE_DIR) / "tools" / "plot_accuracy.py";
+  if (std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") != 0) {
+    fmt::print(stderr,
+               "accuracy: no plot: /usr/bin/python3 cannot import matplotlib (tools/setup installs "
+               "python3-matplotlib); the CSV files are written\n");
+    return;
+  }
+  const std::string cmd =
+      fmt::format("/usr/bin/python3 '{}' '{}' '{}' '{}' --title '{}'", script.string(), (dir / "accuracy.csv").string(),
+                  (dir / "reference.csv").string(), (dir / "accuracy.png").string(), title);
+  if (std::system(cmd.c_str()) != 0)
+    throw CommandError(kExitFailure, fmt::format("accuracy: {} failed (the CSV files are written)", script.string()));
+  fmt::print(stderr, "accuracy: wrote {}\n", (dir / "accuracy.png").string());
+}
+
+void runAccuracyCommand(const AccuracyCommandOptions& c) {
+  AccuracyOptions o;
+  o.scene = c.scene;
+  const Scene scene = loadScene(c.scene);  // bad input fails before the output directory is made
+  o.steps = parseIntList("--steps", c.quick ? "5,10,30,120" : c.steps, 1);
+  o.solvers = parseNameList("--solver", c.solvers, kMeasuredSolvers);
+  o.stretch_passes = c.quick ? std::vector<int>{scene.sim.stretch_passes} : parseIntList("--passes", c.passes, 0);
+  o.times = parseDoubleList("--times", c.quick ? "0.5,1" : c.times);
+  o.reference_factor = c.quick ? 8 : c.reference_factor;
+  const std::string stem = fs::path(c.scene).stem().string();
+  const fs::path dir = c.out.empty() ? fs::path("out") / "accuracy" / stem : fs::path(c.out);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw CommandError(kExitBadInput, fmt::format("--out: {}: {}", dir.string(), ec.message()));
+
+  const AccuracyReport report = runAccuracy(o, [](const std::string& line) {
+    fmt::print(stderr, "accuracy {}\n", line);
+    std::fflush(stderr);
+  });
+  writeFileAtomically((dir / "accuracy.csv").string(), accuracyCsv(report));
+  writeFileAtomically((dir / "reference.csv").string(), referenceCsv(report));
+  writeFileAtomically((dir / "accuracy.md").string(), accuracyMarkdown(report));
+  fmt::print(stderr, "accuracy: wrote {} and {} ({:.0f} s)\n", (dir / "accuracy.csv").string(),
+             (dir / "accuracy.md").string(), report.wall_s);
+  if (!c.no_plot) plot(dir, stem);
+}
+
+}  // namespace
+
+void addAccuracyCommand(CLI::App& app) {
+  auto c = std::make_shared<AccuracyCommandOptions>();
+  CLI::App* cmd = app.add_subcommand("accuracy", "Error against run time, against a converged double-precision run");
+  cmd->add_option("scene", c->scene, "Scene JSON file")->required();
+  cmd->add_option("--out", c->out, "Output directory (default out/accuracy/<scene>)");
+  cmd->add_option("--steps", c->steps, "Comma-separated substeps per frame")->capture_default_str();
+  cmd->add_option("--solver", c->solvers, "Comma-separated solvers: cpu-xprev, cpu, cpu64, gpu")->capture_default_str();
+  cmd->add_option("--passes", c->passes, "Comma-separated stretch-limit passes")->capture_default_str();
+  cmd->add_option("--times", c->times, "Comma-separated sample times, s")->capture_default_str();
+  cmd->add_option("--reference-factor", c->reference_factor, "Reference substeps = this x the scene's")
+      ->check(CLI::Range(2, 256))
+      ->capture_default_str();
+  cmd->add_flag("--quick", c->quick,
+                "Minutes instead of an hour on a 2-core machine with self-collision: substeps 5,10,30,120, the "
+                "scene's stretch passes, t = 0.5, 1 s, reference x8 checked against x16");
+  cmd->add_flag("--no-plot", c->no_plot, "Write the CSV and markdown only");
+  cmd->callback([c] { runAccuracyCommand(*c); });
+}
+
+}  // namespace drape

@@ -1,0 +1,278 @@
+#include "app/bench.hpp"
+
+#include "core/stability.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+
+namespace drape {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+std::vector<BenchPass> passesPerFrame(const Solver& solver, int frames) {
+  std::vector<BenchPass> out;
+  for (const PassTiming& t : solver.timings())
+    if (t.calls > 0) out.push_back({t.name, t.ms / frames, double(t.calls) / frames});
+  return out;
+}
+
+// The GPU's pass times come from a second solver with timing on: per-pass timing may stall the
+// pipeline (glFinish where timer queries do not work), which must not leak into the frame times.
+// One warm-up frame is enough here: the programs are already compiled and cached by the first solver.
+std::vector<BenchPass> timeGpuPasses(SolverFactory& factory, const Scene& scene, int warmup, int frames) {
+  std::unique_ptr<Solver> solver = factory.make(scene, "gpu", true);
+  for (int f = 0; f < std::min(warmup, 1); ++f)
+    solver->stepFrame();
+  finishWork(*solver);
+  solver->resetTimings();
+  for (int f = 0; f < frames; ++f)
+    solver->stepFrame();
+  finishWork(*solver);
+  return passesPerFrame(*solver, frames);
+}
+
+}  // namespace
+
+BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::string& scene_name, int size,
+                  const std::string& solver_name, const BenchOptions& o) {
+  const Scene scene = resampleCloth(original, size);
+  BenchRun run;
+  run.scene = scene_name;
+  run.solver = solver_name;
+  run.size = size;
+  run.points = (long long)size * size;
+  run.steps_per_frame = scene.sim.steps_per_frame;
+  const StabilityCheck bound = checkStability(scene);
+  run.stability_number = bound.number;
+  run.stability_limit = bound.limit;
+  run.inside_bound = bound.ok;
+
+  std::unique_ptr<Solver> solver;
+  try {
+    solver = factory.make(scene, solver_name);
+  } catch (const SkippedRun& e) {
+    run.skipped = e.what();
+    return run;
+  }
+  const bool gpu = solver_name == "gpu";
+  int frame = 0;
+  auto sane = [&] {
+    const std::string why = checkHealth(*solver);
+    if (!why.empty()) run.blew_up = fmt::format("frame {}: {}", frame, why);
+    return why.empty();
+  };
+  // A blown-up state is not timed: NaNs change the arithmetic's speed and pile every point into one
+  // hash cell. The CPU is checked every frame (outside the clock); the GPU after each repeat, because a
+  // read-back per frame would add a pipeline stall that a real-time loop does not have.
+  double last_warmup_ms = 0;
+  for (int f = 0; f < o.warmup; ++f) {
+    const auto start = Clock::now();
+    solver->stepFrame();
+    finishWork(*solver);
+    last_warmup_ms = msSince(start);
+    ++frame;
+    if (!gpu && !sane()) return run;
+  }
+  if (gpu && !sane()) return run;
+  run.frames_per_repeat = o.frames;
+  if (last_warmup_ms > 0) {
+    const double affordable = o.budget_s * 1e3 / (o.repeats * last_warmup_ms);
+    run.frames_per_repeat = std::clamp(int(affordable), 1, o.frames);
+  }
+  const int frames = run.frames_per_repeat;
+  solver->resetTimings();
+  int timed_frames = 0;
+  for (int r = 0; r < o.repeats && run.blew_up.empty(); ++r) {
+    double ms = 0;
+    for (int f = 0; f < frames; ++f) {
+      const auto start = Clock::now();
+      solver->stepFrame();
+      if (gpu && f + 1 == frames) finishWork(*solver);
+      ms += msSince(start);
+      ++frame;
+      if (!gpu && !sane()) break;
+    }
+    if (gpu) sane();
+    if (!run.blew_up.empty()) break;
+    run.repeat_ms.push_back(ms / frames);
+    timed_frames += frames;
+  }
+  run.frame_ms = summarize(run.repeat_ms);
+  if (run.frame_ms.samples > 0 && run.frame_ms.median > 0)
+    run.vertex_substeps_per_s = double(run.points) * run.steps_per_frame / (run.frame_ms.median * 1e-3);
+  run.dispatches_per_frame = solver->dispatchesPerFrame();
+  run.gpu_memory_bytes = gpuMemoryBytes(*solver);
+  if (!gpu) {
+    if (timed_frames > 0) run.passes = passesPerFrame(*solver, timed_frames);
+    run.pass_timing = "wall clock per pass, one thread";
+  } else if (run.blew_up.empty()) {
+    solver.reset();
+    run.passes = timeGpuPasses(factory, scene, o.warmup, frames);
+    const GlInfo* gl = factory.glInfo();
+    run.pass_timing = gl && gl->timer_queries ? "GL timer queries" : "wall clock around glFinish per pass";
+  }
+  return run;
+}
+
+std::string describeRun(const BenchRun& r) {
+  std::string head =
+      fmt::format("{} {}x{} {}", std::filesystem::path(r.scene).stem().string(), r.size, r.size, r.solver);
+  if (!r.skipped.empty()) return head + ": skipped (" + r.skipped + ")";
+  std::string line = head;
+  if (r.frame_ms.samples > 0)
+    line += fmt::format(": {:.3f} ms/frame (min {:.3f}, max {:.3f}), {:.3g} vertex-substeps/s", r.frame_ms.median,
+                        r.frame_ms.min, r.frame_ms.max, r.vertex_substeps_per_s);
+  if (!r.blew_up.empty()) line += ": blew up at " + r.blew_up;
+  if (!r.inside_bound)
+    line += fmt::format(" [beyond the stability bound: {:.3g} >= {:.3g}]", r.stability_number, r.stability_limit);
+  return line;
+}
+
+BenchReport runBench(const BenchOptions& o, const std::function<void(const std::string&)>& progress) {
+  BenchReport report;
+  report.started_at = utcTimestamp();
+  report.machine = readMachineInfo();
+  report.options = o;
+  const auto start = Clock::now();
+  std::vector<Scene> scenes;
+  for (const std::string& path : o.scenes)
+    scenes.push_back(loadScene(path));  // all bad input fails first
+  SolverFactory factory;
+  const std::size_t total = o.scenes.size() * o.sizes.size() * o.solvers.size();
+  for (std::size_t s = 0; s < scenes.size(); ++s)
+    for (int size : o.sizes)
+      for (const std::string& solver : o.solvers) {
+        report.runs.push_back(benchOne(factory, scenes[s], o.scenes[s], size, solver, o));
+        if (progress) progress(fmt::format("[{}/{}] {}", report.runs.size(), total, describeRun(report.runs.back())));
+      }
+  if (const GlInfo* gl = factory.glInfo()) report.gl = *gl;
+  report.wall_s = msSince(start) * 1e-3;
+  report.load_at_end = readLoadAverage();
+  return report;
+}
+
+namespace {
+
+nlohmann::json spreadJson(const Spread& s) {
+  return {{"median", s.median}, {"min", s.min}, {"max", s.max}, {"q1", s.q1}, {"q3", s.q3}, {"samples", s.samples}};
+}
+
+}  // namespace
+
+nlohmann::json benchJson(const BenchReport& r) {
+  nlohmann::json j;
+  j["tool"] = "drape bench";
+  j["started_at"] = r.started_at;
+  j["wall_s"] = r.wall_s;
+  j["machine"] = {{"hostname", r.machine.hostname},
+                  {"cpu_model", r.machine.cpu_model},
+                  {"logical_cores", r.machine.logical_cores},
+                  {"memory_bytes", r.machine.memory_bytes},
+                  {"kernel", r.machine.kernel},
+                  {"load_average_at_start", r.machine.load_average},
+                  {"load_average_at_end", r.load_at_end}};
+  if (r.gl)
+    j["gl"] = {{"vendor", r.gl->vendor},
+               {"renderer", r.gl->renderer},
+               {"version", r.gl->version},
+               {"glsl_version", r.gl->glsl_version},
+               {"platform", r.gl->platform},
+               {"software_renderer", r.gl->software},
+               {"timer_queries", r.gl->timer_queries}};
+  else
+    j["gl"] = nullptr;
+  j["settings"] = {{"scenes", r.options.scenes},
+                   {"sizes", r.options.sizes},
+                   {"solvers", r.options.solvers},
+                   {"max_frames_per_repeat", r.options.frames},
+                   {"budget_s_per_run", r.options.budget_s},
+                   {"warmup_frames", r.options.warmup},
+                   {"repeats", r.options.repeats},
+                   {"cpu_threads", 1}};
+  j["runs"] = nlohmann::json::array();
+  for (const BenchRun& run : r.runs) {
+    nlohmann::json o = {{"scene", run.scene},
+                        {"solver", run.solver},
+                        {"size", run.size},
+                        {"frames_per_repeat", run.frames_per_repeat},
+                        {"points", run.points},
+                        {"steps_per_frame", run.steps_per_frame},
+                        {"stability_number", run.stability_number},
+                        {"stability_limit", run.stability_limit},
+                        {"inside_stability_bound", run.inside_bound}};
+    if (!run.skipped.empty()) {
+      o["skipped"] = run.skipped;
+      j["runs"].push_back(o);
+      continue;
+    }
+    o["blew_up"] = run.blew_up.empty() ? nlohmann::json(nullptr) : nlohmann::json(run.blew_up);
+    o["frame_ms"] = spreadJson(run.frame_ms);
+    o["repeat_ms"] = run.repeat_ms;
+    o["vertex_substeps_per_s"] = run.vertex_substeps_per_s;
+    o["dispatches_per_frame"] = run.dispatches_per_frame;
+    o["gpu_memory_bytes"] = run.gpu_memory_bytes >= 0 ? nlohmann::json(run.gpu_memory_bytes) : nlohmann::json(nullptr);
+    o["pass_timing"] = run.pass_timing;
+    o["passes"] = nlohmann::json::array();
+    for (const BenchPass& p : run.passes)
+      o["passes"].push_back(
+          {{"name", p.name}, {"ms_per_frame", p.ms_per_frame}, {"calls_per_frame", p.calls_per_frame}});
+    j["runs"].push_back(o);
+  }
+  return j;
+}
+
+std::string benchMarkdown(const BenchReport& r) {
+  std::string gpu_label = "not run";
+  if (r.gl)
+    gpu_label = r.gl->software
+                    ? fmt::format("{} (software rasteriser on the CPU cores: not GPU performance)", r.gl->renderer)
+                    : r.gl->renderer;
+  std::string md = fmt::format(
+      "Machine: {} ({} logical cores, {:.0f} GiB; load average {} at the start, {} at the end). GPU solver: {}. "
+      "CPU solver: one thread.\n"
+      "{} warm-up frames, then {} repeats of up to {} frames (fewer where a run would take over {:g} s); ms/frame is "
+      "the median over repeats [min, max].\n\n",
+      r.machine.cpu_model, r.machine.logical_cores, double(r.machine.memory_bytes) / (1024.0 * 1024.0 * 1024.0),
+      r.machine.load_average, r.load_at_end, gpu_label, r.options.warmup, r.options.repeats, r.options.frames,
+      r.options.budget_s);
+  md +=
+      "| scene | N×N | solver | substeps/frame | ms/frame | vertex-substeps/s | dispatches/frame | GPU memory | note "
+      "|\n";
+  md += "|---|---|---|---|---|---|---|---|---|\n";
+  for (const BenchRun& run : r.runs) {
+    const std::string scene = std::filesystem::path(run.scene).stem().string();
+    std::string solver = run.solver;
+    if (run.solver == "gpu" && r.gl && r.gl->software) solver = "gpu (llvmpipe)";
+    if (!run.skipped.empty()) {
+      md += fmt::format("| {} | {} | {} | {} | – | – | – | – | skipped: {} |\n", scene, run.size, solver,
+                        run.steps_per_frame, run.skipped);
+      continue;
+    }
+    std::string note;
+    if (!run.blew_up.empty()) note = "blew up at " + run.blew_up;
+    if (!run.inside_bound)
+      note += fmt::format("{}beyond the stability bound ({:.2f} >= {:.2f})", note.empty() ? "" : "; ",
+                          run.stability_number, run.stability_limit);
+    const std::string ms = run.frame_ms.samples > 0 ? fmt::format("{:.2f} [{:.2f}, {:.2f}]", run.frame_ms.median,
+                                                                  run.frame_ms.min, run.frame_ms.max)
+                                                    : "–";
+    const std::string rate = run.frame_ms.samples > 0 ? fmt::format("{:.3g}", run.vertex_substeps_per_s) : "–";
+    const std::string mem =
+        run.gpu_memory_bytes >= 0 ? fmt::format("{:.1f} MiB", double(run.gpu_memory_bytes) / (1024.0 * 1024.0)) : "–";
+    const std::string dispatches = run.solver == "gpu" ? std::to_string(run.dispatches_per_frame) : "–";
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", scene, run.size, solver, run.steps_per_frame,
+                      ms, rate, dispatches, mem, note);
+  }
+  return md;
+}
+
+}  // namespace drape

@@ -1,0 +1,72 @@
+// `drape bench`: time each solver on each scene with its cloth resampled to N x N. Warm-up frames are
+// not counted; each repeat times `frames` frames, and the median and spread are over repeats.
+#pragma once
+
+#include "app/measure.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace drape {
+
+struct BenchOptions {
+  std::vector<std::string> scenes = {"scenes/pinned2.json", "scenes/sphere.json"};
+  std::vector<int> sizes = {32, 64, 128, 256};
+  std::vector<std::string> solvers = {"cpu", "gpu"};
+  int frames = 5;        // timed frames per repeat, at most
+  int warmup = 2;        // frames run first and not timed (GPU: programs, caches, first dispatches)
+  int repeats = 3;       // timed repeats; median and spread are over these
+  double budget_s = 10;  // timed seconds per run: slow runs time fewer frames per repeat (at least 1)
+};
+
+struct BenchPass {
+  std::string name;
+  double ms_per_frame = 0;     // mean over the timed frames
+  double calls_per_frame = 0;  // invocations (CPU) or dispatches (GPU)
+};
+
+struct BenchRun {
+  std::string scene;  // file as given
+  std::string solver;
+  int size = 0;  // N: the cloth is N x N
+  long long points = 0;
+  int steps_per_frame = 0;
+  int frames_per_repeat = 0;  // after the budget
+  std::string skipped;        // why it did not run; empty when it ran
+  std::string blew_up;        // "frame F: what happened" when the state became non-finite or ran away
+  Spread frame_ms;            // over repeats: wall milliseconds per frame
+  std::vector<double> repeat_ms;
+  std::vector<BenchPass> passes;
+  std::string pass_timing;  // how the passes were timed
+  double vertex_substeps_per_s = 0;
+  int dispatches_per_frame = 0;     // 0 for CPU solvers
+  long long gpu_memory_bytes = -1;  // buffers the GPU solver allocated; -1 for CPU solvers
+  double stability_limit = 0;       // the guard's limit for the scene's damping
+  double stability_number = 0;      // dt sqrt(k_sum/m) of the resampled scene
+  bool inside_bound = true;         // stability_number < the guard's limit (core/stability.hpp)
+};
+
+struct BenchReport {
+  std::string started_at;
+  double wall_s = 0;
+  MachineInfo machine;       // load_average as the run started
+  std::string load_at_end;   // load average as it ended
+  std::optional<GlInfo> gl;  // when a GPU solver ran
+  BenchOptions options;
+  std::vector<BenchRun> runs;
+};
+
+// progress receives one line per run as it ends (the command prints it on stderr).
+BenchReport runBench(const BenchOptions& options, const std::function<void(const std::string&)>& progress = {});
+BenchRun benchOne(SolverFactory& factory, const Scene& scene, const std::string& scene_name, int size,
+                  const std::string& solver, const BenchOptions& options);
+
+nlohmann::json benchJson(const BenchReport& report);
+std::string benchMarkdown(const BenchReport& report);
+std::string describeRun(const BenchRun& run);  // the progress line
+
+}  // namespace drape

@@ -1,0 +1,82 @@
+// `drape bench`: ms per frame and per pass, vertex-substeps per second, dispatches per frame and GPU
+// memory for each scene x cloth size x solver; JSON for comparing runs, markdown for the README.
+#include "app/bench.hpp"
+#include "app/commands.hpp"
+#include "app/output.hpp"
+
+#include <fmt/core.h>
+
+#include <cstdio>
+#include <filesystem>
+
+namespace drape {
+
+namespace {
+
+const char* const kDefaultScenes = "scenes/pinned2.json,scenes/sphere.json";
+
+struct BenchCommandOptions {
+  std::string scenes = kDefaultScenes;
+  std::string sizes = "32,64,128,256";
+  std::string solvers = "cpu,gpu";
+  int frames = 5;
+  int warmup = 2;
+  int repeats = 3;
+  double budget_s = 10;
+  std::string json;
+  std::string markdown;
+};
+
+void runBenchCommand(const BenchCommandOptions& c) {
+  BenchOptions o;
+  o.scenes = parseNameList("--scenes", c.scenes, {});
+  // The default scenes are found from any directory; scenes the user names are taken as given.
+  if (c.scenes == kDefaultScenes)
+    for (std::string& path : o.scenes)
+      if (!std::filesystem::exists(path)) path = std::string(DRAPE_SOURCE_DIR) + "/" + path;
+  o.sizes = parseIntList("--sizes", c.sizes, 2);
+  o.solvers = parseNameList("--solver", c.solvers, kMeasuredSolvers);
+  o.frames = c.frames;
+  o.warmup = c.warmup;
+  o.repeats = c.repeats;
+  o.budget_s = c.budget_s;
+  for (int n : o.sizes)
+    if ((long long)n * n > kMaxClothPoints)
+      throw CommandError(kExitBadInput, fmt::format("--sizes: {}x{} is more than {} points", n, n, kMaxClothPoints));
+  const BenchReport report = runBench(o, [](const std::string& line) {
+    fmt::print(stderr, "bench {}\n", line);
+    std::fflush(stderr);
+  });
+  const std::string json = benchJson(report).dump(2) + "\n";
+  if (!c.json.empty()) writeFileAtomically(c.json, json);
+  if (!c.markdown.empty()) writeFileAtomically(c.markdown, benchMarkdown(report));
+  if (c.json.empty()) fmt::print("{}", json);
+  fmt::print(stderr, "bench: {} runs in {:.1f} s\n", report.runs.size(), report.wall_s);
+}
+
+}  // namespace
+
+void addBenchCommand(CLI::App& app) {
+  auto c = std::make_shared<BenchCommandOptions>();
+  CLI::App* cmd = app.add_subcommand("bench", "Time the solvers on scenes resampled to N x N cloths");
+  cmd->add_option("--scenes", c->scenes, "Comma-separated scene files")->capture_default_str();
+  cmd->add_option("--sizes", c->sizes, "Comma-separated cloth sizes N (N x N points)")->capture_default_str();
+  cmd->add_option("--solver", c->solvers, "Comma-separated solvers: cpu, cpu-xprev, cpu64, gpu")->capture_default_str();
+  cmd->add_option("--frames", c->frames, "Timed frames per repeat, at most")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--warmup", c->warmup, "Untimed frames before timing")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--repeats", c->repeats, "Timed repeats (median and spread over these)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--budget", c->budget_s, "Timed seconds per run: slow runs time fewer frames per repeat")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--json", c->json, "Write the results as JSON here (default: stdout)");
+  cmd->add_option("--markdown", c->markdown, "Write a markdown table of the results here");
+  cmd->callback([c] { runBenchCommand(*c); });
+}
+
+}  // namespace drape

@@ -1,0 +1,204 @@
+// `drape render`: run a scene headless (EGL, no display) and write frames as PNGs, optionally a video.
+#include "app/commands.hpp"
+#include "app/solver_factory.hpp"
+#include "core/metrics.hpp"
+#include "gl/context.hpp"
+#include "gpu/gpu_solver.hpp"
+#include "render/image.hpp"
+#include "render/renderer.hpp"
+
+#include <fmt/core.h>
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <regex>
+
+namespace drape {
+
+namespace {
+
+struct RenderOptions {
+  std::string scene;
+  int frames = 90;
+  int every = 1;
+  std::string out;
+  std::string shader = "phong";
+  std::string size = "640x480";
+  std::string solver = "gpu";
+  std::string video;
+  int latitudes = 40;
+  int longitudes = 40;
+  int samples = 1;
+  std::string camera = "scene";
+  double zoom = 1.0;
+};
+
+glm::ivec2 parseSize(const std::string& text) {
+  static const std::regex pattern("([0-9]{1,5})x([0-9]{1,5})");
+  std::smatch m;
+  if (!std::regex_match(text, m, pattern))
+    throw CommandError(kExitBadInput, fmt::format("--size: '{}' is not WIDTHxHEIGHT (e.g. 640x480)", text));
+  const glm::ivec2 size{std::stoi(m[1]), std::stoi(m[2])};
+  if (size.x < 16 || size.y < 16 || size.x > 8192 || size.y > 8192)
+    throw CommandError(kExitBadInput, fmt::format("--size: {} is outside 16x16 .. 8192x8192", text));
+  return size;
+}
+
+// "phong", "phong,toon" or "all".
+std::vector<Shading> parseShadings(const std::string& text) {
+  if (text == "all") return {allShadings().begin(), allShadings().end()};
+  std::vector<Shading> shadings;
+  std::size_t begin = 0;
+  while (begin <= text.size()) {
+    const std::size_t end = std::min(text.find(',', begin), text.size());
+    const std::string name = text.substr(begin, end - begin);
+    const std::optional<Shading> shading = parseShading(name);
+    if (!shading)
+      throw CommandError(kExitBadInput,
+                         fmt::format("--shader: unknown shader '{}' ({}, or all)", name, shadingNames()));
+    if (std::find(shadings.begin(), shadings.end(), *shading) == shadings.end()) shadings.push_back(*shading);
+    begin = end + 1;
+  }
+  return shadings;
+}
+
+// The frame's one read-back, as an RGB image (the alpha channel is always opaque).
+Image readImage(const gl::Framebuffer& target) {
+  const std::vector<std::uint8_t> rgba = target.readPixelsRGBA();
+  Image image{target.width(), target.height(), 3, std::vector<std::uint8_t>(rgba.size() / 4 * 3)};
+  for (std::size_t i = 0, n = rgba.size() / 4; i < n; ++i)
+    for (int c = 0; c < 3; ++c)
+      image.pixels[i * 3 + c] = rgba[i * 4 + c];
+  return image;
+}
+
+bool ffmpegAvailable() {
+  return std::system("command -v ffmpeg >/dev/null 2>&1") == 0;
+}
+
+void encodeVideo(const std::filesystem::path& dir, const std::string& video, double fps) {
+  const std::string command = fmt::format(
+      "ffmpeg -loglevel error -y -framerate {:.6g} -pattern_type glob -i '{}/frame_*.png' -c:v libx264 "
+      "-pix_fmt yuv420p -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' '{}'",
+      fps, dir.string(), video);
+  if (std::system(command.c_str()) != 0)
+    throw CommandError(kExitFailure, fmt::format("--video: ffmpeg failed to write {} (command: {})", video, command));
+  fmt::print(stderr, "render: wrote {}\n", video);
+}
+
+// The GPU solver draws from the context that is current; CPU solvers need one for the renderer only.
+std::unique_ptr<Solver> makeRenderSolver(const Scene& scene, const std::string& name) {
+  if (name == "gpu") return std::make_unique<GpuSolver>(scene);
+  return makeSolver(scene, name);
+}
+
+void runRender(const RenderOptions& o) {
+  const glm::ivec2 size = parseSize(o.size);
+  const std::vector<Shading> shadings = parseShadings(o.shader);
+  if (!o.video.empty() && !ffmpegAvailable())
+    throw CommandError(kExitFailure, fmt::format("--video: ffmpeg is not installed (apt-get install ffmpeg); "
+                                                 "leave out --video to write the PNG frames only"));
+  // One shader writes DIR/frame_NNNN.png; several write DIR/SHADER/frame_NNNN.png.
+  std::vector<std::filesystem::path> dirs;
+  for (Shading shading : shadings)
+    dirs.push_back(shadings.size() == 1 ? std::filesystem::path(o.out)
+                                        : std::filesystem::path(o.out) / shadingName(shading));
+  for (const std::filesystem::path& dir : dirs) {
+    std::error_code error;
+    std::filesystem::create_directories(dir, error);
+    if (error || !std::filesystem::is_directory(dir))
+      throw CommandError(kExitBadInput, fmt::format("--out: cannot create directory {}: {}", dir.string(),
+                                                    error ? error.message() : "not a directory"));
+  }
+  const Scene scene = loadScene(o.scene);
+
+  gl::HeadlessContext context;
+  try {
+    context = gl::HeadlessContext::create();
+  } catch (const gl::ContextError& e) {
+    throw CommandError(kExitNoGl, fmt::format("render: no OpenGL 4.5 context: {}", e.what()));
+  }
+  fmt::print(stderr, "render: {}\n", gl::describe(context.info()));
+  std::unique_ptr<Solver> solver = makeRenderSolver(scene, o.solver);
+  ClothFeed feed(*solver);
+  Renderer renderer(scene, solver->topology(), {.sphere_latitudes = o.latitudes, .sphere_longitudes = o.longitudes});
+  gl::Framebuffer target = gl::Framebuffer::createColorDepth(size.x, size.y, o.samples);
+  Camera camera;
+  const float aspect = float(size.x) / float(size.y);
+  camera.frame(renderer.sceneBounds(), aspect);
+  camera.zoom(float(o.zoom));
+  RenderSettings settings;
+  settings.springs = enabledSprings(scene.cloth);
+
+  const bool interactive = ::isatty(STDERR_FILENO);
+  const auto start = std::chrono::steady_clock::now();
+  int written = 0;
+  for (int frame = 0; frame <= o.frames; ++frame) {
+    if (frame > 0) solver->stepFrame();
+    if (frame % o.every != 0) continue;
+    if (o.camera == "cloth") {
+      // Framing the cloth where it is now takes an explicit read-back of its positions, per image.
+      const std::vector<glm::dvec3> x = solver->readPositions();
+      Bounds bounds{glm::vec3(x.front()), glm::vec3(x.front())};
+      for (const glm::dvec3& p : x)
+        bounds.include(glm::vec3(p));
+      camera.frame(bounds, aspect);
+      camera.zoom(float(o.zoom));
+    }
+    const ClothBuffers cloth = feed.prepare();
+    for (std::size_t k = 0; k < shadings.size(); ++k) {
+      settings.shading = shadings[k];
+      target.bind();
+      renderer.draw(cloth, camera, size, settings);
+      writePng(dirs[k] / fmt::format("frame_{:04d}.png", frame), readImage(target));
+      ++written;
+    }
+    // On a terminal the line updates in place; in a log only the final line appears.
+    if (interactive || frame + o.every > o.frames) {
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      fmt::print(stderr, "{}render: frame {}/{}, {} image{} in {}, {:.1f} frames/s", interactive ? "\r" : "", frame,
+                 o.frames, written, written == 1 ? "" : "s", o.out, frame / std::max(seconds, 1e-9));
+    }
+  }
+  fmt::print(stderr, "\n");
+  // One explicit read-back at the end: a cloth that blew up leaves empty pictures, which must not pass.
+  if (!allFinite(solver->readPositions()))
+    throw CommandError(kExitBlowUp, fmt::format("{}: the simulation became non-finite within {} frames; the images "
+                                                "in {} show it",
+                                                scene.path, o.frames, o.out));
+  if (!o.video.empty()) encodeVideo(dirs.front(), o.video, scene.sim.frames_per_sec / o.every);
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app) {
+  auto opts = std::make_shared<RenderOptions>();
+  CLI::App* cmd = app.add_subcommand("render", "Render a scene headless (no display needed) to PNG frames");
+  cmd->add_option("scene", opts->scene, "Scene JSON file")->required();
+  cmd->add_option("--frames", opts->frames, "Frames to simulate; frame 0 is the initial state")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--every", opts->every, "Write every K-th frame")->check(CLI::PositiveNumber);
+  cmd->add_option("--out", opts->out, "Directory for frame_NNNN.png")->required();
+  cmd->add_option("--shader", opts->shader, "Shading model, a comma-separated list, or all: " + shadingNames());
+  cmd->add_option("--size", opts->size, "Image size WIDTHxHEIGHT (default 640x480)");
+  cmd->add_option("--solver", opts->solver, "gpu (default), cpu or cpu64")
+      ->check(CLI::IsMember({"cpu", "cpu64", "gpu"}));
+  cmd->add_option("--video", opts->video, "Also encode the frames into this video with ffmpeg (e.g. out.mp4)");
+  cmd->add_option("-a,--latitudes", opts->latitudes, "Sphere latitude rings (default 40)")->check(CLI::Range(2, 1000));
+  cmd->add_option("-o,--longitudes", opts->longitudes, "Sphere longitude segments (default 40)")
+      ->check(CLI::Range(3, 1000));
+  cmd->add_option("--samples", opts->samples, "Multisampling per pixel (default 1)")->check(CLI::Range(1, 16));
+  cmd->add_option("--camera", opts->camera,
+                  "scene: one view of everything the cloth may reach (default); cloth: frame the cloth where it is "
+                  "in each image")
+      ->check(CLI::IsMember({"scene", "cloth"}));
+  cmd->add_option("--zoom", opts->zoom, "Camera distance factor (< 1 is closer; default 1)")
+      ->check(CLI::Range(0.01, 100.0));
+  cmd->callback([opts] { runRender(*opts); });
+}
+
+}  // namespace drape

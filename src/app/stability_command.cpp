@@ -1,0 +1,66 @@
+// `drape stability`: stiff and extreme cases at several substep counts, with and without the stability
+// guard; a markdown table and a CSV.
+#include "app/commands.hpp"
+#include "app/measure.hpp"
+#include "app/output.hpp"
+#include "app/stability_cases.hpp"
+
+#include <fmt/core.h>
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <filesystem>
+
+namespace drape {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct StabilityCommandOptions {
+  std::string out = "out/stability";
+  std::string steps = "1,5,30,120";
+  std::string cases;  // empty: all
+};
+
+void runStabilityCommand(const StabilityCommandOptions& o) {
+  const std::vector<int> steps = parseIntList("--steps", o.steps, 1);
+  std::vector<StabilityCase> all = stabilityCases(), chosen;
+  if (o.cases.empty()) {
+    chosen = all;
+  } else {
+    std::vector<std::string> names;
+    for (const StabilityCase& c : all)
+      names.push_back(c.name);
+    for (const std::string& name : parseNameList("--cases", o.cases, names))
+      for (const StabilityCase& c : all)
+        if (c.name == name) chosen.push_back(c);
+  }
+  std::error_code ec;
+  fs::create_directories(o.out, ec);
+  if (ec) throw CommandError(kExitBadInput, fmt::format("--out: {}: {}", o.out, ec.message()));
+  const StabilityReport report = runStability(chosen, steps, [](const std::string& line) {
+    fmt::print(stderr, "stability {}\n", line);
+    std::fflush(stderr);
+  });
+  const fs::path dir(o.out);
+  writeFileAtomically((dir / "stability.csv").string(), stabilityCsv(report));
+  const std::string md = stabilityMarkdown(report, chosen);
+  writeFileAtomically((dir / "stability.md").string(), md);
+  fmt::print("{}", md);
+  fmt::print(stderr, "stability: wrote {} and {} ({:.0f} s)\n", (dir / "stability.csv").string(),
+             (dir / "stability.md").string(), report.wall_s);
+}
+
+}  // namespace
+
+void addStabilityCommand(CLI::App& app) {
+  auto o = std::make_shared<StabilityCommandOptions>();
+  CLI::App* cmd = app.add_subcommand("stability", "Stiff and extreme cases: stable or not, with and without the guard");
+  cmd->add_option("--out", o->out, "Output directory")->capture_default_str();
+  cmd->add_option("--steps", o->steps, "Comma-separated substeps per frame")->capture_default_str();
+  cmd->add_option("--cases", o->cases, "Comma-separated case names (default: all)");
+  cmd->callback([o] { runStabilityCommand(*o); });
+}
+
+}  // namespace drape

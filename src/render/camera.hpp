@@ -1,0 +1,59 @@
+// Orbit camera: it circles a target point at a distance, with yaw around the world y axis and pitch
+// above the horizon; pan moves the target in the view plane; zoom scales the distance.
+#pragma once
+
+#include <glm/glm.hpp>
+
+namespace drape {
+
+struct Bounds {
+  glm::vec3 min{0.0f};
+  glm::vec3 max{0.0f};
+  glm::vec3 centre() const { return 0.5f * (min + max); }
+  float radius() const { return 0.5f * glm::length(max - min); }  // of the enclosing sphere
+  void include(const glm::vec3& p) {
+    min = glm::min(min, p);
+    max = glm::max(max, p);
+  }
+};
+
+struct Ray {
+  glm::vec3 origin;
+  glm::vec3 direction;  // unit
+};
+
+class Camera {
+ public:
+  static constexpr float kDefaultYaw = 0.35f;    // rad, a little to the right of +z
+  static constexpr float kDefaultPitch = 0.45f;  // rad above the horizon
+  static constexpr float kFovY = 0.7854f;        // rad (45 degrees)
+
+  // Looks at `bounds` from the default direction, far enough that its enclosing sphere fits the view
+  // whatever the aspect ratio.
+  void frame(const Bounds& bounds, float aspect);
+
+  void orbit(float d_yaw, float d_pitch);  // rad; pitch stays short of the poles
+  // Moves the target by a drag of (dx, dy) pixels in a viewport `viewport_height` pixels high, so that
+  // the point at the target follows the cursor.
+  void pan(float dx, float dy, float viewport_height);
+  void zoom(float factor);  // distance *= factor (< 1 moves closer)
+
+  glm::vec3 target() const { return target_; }
+  float distance() const { return distance_; }
+  glm::vec3 position() const;
+  glm::mat4 view() const;
+  glm::mat4 projection(float aspect) const;  // near/far follow the distance so depth stays precise
+  glm::mat4 viewProjection(float aspect) const { return projection(aspect) * view(); }
+
+  // The ray through a pixel (origin top-left, as window systems report the cursor).
+  Ray rayThrough(glm::vec2 pixel, glm::ivec2 viewport) const;
+
+ private:
+  glm::vec3 target_{0.5f, 0.5f, 0.5f};
+  float distance_ = 3.0f;
+  float yaw_ = kDefaultYaw;
+  float pitch_ = kDefaultPitch;
+  float scene_radius_ = 1.0f;
+};
+
+}  // namespace drape

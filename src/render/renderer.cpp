@@ -1,0 +1,358 @@
+#include "render/renderer.hpp"
+
+#include "gl/debug.hpp"
+#include "render/render_bindings.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace drape {
+
+glm::vec3 springColour(SpringType type) {
+  switch (type) {
+    case SpringType::Structural: return {1.0f, 0.80f, 0.20f};
+    case SpringType::Shearing: return {0.20f, 0.75f, 1.0f};
+    case SpringType::Bending: return {1.0f, 0.30f, 0.55f};
+  }
+  return glm::vec3(1.0f);
+}
+
+std::array<bool, kSpringTypeCount> enabledSprings(const ClothSpec& cloth) {
+  std::array<bool, kSpringTypeCount> enabled{};
+  for (int t = 0; t < kSpringTypeCount; ++t) enabled[t] = cloth.springEnabled(SpringType(t));
+  return enabled;
+}
+
+struct Renderer::Frame {
+  const RenderSettings* settings = nullptr;
+  glm::mat4 view_projection{1.0f};
+  glm::mat4 light_view_projection{1.0f};
+  glm::vec3 eye{0.0f};
+};
+
+namespace {
+
+// The renderer offers every program the values of this frame; each takes those it declares.
+template <class T>
+void offer(const ShadingProgram& program, const char* name, const T& value) {
+  if (program.declares(name)) program.set(name, value);
+}
+
+GLint currentDrawFramebuffer() {
+  GLint framebuffer = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
+  return framebuffer;
+}
+
+void bindStorage(GLuint binding, GLuint buffer) { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buffer); }
+
+// The cloth's footprint on a plane: where it lands when it falls flat.
+void includePlaneFootprint(Bounds& bounds, const PlaneSpec& plane, const Topology& topology) {
+  const glm::vec3 n = glm::normalize(glm::vec3(plane.normal)), p = glm::vec3(plane.point);
+  const int W = topology.W, H = topology.H;
+  for (int corner : {0, W - 1, (H - 1) * W, H * W - 1}) {
+    const glm::vec3 x = glm::vec3(topology.initial_positions[std::size_t(corner)]);
+    bounds.include(x - glm::dot(x - p, n) * n);
+  }
+}
+
+}  // namespace
+
+Renderer::Renderer(const Scene& scene, const Topology& topology, const RendererOptions& options)
+    : scene_(&scene),
+      topology_(&topology),
+      options_(options),
+      programs_(ProgramSet::compileAll()),
+      textures_(TextureSet::load(options.texture_dir)) {
+  glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+
+  const glm::vec3 first = glm::vec3(topology.initial_positions.front());
+  bounds_ = {first, first};
+  for (const glm::dvec3& x : topology.initial_positions) bounds_.include(glm::vec3(x));
+  for (const SphereSpec& s : scene.spheres) {
+    bounds_.include(glm::vec3(s.origin - s.radius));
+    bounds_.include(glm::vec3(s.origin + s.radius));
+  }
+  for (const PlaneSpec& p : scene.planes) includePlaneFootprint(bounds_, p, topology);
+
+  sphere_ = uploadMesh(buildSphereMesh(options.sphere_latitudes, options.sphere_longitudes));
+  // Large enough to reach the horizon from any sensible camera position.
+  const float plane_size = std::max(10.0f, 40.0f * bounds_.radius());
+  for (const PlaneSpec& p : scene.planes) {
+    const glm::vec3 n = glm::normalize(glm::vec3(p.normal)), point = glm::vec3(p.point);
+    const glm::vec3 centre = bounds_.centre() - glm::dot(bounds_.centre() - point, n) * n;
+    planes_.push_back(uploadMesh(buildPlaneMesh(centre, n, plane_size)));
+  }
+
+  cloth_.uvs = gl::Buffer::fromVector(topology.uvs, 0);
+  cloth_.triangles = gl::Buffer::fromVector(topology.triangles, 0);
+  cloth_.triangle_count = GLsizei(topology.triangles.size());
+  cloth_.triangle_vao = gl::VertexArray::create();
+  glVertexArrayElementBuffer(cloth_.triangle_vao.id(), cloth_.triangles.id());
+  for (int t = 0; t < kSpringTypeCount; ++t) {
+    std::vector<std::uint32_t> lines;
+    for (const Spring& s : topology.springs)
+      if (int(s.type) == t) lines.insert(lines.end(), {s.a, s.b});
+    cloth_.springs[t] = gl::Buffer::fromVector(lines, 0);
+    cloth_.spring_counts[t] = GLsizei(lines.size());
+    cloth_.spring_vaos[t] = gl::VertexArray::create();
+    glVertexArrayElementBuffer(cloth_.spring_vaos[t].id(), cloth_.springs[t].id());
+  }
+  empty_vao_ = gl::VertexArray::create();
+
+  shadow_.depth = gl::Texture::create2D(options.shadow_map_size, options.shadow_map_size, GL_DEPTH_COMPONENT24);
+  shadow_.depth.setSampling(GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE);
+  // Comparison sampling: the hardware filters the four depth tests of a lookup (sampler2DShadow).
+  glTextureParameteri(shadow_.depth.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  glTextureParameteri(shadow_.depth.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+  GLuint framebuffer = 0;
+  glCreateFramebuffers(1, &framebuffer);
+  shadow_.framebuffer = gl::UniqueName<gl::FramebufferDeleter>(framebuffer);
+  glNamedFramebufferTexture(framebuffer, GL_DEPTH_ATTACHMENT, shadow_.depth.id(), 0);
+  glNamedFramebufferDrawBuffer(framebuffer, GL_NONE);
+  glNamedFramebufferReadBuffer(framebuffer, GL_NONE);
+  if (glCheckNamedFramebufferStatus(framebuffer, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw gl::GlError("shadow-map framebuffer is incomplete");
+  gl::checkDebugErrors();
+}
+
+Renderer::GpuMesh Renderer::uploadMesh(const MeshData& mesh) {
+  GpuMesh gpu;
+  gpu.positions = gl::Buffer::fromVector(mesh.positions, 0);
+  gpu.normals = gl::Buffer::fromVector(mesh.normals, 0);
+  gpu.tangents = gl::Buffer::fromVector(mesh.tangents, 0);
+  gpu.uvs = gl::Buffer::fromVector(mesh.uvs, 0);
+  gpu.indices = gl::Buffer::fromVector(mesh.triangles, 0);
+  gpu.count = GLsizei(mesh.triangles.size());
+  gpu.vao = gl::VertexArray::create();
+  glVertexArrayElementBuffer(gpu.vao.id(), gpu.indices.id());
+  return gpu;
+}
+
+glm::mat4 Renderer::lightViewProjection(const Light& light) const {
+  const glm::vec3 centre = bounds_.centre();
+  // The cloth may swing out of its rest bounds; a margin keeps it in the light's frustum.
+  const float radius = 1.25f * bounds_.radius();
+  const glm::vec3 to_centre = centre - light.position;
+  const float distance = std::max(glm::length(to_centre), 1.05f * radius);
+  const glm::vec3 direction = glm::normalize(glm::length(to_centre) > 0.0f ? to_centre : glm::vec3(0, -1, 0));
+  const glm::vec3 up = std::abs(direction.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+  const float fov = 2.0f * std::asin(std::min(radius / distance, 0.95f));
+  const float near_plane = std::max(distance - radius, 0.01f * distance);
+  const glm::mat4 view = glm::lookAt(light.position, light.position + direction, up);
+  return glm::perspective(fov, 1.0f, near_plane, distance + radius) * view;
+}
+
+void Renderer::draw(const ClothBuffers& cloth, const Camera& camera, glm::ivec2 viewport,
+                    const RenderSettings& settings) {
+  const GLint target = currentDrawFramebuffer();
+  Frame frame;
+  frame.settings = &settings;
+  frame.view_projection = camera.viewProjection(float(viewport.x) / float(std::max(viewport.y, 1)));
+  frame.light_view_projection = lightViewProjection(settings.light);
+  frame.eye = camera.position();
+
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);  // cloth has two sides
+  glDisable(GL_SCISSOR_TEST);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+
+  if (settings.shading == Shading::Shadow) {
+    renderShadowMap(cloth, frame);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(target));
+  }
+  glViewport(0, 0, viewport.x, viewport.y);
+  glClearColor(settings.background.x, settings.background.y, settings.background.z, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+
+  textures_.fabric.bind(RENDER_UNIT_TEXTURE);
+  textures_.heightMap(settings.height_map).bind(RENDER_UNIT_HEIGHT_MAP);
+  textures_.sky.bind(RENDER_UNIT_ENVIRONMENT);
+  shadow_.depth.bind(RENDER_UNIT_SHADOW_MAP);
+
+  if (settings.shading == Shading::Mirror && settings.sky) drawSky(frame);
+  if (settings.show_colliders) drawColliders(colliderProgram(settings.shading), frame, false);
+  if (settings.show_cloth) {
+    if (settings.shading == Shading::Wireframe)
+      drawWireframe(cloth, frame);
+    else
+      drawCloth(clothProgram(settings.shading), cloth, frame);
+  }
+  glBindVertexArray(0);
+  gl::checkDebugErrors();
+}
+
+void Renderer::renderShadowMap(const ClothBuffers& cloth, const Frame& frame) {
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, shadow_.framebuffer.get());
+  glViewport(0, 0, shadow_.depth.width(), shadow_.depth.height());
+  glClear(GL_DEPTH_BUFFER_BIT);
+  // Pushes the stored depth back a little, against self-shadowing stripes on lit surfaces.
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(1.5f, 4.0f);
+  Frame light_frame = frame;
+  light_frame.view_projection = frame.light_view_projection;
+  if (frame.settings->show_colliders) drawColliders(ProgramId::ShadowDepth, light_frame, true);
+  if (frame.settings->show_cloth) drawCloth(ProgramId::ShadowDepth, cloth, light_frame);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
+namespace {
+
+void offerFrame(const ShadingProgram& p, const RenderSettings& s, const glm::mat4& view_projection,
+                const glm::mat4& light_view_projection, const glm::vec3& eye) {
+  offer(p, "u_view_projection", view_projection);
+  offer(p, "u_light_position", s.light.position);
+  offer(p, "u_light_intensity", s.light.intensity);
+  offer(p, "u_eye", eye);
+  offer(p, "u_phong_terms", glm::vec3(s.phong_terms[0], s.phong_terms[1], s.phong_terms[2]));
+  offer(p, "u_height_scaling", s.height_scaling);
+  offer(p, "u_normal_scaling", s.normal_scaling);
+  offer(p, "u_toon_levels", s.toon_levels);
+  offer(p, "u_light_view_projection", light_view_projection);
+}
+
+void offerModel(const ShadingProgram& p, const glm::mat4& model, const glm::vec3& colour) {
+  offer(p, "u_model", model);
+  offer(p, "u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
+  offer(p, "u_colour", colour);
+}
+
+}  // namespace
+
+void Renderer::drawColliders(ProgramId id, const Frame& frame, bool depth_only) {
+  const ShadingProgram& program = programs_[id];
+  const RenderSettings& s = *frame.settings;
+  program.use();
+  offerFrame(program, s, frame.view_projection, frame.light_view_projection, frame.eye);
+  const auto bindMesh = [](const GpuMesh& mesh) {
+    bindStorage(RENDER_BINDING_POSITIONS, mesh.positions.id());
+    bindStorage(RENDER_BINDING_NORMALS, mesh.normals.id());
+    bindStorage(RENDER_BINDING_TANGENTS, mesh.tangents.id());
+    bindStorage(RENDER_BINDING_UVS, mesh.uvs.id());
+    mesh.vao.bind();
+  };
+  bindMesh(sphere_);
+  for (const SphereSpec& sphere : scene_->spheres) {
+    const float radius = float(sphere.radius) * options_.sphere_shrink;
+    const glm::mat4 model = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(sphere.origin)), glm::vec3(radius));
+    offerModel(program, model, s.collider_colour);
+    glDrawElements(GL_TRIANGLES, sphere_.count, GL_UNSIGNED_INT, nullptr);
+  }
+  // Planes receive shadows but cast none (nothing lies beneath them that could be shadowed).
+  if (depth_only) return;
+  // Cloth resting on a plane lies SURFACE_OFFSET (0.1 mm) above it: push the plane back in depth.
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(1.0f, 2.0f);
+  for (const GpuMesh& plane : planes_) {
+    bindMesh(plane);
+    offerModel(program, glm::mat4(1.0f), s.plane_colour);
+    glDrawElements(GL_TRIANGLES, plane.count, GL_UNSIGNED_INT, nullptr);
+  }
+  glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
+void Renderer::drawCloth(ProgramId id, const ClothBuffers& cloth, const Frame& frame) {
+  const ShadingProgram& program = programs_[id];
+  program.use();
+  offerFrame(program, *frame.settings, frame.view_projection, frame.light_view_projection, frame.eye);
+  offerModel(program, glm::mat4(1.0f), frame.settings->cloth_colour);
+  bindStorage(RENDER_BINDING_POSITIONS, cloth.positions);
+  bindStorage(RENDER_BINDING_NORMALS, cloth.normals);
+  bindStorage(RENDER_BINDING_TANGENTS, cloth.tangents);
+  bindStorage(RENDER_BINDING_UVS, cloth_.uvs.id());
+  cloth_.triangle_vao.bind();
+  glDrawElements(GL_TRIANGLES, cloth_.triangle_count, GL_UNSIGNED_INT, nullptr);
+  ++cloth_draws_;
+}
+
+void Renderer::drawWireframe(const ClothBuffers& cloth, const Frame& frame) {
+  const ShadingProgram& program = programs_[ProgramId::Wireframe];
+  program.use();
+  program.set("u_view_projection", frame.view_projection);
+  bindStorage(RENDER_BINDING_POSITIONS, cloth.positions);
+  for (int t = 0; t < kSpringTypeCount; ++t) {
+    if (!frame.settings->springs[t] || cloth_.spring_counts[t] == 0) continue;
+    program.set("u_colour", springColour(SpringType(t)));
+    cloth_.spring_vaos[t].bind();
+    glDrawElements(GL_LINES, cloth_.spring_counts[t], GL_UNSIGNED_INT, nullptr);
+  }
+  ++cloth_draws_;
+}
+
+void Renderer::drawSky(const Frame& frame) {
+  const ShadingProgram& program = programs_[ProgramId::Sky];
+  program.use();
+  program.set("u_inverse_view_projection", glm::inverse(frame.view_projection));
+  glDisable(GL_DEPTH_TEST);
+  empty_vao_.bind();
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glEnable(GL_DEPTH_TEST);
+}
+
+void Renderer::ensurePickTarget(glm::ivec2 size) {
+  if (pick_.size == size && pick_.framebuffer.get() != 0) return;
+  pick_ = PickTarget{};
+  pick_.size = size;
+  pick_.point = gl::Texture::create2D(size.x, size.y, GL_R32UI);
+  pick_.position = gl::Texture::create2D(size.x, size.y, GL_RGBA32F);
+  pick_.depth = gl::Renderbuffer::create(size.x, size.y, GL_DEPTH_COMPONENT24);
+  GLuint framebuffer = 0;
+  glCreateFramebuffers(1, &framebuffer);
+  pick_.framebuffer = gl::UniqueName<gl::FramebufferDeleter>(framebuffer);
+  glNamedFramebufferTexture(framebuffer, GL_COLOR_ATTACHMENT0, pick_.point.id(), 0);
+  glNamedFramebufferTexture(framebuffer, GL_COLOR_ATTACHMENT1, pick_.position.id(), 0);
+  glNamedFramebufferRenderbuffer(framebuffer, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, pick_.depth.id());
+  const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glNamedFramebufferDrawBuffers(framebuffer, 2, buffers);
+  if (glCheckNamedFramebufferStatus(framebuffer, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw gl::GlError("picking framebuffer is incomplete");
+}
+
+std::optional<PickHit> Renderer::pick(const ClothBuffers& cloth, const Camera& camera, glm::ivec2 viewport,
+                                      glm::vec2 pixel) {
+  const glm::ivec2 p{int(std::floor(pixel.x)), viewport.y - 1 - int(std::floor(pixel.y))};
+  if (p.x < 0 || p.y < 0 || p.x >= viewport.x || p.y >= viewport.y) return std::nullopt;
+  const GLint target = currentDrawFramebuffer();
+  ensurePickTarget(viewport);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, pick_.framebuffer.get());
+  glViewport(0, 0, viewport.x, viewport.y);
+  const GLuint no_point = 0;
+  const GLfloat no_position[4] = {0, 0, 0, 0};
+  const GLfloat far_depth = 1.0f;
+  glClearNamedFramebufferuiv(pick_.framebuffer.get(), GL_COLOR, 0, &no_point);
+  glClearNamedFramebufferfv(pick_.framebuffer.get(), GL_COLOR, 1, no_position);
+  glClearNamedFramebufferfv(pick_.framebuffer.get(), GL_DEPTH, 0, &far_depth);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+
+  const ShadingProgram& program = programs_[ProgramId::Pick];
+  program.use();
+  program.set("u_model", glm::mat4(1.0f));
+  program.set("u_view_projection", camera.viewProjection(float(viewport.x) / float(std::max(viewport.y, 1))));
+  program.set("u_grid_size", glm::vec2(float(topology_->W), float(topology_->H)));
+  bindStorage(RENDER_BINDING_POSITIONS, cloth.positions);
+  bindStorage(RENDER_BINDING_NORMALS, cloth.normals);
+  bindStorage(RENDER_BINDING_UVS, cloth_.uvs.id());
+  cloth_.triangle_vao.bind();
+  glDrawElements(GL_TRIANGLES, cloth_.triangle_count, GL_UNSIGNED_INT, nullptr);
+  glBindVertexArray(0);
+
+  // The one explicit read-back of picking: a single pixel of each target.
+  GLuint point = 0;
+  glm::vec4 position{0.0f};
+  glGetTextureSubImage(pick_.point.id(), 0, p.x, p.y, 0, 1, 1, 1, GL_RED_INTEGER, GL_UNSIGNED_INT, sizeof(point), &point);
+  glGetTextureSubImage(pick_.position.id(), 0, p.x, p.y, 0, 1, 1, 1, GL_RGBA, GL_FLOAT, sizeof(position), &position);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(target));
+  gl::checkDebugErrors();
+  if (point == 0 || int(point) > topology_->pointCount()) return std::nullopt;
+  return PickHit{int(point) - 1, glm::vec3(position)};
+}
+
+}  // namespace drape

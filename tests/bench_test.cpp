@@ -1,0 +1,266 @@
+// The measurement commands' logic on tiny CPU runs: resampling, order statistics, the bench's JSON,
+// the accuracy report's exact properties and the stability cases. No GL: GPU solvers are not asked for.
+#include "app/bench.hpp"
+#include "app/accuracy.hpp"
+#include "app/commands.hpp"
+#include "app/stability_cases.hpp"
+#include "core/stability.hpp"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+namespace drape {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string scenePath(const std::string& name) {
+  return std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name;
+}
+
+TEST(Resample, KeepsSizeMassAndCornerPins) {
+  const Scene scene = loadScene(scenePath("pinned4.json"));
+  for (int n : {2, 3, 16, 37, 256}) {
+    const Scene s = resampleCloth(scene, n);
+    EXPECT_EQ(s.cloth.num_width_points, n);
+    EXPECT_EQ(s.cloth.num_height_points, n);
+    EXPECT_EQ(s.cloth.width, scene.cloth.width);
+    EXPECT_EQ(s.cloth.height, scene.cloth.height);
+    EXPECT_EQ(s.cloth.density, scene.cloth.density);
+    EXPECT_NEAR(pointMass(s.cloth) * n * n, pointMass(scene.cloth) * scene.cloth.pointCount(), 1e-9);
+    const std::set<std::pair<int, int>> pins = [&] {
+      std::set<std::pair<int, int>> out;
+      for (glm::ivec2 p : s.cloth.pinned)
+        out.insert({p.x, p.y});
+      return out;
+    }();
+    EXPECT_EQ(pins, (std::set<std::pair<int, int>>{{0, 0}, {0, n - 1}, {n - 1, 0}, {n - 1, n - 1}})) << n;
+    EXPECT_LT(2.0 * s.cloth.thickness, s.cloth.width / (n - 1)) << "neighbours at rest would self-collide";
+    EXPECT_LE(s.cloth.thickness, scene.cloth.thickness);
+  }
+}
+
+TEST(Resample, MergesPinsThatLandOnOnePoint) {
+  Scene scene = loadScene(scenePath("pinned2.json"));
+  scene.cloth.pinned = {{0, 0}, {1, 0}, {2, 0}, {49, 0}};
+  const Scene s = resampleCloth(scene, 4);
+  EXPECT_EQ(s.cloth.pinned.size(), 2u);  // 0, 1, 2 of 50 all land on 0 of 4
+}
+
+TEST(Summarize, OrderStatistics) {
+  const Spread odd = summarize({5.0, 1.0, 3.0});
+  EXPECT_EQ(odd.samples, 3);
+  EXPECT_EQ(odd.median, 3.0);
+  EXPECT_EQ(odd.min, 1.0);
+  EXPECT_EQ(odd.max, 5.0);
+  EXPECT_EQ(odd.q1, 2.0);
+  EXPECT_EQ(odd.q3, 4.0);
+  const Spread even = summarize({4.0, 1.0, 2.0, 3.0});
+  EXPECT_EQ(even.median, 2.5);
+  EXPECT_EQ(summarize({}).samples, 0);
+}
+
+TEST(Lists, ParseAndReject) {
+  EXPECT_EQ(parseIntList("--sizes", "32, 64,128", 2), (std::vector<int>{32, 64, 128}));
+  EXPECT_THROW(parseIntList("--sizes", "32,x", 2), CommandError);
+  EXPECT_THROW(parseIntList("--sizes", "1", 2), CommandError);
+  EXPECT_THROW(parseIntList("--sizes", "", 2), CommandError);
+  EXPECT_THROW(parseIntList("--sizes", "32,,64", 2), CommandError);
+  EXPECT_EQ(parseDoubleList("--times", "0.5,2"), (std::vector<double>{0.5, 2.0}));
+  EXPECT_THROW(parseDoubleList("--times", "-1"), CommandError);
+  EXPECT_EQ(parseNameList("--solver", "cpu,cpu64", kMeasuredSolvers), (std::vector<std::string>{"cpu", "cpu64"}));
+  EXPECT_THROW(parseNameList("--solver", "cpu,cuda", kMeasuredSolvers), CommandError);
+  try {
+    parseNameList("--solver", "cuda", kMeasuredSolvers);
+  } catch (const CommandError& e) {
+    EXPECT_EQ(e.status(), kExitBadInput);
+    EXPECT_NE(std::string(e.what()).find("--solver"), std::string::npos);
+  }
+}
+
+TEST(Bench, TinyRunHasEveryFigure) {
+  BenchOptions o;
+  o.scenes = {scenePath("pinned4.json")};
+  o.sizes = {6, 8};
+  o.solvers = {"cpu", "cpu64"};
+  o.frames = 2;
+  o.warmup = 1;
+  o.repeats = 2;
+  int lines = 0;
+  const BenchReport report = runBench(o, [&](const std::string&) { ++lines; });
+  ASSERT_EQ(report.runs.size(), 4u);
+  EXPECT_EQ(lines, 4);
+  EXPECT_FALSE(report.gl.has_value());  // no GPU solver asked for
+  for (const BenchRun& run : report.runs) {
+    EXPECT_EQ(run.skipped, "");
+    EXPECT_EQ(run.blew_up, "");
+    EXPECT_EQ(run.points, (long long)run.size * run.size);
+    EXPECT_EQ(run.frame_ms.samples, 2);
+    EXPECT_GT(run.frame_ms.median, 0.0);
+    EXPECT_LE(run.frame_ms.min, run.frame_ms.median);
+    EXPECT_LE(run.frame_ms.median, run.frame_ms.max);
+    EXPECT_DOUBLE_EQ(run.vertex_substeps_per_s,
+                     double(run.points) * run.steps_per_frame / (run.frame_ms.median * 1e-3));
+    EXPECT_EQ(run.gpu_memory_bytes, -1);
+    std::vector<std::string> names;
+    for (const BenchPass& p : run.passes) {
+      names.push_back(p.name);
+      EXPECT_EQ(p.calls_per_frame, run.steps_per_frame) << p.name;  // one call per substep
+      EXPECT_GE(p.ms_per_frame, 0.0);
+    }
+    EXPECT_EQ(names, (std::vector<std::string>{"forces", "integrate", "limit_stretch"}));
+  }
+  const nlohmann::json j = benchJson(report);
+  for (const char* key : {"machine", "gl", "settings", "runs", "started_at", "wall_s"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_TRUE(j["gl"].is_null());
+  EXPECT_EQ(j["machine"]["logical_cores"].get<int>(), report.machine.logical_cores);
+  EXPECT_FALSE(j["machine"]["cpu_model"].get<std::string>().empty());
+  ASSERT_EQ(j["runs"].size(), 4u);
+  for (const auto& run : j["runs"]) {
+    for (const char* key : {"scene", "solver", "size", "points", "steps_per_frame", "frame_ms", "repeat_ms", "passes",
+                            "vertex_substeps_per_s", "dispatches_per_frame", "gpu_memory_bytes", "pass_timing",
+                            "blew_up", "stability_number", "frames_per_repeat"})
+      EXPECT_TRUE(run.contains(key)) << key;
+    for (const char* key : {"median", "min", "max", "q1", "q3", "samples"})
+      EXPECT_TRUE(run["frame_ms"].contains(key));
+  }
+  const std::string md = benchMarkdown(report);
+  EXPECT_EQ(std::count(md.begin(), md.end(), '\n'), 2 + 1 + 2 + 4);  // two lines, blank, header, rule, runs
+}
+
+TEST(Bench, UnknownSolverIsBadInput) {
+  SolverFactory factory;
+  try {
+    factory.make(loadScene(scenePath("pinned4.json")), "cuda");
+    FAIL();
+  } catch (const CommandError& e) {
+    EXPECT_EQ(e.status(), kExitBadInput);
+  }
+}
+
+fs::path writeTinyScene() {
+  const fs::path p = fs::temp_directory_path() / ("drape_bench_test_" + std::to_string(::getpid()) + ".json");
+  std::ofstream(p) << R"({"cloth": {"width": 1, "height": 1, "num_width_points": 6, "num_height_points": 6,
+    "thickness": 0.01, "orientation": 0, "pinned": [[0, 0], [5, 0]], "density": 15, "ks": 500, "damping": 0.2},
+    "simulation": {"self_collision": false, "steps_per_frame": 4, "stretch_passes": 4}})";
+  return p;
+}
+
+// A configuration equal to the reference (same solver, substeps and passes) has error exactly 0:
+// the runs are deterministic and compared at the same frames.
+TEST(Accuracy, ReferenceConfigurationHasZeroErrorAndRowsAreComplete) {
+  const fs::path scene = writeTinyScene();
+  AccuracyOptions o;
+  o.scene = scene.string();
+  o.reference_factor = 2;
+  o.steps = {2, 8};
+  o.solvers = {"cpu", "cpu64"};
+  o.stretch_passes = {4};
+  o.times = {0.05, 0.1};
+  const AccuracyReport r = runAccuracy(o);
+  ASSERT_EQ(r.references.size(), 1u);
+  EXPECT_EQ(r.references[0].steps_per_frame, 8);
+  EXPECT_EQ(r.references[0].check_steps_per_frame, 16);
+  EXPECT_EQ(r.references[0].samples.size(), 2u);
+  ASSERT_EQ(r.runs.size(), 4u);
+  for (const AccuracyRun& run : r.runs) {
+    EXPECT_EQ(run.unstable, "") << run.solver << " " << run.steps_per_frame;
+    ASSERT_EQ(run.samples.size(), 2u);
+    EXPECT_EQ(run.samples[0].frame, 5);  // 0.05 s at 90 frames/s, rounded
+    EXPECT_EQ(run.samples[1].frame, 9);
+    EXPECT_GT(run.ms_per_sim_s, 0.0);
+    // Precision alone: cpu64 is its own twin; float differs from double at the same substeps.
+    if (run.solver == "cpu64") {
+      EXPECT_EQ(run.samples[1].vs_double, 0.0);
+    } else {
+      EXPECT_GT(run.samples[1].vs_double, 0.0);
+    }
+    if (run.solver == "cpu64" && run.steps_per_frame == 8) {
+      EXPECT_EQ(run.samples[1].rms_error, 0.0);
+      EXPECT_EQ(run.samples[1].max_error, 0.0);
+    } else {
+      EXPECT_GT(run.samples[1].rms_error, 0.0);
+    }
+  }
+  const std::string csv = accuracyCsv(r);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 4 * 2);
+  const std::string ref = referenceCsv(r);
+  EXPECT_EQ(std::count(ref.begin(), ref.end(), '\n'), 1 + 2);
+  fs::remove(scene);
+}
+
+TEST(StabilityCases, EveryCaseOfTheIssueIsThere) {
+  std::set<std::string> names;
+  for (const StabilityCase& c : stabilityCases())
+    names.insert(c.name);
+  for (const char* name :
+       {"ks-1e2", "ks-1e3", "ks-1e4", "ks-1e5", "ks-1e6", "ks-1e7", "density-1e0", "density-1e4", "damping-0",
+        "damping-100", "heavy-two-pins", "jittered", "crumpled", "sphere-strike", "soak-10000"})
+    EXPECT_EQ(names.count(name), 1u) << name;
+}
+
+TEST(StabilityCases, StartStatesAreDeterministicAndPinsStay) {
+  for (const StabilityCase& c : stabilityCases()) {
+    std::vector<glm::dvec3> x1, v1, x2, v2;
+    startState(c, x1, v1);
+    startState(c, x2, v2);
+    EXPECT_EQ(x1, x2) << c.name;
+    EXPECT_EQ(v1, v2) << c.name;
+    const Topology topo = buildTopology(c.scene.cloth);
+    for (glm::ivec2 p : c.scene.cloth.pinned) {
+      const std::size_t i = std::size_t(p.y) * topo.W + p.x;
+      EXPECT_EQ(x1[i], topo.initial_positions[i]) << c.name;
+      EXPECT_EQ(v1[i], glm::dvec3(0)) << c.name;
+    }
+  }
+}
+
+TEST(StabilityCases, AnUnstableRunReportsItsFrame) {
+  for (const StabilityCase& c : stabilityCases()) {
+    if (c.name != "ks-1e7") continue;
+    const StabilityResult plain = runStabilityCase(c, 1, false);
+    EXPECT_FALSE(plain.inside_bound);
+    EXPECT_FALSE(plain.stable);
+    EXPECT_GE(plain.first_bad_frame, 1);
+    EXPECT_EQ(plain.frames_run, plain.first_bad_frame);
+    EXPECT_FALSE(plain.what.empty());
+  }
+}
+
+// The summary reads the sweep as run: the largest stable ks, and any smaller one that was not stable.
+TEST(StabilityCases, SummaryNamesLargestStableKs) {
+  std::vector<StabilityCase> cases;
+  for (const StabilityCase& c : stabilityCases())
+    if (c.sweeps_ks) cases.push_back(c);
+  ASSERT_EQ(cases.size(), 6u);
+  StabilityReport report;
+  report.steps = {5};
+  for (const StabilityCase& c : cases) {
+    StabilityResult r;
+    r.case_name = c.name;
+    r.steps_asked = r.steps_per_frame = 5;
+    r.stable = c.name == "ks-1e3" || c.name == "ks-1e4";  // 1e2 unstable below them, 1e5.. above
+    report.results.push_back(r);
+    if (c.scene.cloth.ks >= 1e5) {
+      StabilityResult g = r;
+      g.guarded = true;
+      g.steps_per_frame = 50;
+      g.stable = true;
+      report.results.push_back(g);
+    }
+  }
+  const std::string md = stabilityMarkdown(report, cases);
+  EXPECT_NE(md.find("| 5 | 10000 (but 100 unstable) | 1e+07 (but 100 unstable) |"), std::string::npos) << md;
+  EXPECT_EQ(findResult(report, "ks-1e6", 5, true)->steps_per_frame, 50);
+  EXPECT_EQ(findResult(report, "ks-1e3", 5, true), nullptr);
+}
+
+}  // namespace
+}  // namespace drape

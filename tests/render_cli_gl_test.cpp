@@ -1,0 +1,170 @@
+// `drape render` and `drape view` as a user meets them: the real binary as a subprocess. The viewer
+// runs under `xvfb-run` when there is no display.
+#include "render/image.hpp"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace drape {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status = -1;
+  std::string err;
+};
+
+class RenderCliTest : public ::testing::Test {
+ protected:
+  fs::path dir = fs::temp_directory_path() / ("drape_render_cli_" + std::to_string(::getpid()));
+  void SetUp() override {
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  void TearDown() override { fs::remove_all(dir); }
+
+  // `prefix` goes before the binary (environment settings, xvfb-run).
+  Result run(const std::string& args, const std::string& prefix = "") const {
+    const std::string command = prefix + " " + DRAPE_BINARY + " " + args + " >/dev/null 2>'" + (dir / "err").string() +
+                                "' </dev/null";
+    const int raw = std::system(command.c_str());
+    Result r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
+    std::ifstream in(dir / "err");
+    std::stringstream text;
+    text << in.rdbuf();
+    r.err = text.str();
+    return r;
+  }
+};
+
+std::string scene(const std::string& name) { return std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name; }
+
+bool have(const char* program) { return std::system(("command -v " + std::string(program) + " >/dev/null 2>&1").c_str()) == 0; }
+
+// Pixels clearly redder than the background and the grey sphere: the cloth's default colour.
+std::size_t clothPixels(const Image& image) {
+  std::size_t n = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const std::uint8_t* p = image.at(x, y);
+      n += int(p[0]) > int(p[1]) + 40 && int(p[0]) > int(p[2]) + 40;
+    }
+  return n;
+}
+
+TEST_F(RenderCliTest, WritesTheFramesAskedFor) {
+  const Result r = run("render " + scene("sphere.json") + " --frames 4 --every 2 --size 96x72 --shader toon --out '" +
+                       (dir / "frames").string() + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir / "frames")) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"frame_0000.png", "frame_0002.png", "frame_0004.png"}));
+  for (const std::string& name : names) {
+    const Image image = loadImage(dir / "frames" / name, 3);
+    EXPECT_EQ(image.width, 96);
+    EXPECT_EQ(image.height, 72);
+    EXPECT_GT(clothPixels(image), 100u) << name;
+  }
+  EXPECT_NE(r.err.find("frame 4/4"), std::string::npos) << "progress line: " << r.err;
+}
+
+TEST_F(RenderCliTest, CpuSolverRendersTheSameCoverage) {
+  for (const char* solver : {"gpu", "cpu"}) {
+    const Result r = run("render " + scene("sphere.json") + " --frames 0 --size 96x72 --solver " + solver + " --out '" +
+                         (dir / solver).string() + "'");
+    ASSERT_EQ(r.status, 0) << r.err;
+  }
+  const Image gpu = loadImage(dir / "gpu" / "frame_0000.png", 3), cpu = loadImage(dir / "cpu" / "frame_0000.png", 3);
+  EXPECT_GT(clothPixels(gpu), 200u);
+  EXPECT_EQ(clothPixels(gpu), clothPixels(cpu));
+}
+
+struct BadOption {
+  const char* name;
+  const char* args;
+  const char* message;  // the one line must mention this
+};
+
+class RenderBadOptionTest : public RenderCliTest, public ::testing::WithParamInterface<BadOption> {};
+
+TEST_P(RenderBadOptionTest, ExitsWithStatusTwoAndSaysWhy) {
+  const BadOption& c = GetParam();
+  std::string args = c.args;
+  for (std::size_t at; (at = args.find("SCENE")) != std::string::npos;) args.replace(at, 5, scene("sphere.json"));
+  for (std::size_t at; (at = args.find("OUT")) != std::string::npos;) args.replace(at, 3, (dir / "o").string());
+  const Result r = run(args);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+}
+
+// clang-format off
+const BadOption kBadOptions[] = {
+    {"unknown_shader", "render SCENE --out OUT --shader glossy", "glossy"},
+    {"size_not_wxh", "render SCENE --out OUT --size 640", "--size"},
+    {"size_too_small", "render SCENE --out OUT --size 4x4", "--size"},
+    {"every_zero", "render SCENE --out OUT --every 0", "--every"},
+    {"negative_frames", "render SCENE --out OUT --frames -3", "--frames"},
+    {"unknown_solver", "render SCENE --out OUT --solver quantum", "--solver"},
+    {"missing_out", "render SCENE", "--out"},
+    {"missing_scene", "render /nonexistent/scene.json --out OUT", "/nonexistent/scene.json"},
+    {"view_unknown_shader", "view SCENE --shader glossy", "glossy"},
+    {"view_screenshot_without_frames", "view SCENE --screenshot x.png", "--frames"},
+    {"view_bad_tessellation", "view SCENE -a 1", "latitudes"},
+};
+// clang-format on
+
+INSTANTIATE_TEST_SUITE_P(Cases, RenderBadOptionTest, ::testing::ValuesIn(kBadOptions),
+                         [](const auto& test) { return std::string(test.param.name); });
+
+TEST_F(RenderCliTest, NoOpenGlExitsWithStatusThree) {
+  // glvnd finds no EGL vendor library here, so no context can be made.
+  const Result r = run("render " + scene("sphere.json") + " --frames 1 --out '" + (dir / "o").string() + "'",
+                       "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json");
+  EXPECT_EQ(r.status, 3) << r.err;
+  EXPECT_NE(r.err.find("OpenGL"), std::string::npos) << r.err;
+}
+
+TEST_F(RenderCliTest, VideoNeedsFfmpeg) {
+  const Result r = run("render " + scene("sphere.json") + " --frames 2 --size 64x48 --out '" + (dir / "o").string() +
+                       "' --video '" + (dir / "out.mp4").string() + "'");
+  if (have("ffmpeg")) {
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_GT(fs::file_size(dir / "out.mp4"), 0u);
+  } else {
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_NE(r.err.find("ffmpeg is not installed"), std::string::npos) << r.err;
+  }
+}
+
+TEST_F(RenderCliTest, ViewerWithoutDisplayExitsWithStatusThree) {
+  const Result r = run("view " + scene("sphere.json") + " --frames 1", "env -u DISPLAY -u WAYLAND_DISPLAY");
+  EXPECT_EQ(r.status, 3) << r.err;
+  EXPECT_NE(r.err.find("drape render"), std::string::npos) << "should point to the headless command: " << r.err;
+}
+
+TEST_F(RenderCliTest, ViewerRunsSixtyFramesAndSavesAScreenshot) {
+  const char* display = std::getenv("DISPLAY");
+  const bool has_display = display && *display;
+  if (!has_display && !have("xvfb-run")) GTEST_SKIP() << "no $DISPLAY and no xvfb-run (package xvfb) to make one";
+  const fs::path shot = dir / "view.png";
+  const Result r = run("view " + scene("sphere.json") + " --frames 60 --size 320x240 --screenshot '" + shot.string() + "'",
+                       has_display ? "" : "xvfb-run -a -s '-screen 0 640x480x24'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Image image = loadImage(shot, 3);
+  EXPECT_EQ(image.width, 320);
+  EXPECT_EQ(image.height, 240);
+  EXPECT_GT(clothPixels(image), 1000u) << "the cloth should be in view after 60 frames";
+}
+
+}  // namespace
+}  // namespace drape

@@ -1,0 +1,327 @@
+// Images the renderer makes of the sphere scene, checked pixel by pixel against where the cloth must be
+// (its triangles projected on the CPU from an explicit read-back), never against a stored picture.
+#include "core/scene.hpp"
+#include "cpu/cpu_solver.hpp"
+#include "gl_fixture.hpp"
+#include "gpu/gpu_solver.hpp"
+#include "render/renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+namespace drape {
+namespace {
+
+constexpr glm::ivec2 kSize{160, 120};
+constexpr int kFrames = 12;  // the cloth has fallen a little and is still above the sphere
+
+using Mask = std::vector<std::uint8_t>;  // kSize.x * kSize.y, row 0 at the top
+
+struct Picture {
+  std::vector<std::uint8_t> rgba;  // rows top to bottom
+  const std::uint8_t* at(int x, int y) const { return &rgba[(std::size_t(y) * kSize.x + x) * 4]; }
+  bool differs(const Picture& other, int x, int y) const {
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(int(at(x, y)[c]) - int(other.at(x, y)[c])) > 2) return true;
+    return false;
+  }
+};
+
+glm::vec2 toPixel(const glm::mat4& vp, const glm::vec3& p) {
+  const glm::vec4 clip = vp * glm::vec4(p, 1.0f);
+  const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+  return {(ndc.x * 0.5f + 0.5f) * float(kSize.x), (0.5f - ndc.y * 0.5f) * float(kSize.y)};
+}
+
+float edge(glm::vec2 a, glm::vec2 b, glm::vec2 p) { return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x); }
+
+// Pixels whose centre lies inside a projected cloth triangle.
+Mask projectCloth(const Topology& topo, const std::vector<glm::dvec3>& x, const glm::mat4& vp) {
+  Mask mask(std::size_t(kSize.x) * kSize.y, 0);
+  for (std::size_t t = 0; t < topo.triangles.size(); t += 3) {
+    const glm::vec2 a = toPixel(vp, glm::vec3(x[topo.triangles[t]])), b = toPixel(vp, glm::vec3(x[topo.triangles[t + 1]])),
+                    c = toPixel(vp, glm::vec3(x[topo.triangles[t + 2]]));
+    const int x0 = std::max(0, int(std::floor(std::min({a.x, b.x, c.x})))),
+              x1 = std::min(kSize.x - 1, int(std::ceil(std::max({a.x, b.x, c.x}))));
+    const int y0 = std::max(0, int(std::floor(std::min({a.y, b.y, c.y})))),
+              y1 = std::min(kSize.y - 1, int(std::ceil(std::max({a.y, b.y, c.y}))));
+    for (int py = y0; py <= y1; ++py)
+      for (int px = x0; px <= x1; ++px) {
+        const glm::vec2 p{float(px) + 0.5f, float(py) + 0.5f};
+        const float e0 = edge(a, b, p), e1 = edge(b, c, p), e2 = edge(c, a, p);
+        if ((e0 >= 0 && e1 >= 0 && e2 >= 0) || (e0 <= 0 && e1 <= 0 && e2 <= 0)) mask[std::size_t(py) * kSize.x + px] = 1;
+      }
+  }
+  return mask;
+}
+
+// Grows (grow > 0) or shrinks (grow < 0) a mask by |grow| pixels in the chessboard metric.
+Mask morph(const Mask& mask, int grow) {
+  const int r = std::abs(grow);
+  Mask out(mask.size(), 0);
+  for (int y = 0; y < kSize.y; ++y)
+    for (int x = 0; x < kSize.x; ++x) {
+      bool any = false, all = true;
+      for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx) {
+          const int sx = x + dx, sy = y + dy;
+          const bool v = sx >= 0 && sy >= 0 && sx < kSize.x && sy < kSize.y && mask[std::size_t(sy) * kSize.x + sx];
+          any |= v;
+          all &= v;
+        }
+      out[std::size_t(y) * kSize.x + x] = grow > 0 ? any : all;
+    }
+  return out;
+}
+
+// Screen rectangle around each sphere's bounding box, grown by two pixels.
+Mask sphereBoxes(const Scene& scene, const glm::mat4& vp) {
+  Mask mask(std::size_t(kSize.x) * kSize.y, 0);
+  for (const SphereSpec& s : scene.spheres) {
+    glm::vec2 lo{1e9f}, hi{-1e9f};
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::dvec3 sign{corner & 1 ? 1.0 : -1.0, corner & 2 ? 1.0 : -1.0, corner & 4 ? 1.0 : -1.0};
+      const glm::vec2 p = toPixel(vp, glm::vec3(s.origin + sign * s.radius));
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    for (int y = std::max(0, int(lo.y) - 2); y <= std::min(kSize.y - 1, int(hi.y) + 2); ++y)
+      for (int x = std::max(0, int(lo.x) - 2); x <= std::min(kSize.x - 1, int(hi.x) + 2); ++x)
+        mask[std::size_t(y) * kSize.x + x] = 1;
+  }
+  return mask;
+}
+
+std::size_t count(const Mask& mask) { return std::size_t(std::count(mask.begin(), mask.end(), 1)); }
+
+// One scene, one solver, one renderer, drawing into a small offscreen target.
+struct Stage {
+  Scene scene;
+  std::unique_ptr<Solver> solver;
+  std::unique_ptr<ClothFeed> feed;
+  std::unique_ptr<Renderer> renderer;
+  gl::Framebuffer target;
+  Camera camera;
+
+  Stage(Scene s, std::unique_ptr<Solver> made, int frames) : scene(std::move(s)), solver(std::move(made)) {
+    for (int f = 0; f < frames; ++f) solver->stepFrame();
+    feed = std::make_unique<ClothFeed>(*solver);
+    renderer = std::make_unique<Renderer>(scene, solver->topology());
+    target = gl::Framebuffer::createColorDepth(kSize.x, kSize.y);
+    camera.frame(renderer->sceneBounds(), float(kSize.x) / float(kSize.y));
+  }
+
+  Picture draw(const RenderSettings& settings) {
+    target.bind();
+    renderer->draw(feed->prepare(), camera, kSize, settings);
+    return {target.readPixelsRGBA()};
+  }
+  glm::mat4 viewProjection() const { return camera.viewProjection(float(kSize.x) / float(kSize.y)); }
+  Mask expectedCloth() { return projectCloth(solver->topology(), solver->readPositions(), viewProjection()); }
+  // Pixels the cloth changes: the picture with it against the picture without it.
+  Mask drawnCloth(RenderSettings settings) {
+    const Picture with = draw(settings);
+    settings.show_cloth = false;
+    const Picture without = draw(settings);
+    Mask mask(std::size_t(kSize.x) * kSize.y, 0);
+    for (int y = 0; y < kSize.y; ++y)
+      for (int x = 0; x < kSize.x; ++x) mask[std::size_t(y) * kSize.x + x] = with.differs(without, x, y);
+    return mask;
+  }
+};
+
+Scene sphereScene() { return loadScene(std::filesystem::path(DRAPE_SOURCE_DIR) / "scenes" / "sphere.json"); }
+
+class RenderImageTest : public GlTest {
+ protected:
+  // Shared by the tests that only look: stepping the solver is the slow part on llvmpipe.
+  static Stage& fallen() {
+    static Stage stage(sphereScene(), std::make_unique<GpuSolver>(sphereScene()), kFrames);
+    return stage;
+  }
+};
+
+class ShadingImageTest : public RenderImageTest, public ::testing::WithParamInterface<Shading> {};
+
+TEST_P(ShadingImageTest, ClothCoversExactlyWhereItsTrianglesProject) {
+  Stage& stage = fallen();
+  RenderSettings settings;
+  settings.shading = GetParam();
+  const Mask expected = stage.expectedCloth();
+  const Mask drawn = stage.drawnCloth(settings);
+  const Mask inside = morph(expected, -1);
+  const Mask near = morph(expected, 2);
+  const Mask spheres = sphereBoxes(stage.scene, stage.viewProjection());
+  ASSERT_GT(count(inside), 800u) << "the cloth should fill a good part of a framed view";
+
+  std::size_t inside_drawn = 0, outside_drawn = 0;
+  for (std::size_t i = 0; i < drawn.size(); ++i) {
+    if (inside[i]) inside_drawn += drawn[i];
+    if (!near[i] && !spheres[i]) outside_drawn += drawn[i];
+  }
+  // Lines of a 50x50 grid are denser than these pixels, but a line rasterises to fewer pixels than a
+  // surface, so the wireframe may leave a few interior pixels unlit.
+  const double min_fraction = GetParam() == Shading::Wireframe ? 0.85 : 0.99;
+  EXPECT_GE(double(inside_drawn), min_fraction * double(count(inside)))
+      << inside_drawn << " of " << count(inside) << " interior pixels show the cloth";
+  EXPECT_EQ(outside_drawn, 0u) << "pixels changed by the cloth away from where it projects";
+}
+
+INSTANTIATE_TEST_SUITE_P(Every, ShadingImageTest, ::testing::ValuesIn(allShadings()),
+                         [](const auto& test) { return std::string(shadingName(test.param)); });
+
+TEST_F(RenderImageTest, MirrorDiffersFromPhongOnTheCloth) {
+  Stage& stage = fallen();
+  RenderSettings phong, mirror;
+  mirror.shading = Shading::Mirror;
+  mirror.sky = false;  // same background, so only the surfaces differ
+  const Picture a = stage.draw(phong), b = stage.draw(mirror);
+  const Mask inside = morph(stage.expectedCloth(), -1);
+  double total = 0.0;
+  std::size_t n = 0;
+  for (int y = 0; y < kSize.y; ++y)
+    for (int x = 0; x < kSize.x; ++x) {
+      if (!inside[std::size_t(y) * kSize.x + x]) continue;
+      for (int c = 0; c < 3; ++c) total += std::abs(int(a.at(x, y)[c]) - int(b.at(x, y)[c]));
+      ++n;
+    }
+  ASSERT_GT(n, 0u);
+  EXPECT_GT(total / double(3 * n), 20.0) << "mean difference per channel on the cloth";
+}
+
+TEST_F(RenderImageTest, DisplacementChangesTheSilhouetteBumpDoesNot) {
+  Stage& stage = fallen();
+  RenderSettings settings;
+  settings.height_scaling = 0.05f;
+  settings.normal_scaling = 20.0f;
+  settings.shading = Shading::Phong;
+  const Mask phong = stage.drawnCloth(settings);
+  settings.shading = Shading::Bump;
+  const Mask bump = stage.drawnCloth(settings);
+  settings.shading = Shading::Displacement;
+  const Mask displaced = stage.drawnCloth(settings);
+  std::size_t bump_changed = 0, displacement_changed = 0;
+  for (std::size_t i = 0; i < phong.size(); ++i) {
+    bump_changed += phong[i] != bump[i];
+    displacement_changed += phong[i] != displaced[i];
+  }
+  EXPECT_EQ(bump_changed, 0u);
+  EXPECT_GT(displacement_changed, count(phong) / 50) << "of " << count(phong) << " cloth pixels";
+}
+
+TEST_F(RenderImageTest, WireframeDrawsOnlyTheEnabledSpringTypes) {
+  Stage& stage = fallen();
+  const auto pixelsOf = [](const Picture& p, SpringType type) {
+    const glm::ivec3 colour = glm::ivec3(glm::round(springColour(type) * 255.0f));
+    std::size_t n = 0;
+    for (int y = 0; y < kSize.y; ++y)
+      for (int x = 0; x < kSize.x; ++x) {
+        const std::uint8_t* c = p.at(x, y);
+        n += std::abs(c[0] - colour.x) <= 1 && std::abs(c[1] - colour.y) <= 1 && std::abs(c[2] - colour.z) <= 1;
+      }
+    return n;
+  };
+  ClothSpec cloth = stage.scene.cloth;
+  RenderSettings settings;
+  settings.shading = Shading::Wireframe;
+  settings.springs = enabledSprings(cloth);
+  const Picture all = stage.draw(settings);
+  EXPECT_GT(pixelsOf(all, SpringType::Shearing), 50u);
+  cloth.enable_shearing = false;
+  settings.springs = enabledSprings(cloth);
+  const Picture no_shearing = stage.draw(settings);
+  EXPECT_EQ(pixelsOf(no_shearing, SpringType::Shearing), 0u);
+  EXPECT_GT(pixelsOf(no_shearing, SpringType::Structural), 50u);
+  EXPECT_GT(pixelsOf(no_shearing, SpringType::Bending), 50u);
+}
+
+TEST_F(RenderImageTest, PickFindsThePointUnderThePixel) {
+  Stage& stage = fallen();
+  const Topology& topo = stage.solver->topology();
+  const std::vector<glm::dvec3> x = stage.solver->readPositions();
+  for (glm::ivec2 grid : {glm::ivec2(25, 25), glm::ivec2(10, 40), glm::ivec2(40, 8)}) {
+    const int index = grid.y * topo.W + grid.x;
+    const glm::vec2 pixel = toPixel(stage.viewProjection(), glm::vec3(x[std::size_t(index)]));
+    const std::optional<PickHit> hit = stage.renderer->pick(stage.feed->prepare(), stage.camera, kSize, pixel);
+    ASSERT_TRUE(hit.has_value()) << "no cloth under the projection of point " << index;
+    EXPECT_LE(std::abs(hit->point % topo.W - grid.x), 1);
+    EXPECT_LE(std::abs(hit->point / topo.W - grid.y), 1);
+    EXPECT_LT(glm::distance(hit->position, glm::vec3(x[std::size_t(index)])), 0.03f);
+  }
+  EXPECT_FALSE(stage.renderer->pick(stage.feed->prepare(), stage.camera, kSize, {1.0f, 1.0f}).has_value());
+}
+
+// The renderer draws from the solver's own buffers: a point moved on the GPU shows in the next image,
+// and nothing about the cloth went through the CPU on the way.
+TEST_F(RenderImageTest, DrawsStraightFromTheSolverBuffers) {
+  auto made = std::make_unique<GpuSolver>(sphereScene());
+  GpuSolver& gpu = *made;
+  Stage stage(sphereScene(), std::move(made), 0);
+  ASSERT_TRUE(stage.feed->borrowsSolverBuffers());
+  const ClothBuffers buffers = stage.feed->prepare();
+  EXPECT_EQ(buffers.positions, gpu.positionBuffer().id());
+  EXPECT_EQ(buffers.normals, gpu.normalBuffer().id());
+  EXPECT_EQ(buffers.tangents, gpu.tangentBuffer().id());
+
+  RenderSettings settings;
+  const Picture before = stage.draw(settings);
+  const int centre = 25 * gpu.topology().W + 25;
+  const glm::vec3 lifted = glm::vec3(gpu.topology().initial_positions[std::size_t(centre)]) + glm::vec3(0.0f, 0.4f, 0.0f);
+  gpu.setPosition(std::uint32_t(centre), lifted);  // the solver's own upload, into its buffer
+  const Picture after = stage.draw(settings);
+
+  // The tip of the spike now covers pixels that showed background before.
+  const glm::vec2 tip = toPixel(stage.viewProjection(), lifted - glm::vec3(0.0f, 0.02f, 0.0f));
+  ASSERT_TRUE(tip.x >= 0 && tip.y >= 0 && tip.x < kSize.x && tip.y < kSize.y);
+  EXPECT_TRUE(after.differs(before, int(tip.x), int(tip.y))) << "at the spike's tip " << tip.x << ", " << tip.y;
+  std::size_t changed = 0;
+  for (int y = 0; y < kSize.y; ++y)
+    for (int x = 0; x < kSize.x; ++x) changed += after.differs(before, x, y);
+  EXPECT_GT(changed, 20u);
+}
+
+// The CPU path (explicit upload, normals on the CPU) matches the GPU path: same coverage at the start,
+// and the GPU solver's normals and tangents agree with the CPU's, including the bitangent sign.
+TEST_F(RenderImageTest, CpuFeedMatchesGpuFeed) {
+  Stage gpu_stage(sphereScene(), std::make_unique<GpuSolver>(sphereScene()), 0);
+  Stage cpu_stage(sphereScene(), std::make_unique<CpuSolver<float>>(sphereScene()), 0);
+  EXPECT_FALSE(cpu_stage.feed->borrowsSolverBuffers());
+  RenderSettings settings;
+  EXPECT_EQ(gpu_stage.drawnCloth(settings), cpu_stage.drawnCloth(settings));
+
+  Stage& fallen_stage = fallen();
+  auto& gpu = static_cast<GpuSolver&>(*fallen_stage.solver);
+  fallen_stage.feed->prepare();
+  const std::size_t n = std::size_t(gpu.topology().pointCount());
+  const auto positions = gpu.positionBuffer().download<glm::vec4>(n);
+  const auto gpu_normals = gpu.normalBuffer().download<glm::vec4>(n);
+  const auto gpu_tangents = gpu.tangentBuffer().download<glm::vec4>(n);
+  std::vector<glm::vec4> normals, tangents;
+  computeNormalsAndTangents(gpu.topology(), positions, normals, tangents);
+  for (std::size_t i = 0; i < n; ++i) {
+    ASSERT_GT(glm::dot(glm::vec3(normals[i]), glm::vec3(gpu_normals[i])), 0.999f) << "normal of point " << i;
+    ASSERT_GT(glm::dot(glm::vec3(tangents[i]), glm::vec3(gpu_tangents[i])), 0.999f) << "tangent of point " << i;
+    ASSERT_EQ(tangents[i].w, gpu_tangents[i].w) << "bitangent sign of point " << i;
+  }
+}
+
+TEST(CpuNormals, FlatGridFacesUpWithTangentAlongU) {
+  ClothSpec cloth;
+  cloth.num_width_points = 4;
+  cloth.num_height_points = 3;
+  const Topology topo = buildTopology(cloth);
+  std::vector<glm::vec4> x;
+  for (const glm::dvec3& p : topo.initial_positions) x.emplace_back(glm::vec3(p), 1.0f);
+  std::vector<glm::vec4> normals, tangents;
+  computeNormalsAndTangents(topo, x, normals, tangents);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    EXPECT_NEAR(glm::distance(glm::vec3(normals[i]), glm::vec3(0, 1, 0)), 0.0f, 1e-6f);
+    EXPECT_NEAR(glm::distance(glm::vec3(tangents[i]), glm::vec3(1, 0, 0)), 0.0f, 1e-6f);  // u grows along x
+    // v grows along +z: bitangent = w * cross(N, T) = w * (0, 0, -1) must be +z.
+    EXPECT_EQ(tangents[i].w, -1.0f);
+  }
+}
+
+}  // namespace
+}  // namespace drape
