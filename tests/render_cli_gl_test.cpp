@@ -33,8 +33,8 @@ class RenderCliTest : public ::testing::Test {
 
   // `prefix` goes before the binary (environment settings, xvfb-run).
   Result run(const std::string& args, const std::string& prefix = "") const {
-    const std::string command = prefix + " " + DRAPE_BINARY + " " + args + " >/dev/null 2>'" + (dir / "err").string() +
-                                "' </dev/null";
+    const std::string command =
+        prefix + " " + DRAPE_BINARY + " " + args + " >/dev/null 2>'" + (dir / "err").string() + "' </dev/null";
     const int raw = std::system(command.c_str());
     Result r;
     r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
@@ -46,9 +46,13 @@ class RenderCliTest : public ::testing::Test {
   }
 };
 
-std::string scene(const std::string& name) { return std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name; }
+std::string scene(const std::string& name) {
+  return std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name;
+}
 
-bool have(const char* program) { return std::system(("command -v " + std::string(program) + " >/dev/null 2>&1").c_str()) == 0; }
+bool have(const char* program) {
+  return std::system(("command -v " + std::string(program) + " >/dev/null 2>&1").c_str()) == 0;
+}
 
 // Pixels clearly redder than the background and the grey sphere: the cloth's default colour.
 std::size_t clothPixels(const Image& image) {
@@ -66,7 +70,8 @@ TEST_F(RenderCliTest, WritesTheFramesAskedFor) {
                        (dir / "frames").string() + "'");
   ASSERT_EQ(r.status, 0) << r.err;
   std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir / "frames")) names.push_back(entry.path().filename().string());
+  for (const auto& entry : fs::directory_iterator(dir / "frames"))
+    names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
   EXPECT_EQ(names, (std::vector<std::string>{"frame_0000.png", "frame_0002.png", "frame_0004.png"}));
   for (const std::string& name : names) {
@@ -100,8 +105,10 @@ class RenderBadOptionTest : public RenderCliTest, public ::testing::WithParamInt
 TEST_P(RenderBadOptionTest, ExitsWithStatusTwoAndSaysWhy) {
   const BadOption& c = GetParam();
   std::string args = c.args;
-  for (std::size_t at; (at = args.find("SCENE")) != std::string::npos;) args.replace(at, 5, scene("sphere.json"));
-  for (std::size_t at; (at = args.find("OUT")) != std::string::npos;) args.replace(at, 3, (dir / "o").string());
+  for (std::size_t at; (at = args.find("SCENE")) != std::string::npos;)
+    args.replace(at, 5, scene("sphere.json"));
+  for (std::size_t at; (at = args.find("OUT")) != std::string::npos;)
+    args.replace(at, 3, (dir / "o").string());
   const Result r = run(args);
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
@@ -157,8 +164,9 @@ TEST_F(RenderCliTest, ViewerRunsSixtyFramesAndSavesAScreenshot) {
   const bool has_display = display && *display;
   if (!has_display && !have("xvfb-run")) GTEST_SKIP() << "no $DISPLAY and no xvfb-run (package xvfb) to make one";
   const fs::path shot = dir / "view.png";
-  const Result r = run("view " + scene("sphere.json") + " --frames 60 --size 320x240 --screenshot '" + shot.string() + "'",
-                       has_display ? "" : "xvfb-run -a -s '-screen 0 640x480x24'");
+  const Result r =
+      run("view " + scene("sphere.json") + " --frames 60 --size 320x240 --screenshot '" + shot.string() + "'",
+          has_display ? "" : "xvfb-run -a -s '-screen 0 640x480x24'");
   ASSERT_EQ(r.status, 0) << r.err;
   const Image image = loadImage(shot, 3);
   EXPECT_EQ(image.width, 320);

@@ -34,13 +34,16 @@ glm::vec2 toPixel(const glm::mat4& vp, const glm::vec3& p) {
   return {(ndc.x * 0.5f + 0.5f) * float(kSize.x), (0.5f - ndc.y * 0.5f) * float(kSize.y)};
 }
 
-float edge(glm::vec2 a, glm::vec2 b, glm::vec2 p) { return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x); }
+float edge(glm::vec2 a, glm::vec2 b, glm::vec2 p) {
+  return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+}
 
 // Pixels whose centre lies inside a projected cloth triangle.
 Mask projectCloth(const Topology& topo, const std::vector<glm::dvec3>& x, const glm::mat4& vp) {
   Mask mask(std::size_t(kSize.x) * kSize.y, 0);
   for (std::size_t t = 0; t < topo.triangles.size(); t += 3) {
-    const glm::vec2 a = toPixel(vp, glm::vec3(x[topo.triangles[t]])), b = toPixel(vp, glm::vec3(x[topo.triangles[t + 1]])),
+    const glm::vec2 a = toPixel(vp, glm::vec3(x[topo.triangles[t]])),
+                    b = toPixel(vp, glm::vec3(x[topo.triangles[t + 1]])),
                     c = toPixel(vp, glm::vec3(x[topo.triangles[t + 2]]));
     const int x0 = std::max(0, int(std::floor(std::min({a.x, b.x, c.x})))),
               x1 = std::min(kSize.x - 1, int(std::ceil(std::max({a.x, b.x, c.x}))));
@@ -50,7 +53,8 @@ Mask projectCloth(const Topology& topo, const std::vector<glm::dvec3>& x, const 
       for (int px = x0; px <= x1; ++px) {
         const glm::vec2 p{float(px) + 0.5f, float(py) + 0.5f};
         const float e0 = edge(a, b, p), e1 = edge(b, c, p), e2 = edge(c, a, p);
-        if ((e0 >= 0 && e1 >= 0 && e2 >= 0) || (e0 <= 0 && e1 <= 0 && e2 <= 0)) mask[std::size_t(py) * kSize.x + px] = 1;
+        if ((e0 >= 0 && e1 >= 0 && e2 >= 0) || (e0 <= 0 && e1 <= 0 && e2 <= 0))
+          mask[std::size_t(py) * kSize.x + px] = 1;
       }
   }
   return mask;
@@ -93,7 +97,9 @@ Mask sphereBoxes(const Scene& scene, const glm::mat4& vp) {
   return mask;
 }
 
-std::size_t count(const Mask& mask) { return std::size_t(std::count(mask.begin(), mask.end(), 1)); }
+std::size_t count(const Mask& mask) {
+  return std::size_t(std::count(mask.begin(), mask.end(), 1));
+}
 
 // One scene, one solver, one renderer, drawing into a small offscreen target.
 struct Stage {
@@ -105,7 +111,8 @@ struct Stage {
   Camera camera;
 
   Stage(Scene s, std::unique_ptr<Solver> made, int frames) : scene(std::move(s)), solver(std::move(made)) {
-    for (int f = 0; f < frames; ++f) solver->stepFrame();
+    for (int f = 0; f < frames; ++f)
+      solver->stepFrame();
     feed = std::make_unique<ClothFeed>(*solver);
     renderer = std::make_unique<Renderer>(scene, solver->topology());
     target = gl::Framebuffer::createColorDepth(kSize.x, kSize.y);
@@ -126,12 +133,15 @@ struct Stage {
     const Picture without = draw(settings);
     Mask mask(std::size_t(kSize.x) * kSize.y, 0);
     for (int y = 0; y < kSize.y; ++y)
-      for (int x = 0; x < kSize.x; ++x) mask[std::size_t(y) * kSize.x + x] = with.differs(without, x, y);
+      for (int x = 0; x < kSize.x; ++x)
+        mask[std::size_t(y) * kSize.x + x] = with.differs(without, x, y);
     return mask;
   }
 };
 
-Scene sphereScene() { return loadScene(std::filesystem::path(DRAPE_SOURCE_DIR) / "scenes" / "sphere.json"); }
+Scene sphereScene() {
+  return loadScene(std::filesystem::path(DRAPE_SOURCE_DIR) / "scenes" / "sphere.json");
+}
 
 class RenderImageTest : public GlTest {
  protected:
@@ -183,7 +193,8 @@ TEST_F(RenderImageTest, MirrorDiffersFromPhongOnTheCloth) {
   for (int y = 0; y < kSize.y; ++y)
     for (int x = 0; x < kSize.x; ++x) {
       if (!inside[std::size_t(y) * kSize.x + x]) continue;
-      for (int c = 0; c < 3; ++c) total += std::abs(int(a.at(x, y)[c]) - int(b.at(x, y)[c]));
+      for (int c = 0; c < 3; ++c)
+        total += std::abs(int(a.at(x, y)[c]) - int(b.at(x, y)[c]));
       ++n;
     }
   ASSERT_GT(n, 0u);
@@ -267,7 +278,8 @@ TEST_F(RenderImageTest, DrawsStraightFromTheSolverBuffers) {
   RenderSettings settings;
   const Picture before = stage.draw(settings);
   const int centre = 25 * gpu.topology().W + 25;
-  const glm::vec3 lifted = glm::vec3(gpu.topology().initial_positions[std::size_t(centre)]) + glm::vec3(0.0f, 0.4f, 0.0f);
+  const glm::vec3 lifted =
+      glm::vec3(gpu.topology().initial_positions[std::size_t(centre)]) + glm::vec3(0.0f, 0.4f, 0.0f);
   gpu.setPosition(std::uint32_t(centre), lifted);  // the solver's own upload, into its buffer
   const Picture after = stage.draw(settings);
 
@@ -277,7 +289,8 @@ TEST_F(RenderImageTest, DrawsStraightFromTheSolverBuffers) {
   EXPECT_TRUE(after.differs(before, int(tip.x), int(tip.y))) << "at the spike's tip " << tip.x << ", " << tip.y;
   std::size_t changed = 0;
   for (int y = 0; y < kSize.y; ++y)
-    for (int x = 0; x < kSize.x; ++x) changed += after.differs(before, x, y);
+    for (int x = 0; x < kSize.x; ++x)
+      changed += after.differs(before, x, y);
   EXPECT_GT(changed, 20u);
 }
 
@@ -312,7 +325,8 @@ TEST(CpuNormals, FlatGridFacesUpWithTangentAlongU) {
   cloth.num_height_points = 3;
   const Topology topo = buildTopology(cloth);
   std::vector<glm::vec4> x;
-  for (const glm::dvec3& p : topo.initial_positions) x.emplace_back(glm::vec3(p), 1.0f);
+  for (const glm::dvec3& p : topo.initial_positions)
+    x.emplace_back(glm::vec3(p), 1.0f);
   std::vector<glm::vec4> normals, tangents;
   computeNormalsAndTangents(topo, x, normals, tangents);
   for (std::size_t i = 0; i < x.size(); ++i) {

@@ -71,7 +71,8 @@ TEST_P(ProgramTest, CompilesLinksAndDeclaresExactlyTheUniformsItUses) {
 
 std::vector<ProgramId> allPrograms() {
   std::vector<ProgramId> ids;
-  for (const ProgramSpec& spec : programSpecs()) ids.push_back(spec.id);
+  for (const ProgramSpec& spec : programSpecs())
+    ids.push_back(spec.id);
   return ids;
 }
 
@@ -83,7 +84,8 @@ TEST(ProgramSpecs, CoverEveryShadingForClothAndColliders) {
     EXPECT_EQ(programSpec(clothProgram(s)).name, shadingName(s));
     EXPECT_NE(colliderProgram(s), ProgramId::Wireframe);  // colliders are surfaces in every model
   }
-  for (int i = 0; i < kProgramCount; ++i) EXPECT_EQ(int(programSpecs()[std::size_t(i)].id), i);
+  for (int i = 0; i < kProgramCount; ++i)
+    EXPECT_EQ(int(programSpecs()[std::size_t(i)].id), i);
 }
 
 using ShadingProgramTest = GlTest;
@@ -176,13 +178,15 @@ TEST(PlaneMesh, SquareFacingItsNormal) {
   const MeshData mesh = buildPlaneMesh({1, 2, 3}, n, 10.0f);
   ASSERT_EQ(mesh.vertexCount(), 4u);
   ASSERT_EQ(mesh.triangles.size(), 6u);
-  for (const glm::vec4& p : mesh.positions) EXPECT_NEAR(glm::dot(glm::vec3(p) - glm::vec3(1, 2, 3), n), 0.0f, 1e-5f);
+  for (const glm::vec4& p : mesh.positions)
+    EXPECT_NEAR(glm::dot(glm::vec3(p) - glm::vec3(1, 2, 3), n), 0.0f, 1e-5f);
   for (std::size_t t = 0; t < 6; t += 3) {
     const glm::vec3 a(mesh.positions[mesh.triangles[t]]), b(mesh.positions[mesh.triangles[t + 1]]),
         c(mesh.positions[mesh.triangles[t + 2]]);
     EXPECT_NEAR(glm::dot(glm::normalize(glm::cross(b - a, c - a)), n), 1.0f, 1e-5f);
   }
-  EXPECT_NEAR(glm::distance(glm::vec3(mesh.positions[0]), glm::vec3(mesh.positions[3])), 10.0f * std::sqrt(2.0f), 1e-4f);
+  EXPECT_NEAR(glm::distance(glm::vec3(mesh.positions[0]), glm::vec3(mesh.positions[3])), 10.0f * std::sqrt(2.0f),
+              1e-4f);
 }
 
 // Every corner of the bounds lands inside the view, whatever the window's shape.
@@ -211,7 +215,7 @@ TEST(CameraTest, OrbitPanZoomAndRays) {
   const float distance = camera.distance();
   camera.orbit(0.7f, -0.3f);
   EXPECT_NEAR(glm::distance(camera.position(), target), distance, 1e-4f);  // orbit keeps the distance
-  camera.orbit(0.0f, 100.0f);  // pitch is clamped short of the pole
+  camera.orbit(0.0f, 100.0f);                                              // pitch is clamped short of the pole
   EXPECT_LT(glm::dot(glm::normalize(camera.position() - target), glm::vec3(0, 1, 0)), 1.0f);
   camera.zoom(0.5f);
   EXPECT_NEAR(camera.distance(), 0.5f * distance, 1e-5f);

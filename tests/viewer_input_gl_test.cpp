@@ -36,14 +36,14 @@ int rerunUnderXvfb() {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-#define RUN_WITH_DISPLAY()                                                                \
-  do {                                                                                    \
-    if (!hasDisplay()) {                                                                  \
-      if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0)                        \
-        GTEST_SKIP() << "no $DISPLAY and no xvfb-run (package xvfb) to make one";          \
+#define RUN_WITH_DISPLAY()                                                               \
+  do {                                                                                   \
+    if (!hasDisplay()) {                                                                 \
+      if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0)                       \
+        GTEST_SKIP() << "no $DISPLAY and no xvfb-run (package xvfb) to make one";        \
       EXPECT_EQ(rerunUnderXvfb(), 0) << "the test failed under xvfb-run (output above)"; \
-      return;                                                                             \
-    }                                                                                     \
+      return;                                                                            \
+    }                                                                                    \
   } while (false)
 
 class FakePanel final : public ViewerPanel {
@@ -55,7 +55,9 @@ class FakePanel final : public ViewerPanel {
   bool capturesKeyboard() const override { return keyboard; }
 };
 
-Scene sphereScene() { return loadScene(fs::path(DRAPE_SOURCE_DIR) / "scenes" / "sphere.json"); }
+Scene sphereScene() {
+  return loadScene(fs::path(DRAPE_SOURCE_DIR) / "scenes" / "sphere.json");
+}
 
 // A hidden 320x240 window with the viewer on the GPU solver.
 struct Session {
@@ -149,7 +151,7 @@ TEST(ViewerInput, MouseOrbitsPansAndZooms) {
   EXPECT_GT(glm::distance(v.camera().position(), home), 0.1f);
   EXPECT_NEAR(glm::distance(v.camera().position(), v.camera().target()), distance, 1e-4f);
   EXPECT_EQ(v.camera().target(), target);  // orbit turns about the target
-  v.onCursor(10.0, 10.0);  // moving without a button does nothing
+  v.onCursor(10.0, 10.0);                  // moving without a button does nothing
   s.press(ViewerKeys::kResetCamera);
   EXPECT_LT(glm::distance(v.camera().position(), home), 1e-5f);
 
@@ -185,7 +187,8 @@ TEST(ViewerInput, ShiftDragHoldsAClothPointOnTheGpu) {
   const glm::vec3 start = glm::vec3(v.solver().readPositions()[std::size_t(centre)]);
   const glm::ivec2 size = s.window.framebufferSize();
   const glm::vec4 clip = v.camera().viewProjection(float(size.x) / float(size.y)) * glm::vec4(start, 1.0f);
-  const glm::vec2 pixel{(clip.x / clip.w * 0.5f + 0.5f) * float(size.x), (0.5f - clip.y / clip.w * 0.5f) * float(size.y)};
+  const glm::vec2 pixel{(clip.x / clip.w * 0.5f + 0.5f) * float(size.x),
+                        (0.5f - clip.y / clip.w * 0.5f) * float(size.y)};
 
   v.onMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, GLFW_MOD_SHIFT, pixel);
   const int held = v.draggedPoint();

@@ -39,11 +39,14 @@ class Random {
 // Hash of integer lattice coordinates to [0, 1), the basis of the value noise below.
 double latticeValue(int x, int y, int z, std::uint64_t seed) {
   std::uint64_t h = seed ^ (std::uint64_t(std::uint32_t(x)) * 0x8da6b343ULL) ^
-                    (std::uint64_t(std::uint32_t(y)) * 0xd8163841ULL) ^ (std::uint64_t(std::uint32_t(z)) * 0xcb1ab31fULL);
+                    (std::uint64_t(std::uint32_t(y)) * 0xd8163841ULL) ^
+                    (std::uint64_t(std::uint32_t(z)) * 0xcb1ab31fULL);
   return double(Random(h).next() >> 11) * (1.0 / 9007199254740992.0);
 }
 
-double smooth(double t) { return t * t * (3.0 - 2.0 * t); }
+double smooth(double t) {
+  return t * t * (3.0 - 2.0 * t);
+}
 
 // Trilinear value noise; `period` > 0 wraps x and y so that 2D images tile.
 double valueNoise(glm::dvec3 p, std::uint64_t seed, int period = 0) {
@@ -73,7 +76,9 @@ double fbm(glm::dvec3 p, std::uint64_t seed, int octaves, int period = 0) {
   return sum / norm;
 }
 
-std::uint8_t toByte(double v) { return std::uint8_t(std::lround(std::clamp(v, 0.0, 1.0) * 255.0)); }
+std::uint8_t toByte(double v) {
+  return std::uint8_t(std::lround(std::clamp(v, 0.0, 1.0) * 255.0));
+}
 
 struct Image {
   int width, height, channels;
@@ -111,7 +116,8 @@ Image makeFabric(int size) {
   const std::array<std::pair<int, int>, 6> sett = {{{0, 20}, {1, 12}, {0, 4}, {3, 2}, {2, 18}, {1, 8}}};
   auto threadColour = [&](int thread) {
     int period = 0;
-    for (auto [c, n] : sett) period += n;
+    for (auto [c, n] : sett)
+      period += n;
     int t = thread % period;
     for (auto [c, n] : sett) {
       if (t < n) return palette[c];
@@ -125,8 +131,10 @@ Image makeFabric(int size) {
       int tx = x / kThread, ty = y / kThread;
       bool warp_on_top = ((tx + ty) & 1) == 0;
       // Position across the visible thread, -1..1, shades it like a cylinder.
-      double across = warp_on_top ? (x % kThread + 0.5) / kThread * 2.0 - 1.0 : (y % kThread + 0.5) / kThread * 2.0 - 1.0;
-      double along = warp_on_top ? (y % kThread + 0.5) / kThread * 2.0 - 1.0 : (x % kThread + 0.5) / kThread * 2.0 - 1.0;
+      double across =
+          warp_on_top ? (x % kThread + 0.5) / kThread * 2.0 - 1.0 : (y % kThread + 0.5) / kThread * 2.0 - 1.0;
+      double along =
+          warp_on_top ? (y % kThread + 0.5) / kThread * 2.0 - 1.0 : (x % kThread + 0.5) / kThread * 2.0 - 1.0;
       double shade = 0.62 + 0.38 * std::sqrt(std::max(0.0, 1.0 - across * across)) * (1.0 - 0.25 * along * along);
       glm::dvec3 colour = warp_on_top ? threadColour(tx) : threadColour(ty);
       double fibre = 0.9 + 0.2 * fbm({x * 0.5, y * 0.5, 0.0}, 11, 2, size / 2);
@@ -178,7 +186,8 @@ Image makeBrick(int size) {
   Image image(size, size, 1);
   Random random(1889);
   std::vector<double> brick_height(kCourses * kBricksPerCourse);
-  for (double& h : brick_height) h = 0.8 + 0.15 * random.uniform();
+  for (double& h : brick_height)
+    h = 0.8 + 0.15 * random.uniform();
   for (int y = 0; y < size; ++y) {
     for (int x = 0; x < size; ++x) {
       double v = (y + 0.5) / size * kCourses;
@@ -203,12 +212,18 @@ Image makeBrick(int size) {
 glm::dvec3 cubeDirection(int face, double s, double t) {
   double sc = 2.0 * s - 1.0, tc = 2.0 * t - 1.0;
   switch (face) {
-    case 0: return {1.0, -tc, -sc};
-    case 1: return {-1.0, -tc, sc};
-    case 2: return {sc, 1.0, tc};
-    case 3: return {sc, -1.0, -tc};
-    case 4: return {sc, -tc, 1.0};
-    default: return {-sc, -tc, -1.0};
+    case 0:
+      return {1.0, -tc, -sc};
+    case 1:
+      return {-1.0, -tc, sc};
+    case 2:
+      return {sc, 1.0, tc};
+    case 3:
+      return {sc, -1.0, -tc};
+    case 4:
+      return {sc, -tc, 1.0};
+    default:
+      return {-sc, -tc, -1.0};
   }
 }
 
@@ -251,7 +266,8 @@ Image makeSkyFace(int face, int size) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::filesystem::path out = argc > 1 ? std::filesystem::path(argv[1]) : std::filesystem::path(DRAPE_SOURCE_DIR) / "textures";
+  std::filesystem::path out =
+      argc > 1 ? std::filesystem::path(argv[1]) : std::filesystem::path(DRAPE_SOURCE_DIR) / "textures";
   std::error_code error;
   std::filesystem::create_directories(out, error);
   if (error) {
@@ -263,6 +279,7 @@ int main(int argc, char** argv) {
   ok = writePng(out / "cobblestone_height.png", makeCobblestone(256)) && ok;
   ok = writePng(out / "brick_height.png", makeBrick(256)) && ok;
   const std::array<const char*, 6> faces = {"px", "nx", "py", "ny", "pz", "nz"};
-  for (int f = 0; f < 6; ++f) ok = writePng(out / ("sky_" + std::string(faces[f]) + ".png"), makeSkyFace(f, 256)) && ok;
+  for (int f = 0; f < 6; ++f)
+    ok = writePng(out / ("sky_" + std::string(faces[f]) + ".png"), makeSkyFace(f, 256)) && ok;
   return ok ? 0 : 1;
 }

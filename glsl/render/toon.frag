@@ -16,7 +16,7 @@ void main() {
   float levels = float(max(u_toon_levels, 2));
   float band = ceil(max(dot(n, l), 0.0) * levels) / levels;
   vec3 colour = toLinear(u_colour) * (0.3 + 0.7 * band);
-  if (dot(n, l) > 0.0 && pow(max(dot(n, normalize(l + v)), 0.0), kShininess) > 0.5) colour = vec3(1.0);
+  if (dot(n, l) > 0.0 && pow(max(dot(n, normalize(l + v)), 0.0), 4.0 * kShininess) > 0.5) colour = vec3(1.0);
   if (dot(n, v) < 0.2) colour = 0.02 * toLinear(u_colour);
   f_colour = vec4(toDisplay(colour), 1.0);
 }

@@ -45,7 +45,9 @@ glm::vec3 Camera::position() const {
   return target_ + distance_ * offset;
 }
 
-glm::mat4 Camera::view() const { return glm::lookAt(position(), target_, glm::vec3(0.0f, 1.0f, 0.0f)); }
+glm::mat4 Camera::view() const {
+  return glm::lookAt(position(), target_, glm::vec3(0.0f, 1.0f, 0.0f));
+}
 
 glm::mat4 Camera::projection(float aspect) const {
   // The far plane reaches past the renderer's ground planes (40 scene radii across); near keeps a 1e4

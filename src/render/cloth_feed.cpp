@@ -49,7 +49,8 @@ CpuClothUpload::CpuClothUpload(const Topology& topology)
 ClothBuffers CpuClothUpload::uploadFrom(Solver& solver) {
   const std::vector<glm::dvec3> x = solver.readPositions();
   positions_cpu_.resize(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) positions_cpu_[i] = glm::vec4(glm::vec3(x[i]), 1.0f);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    positions_cpu_[i] = glm::vec4(glm::vec3(x[i]), 1.0f);
   computeNormalsAndTangents(*topology_, positions_cpu_, normals_cpu_, tangents_cpu_);
   positions_.upload(positions_cpu_);
   normals_.upload(normals_cpu_);

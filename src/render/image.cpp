@@ -42,7 +42,8 @@ Image loadImage(const std::filesystem::path& file, int channels) {
 
 void writePng(const std::filesystem::path& file, const Image& image) {
   stbi_write_png_compression_level = 9;  // frames and README images: smaller files, still fast at these sizes
-  if (image.width <= 0 || image.height <= 0 || image.pixels.size() != std::size_t(image.width) * image.height * image.channels)
+  if (image.width <= 0 || image.height <= 0 ||
+      image.pixels.size() != std::size_t(image.width) * image.height * image.channels)
     throw ImageError(file.string() + ": cannot write an empty or inconsistent image");
   const int ok = stbi_write_png(file.string().c_str(), image.width, image.height, image.channels, image.pixels.data(),
                                 image.width * image.channels);

@@ -12,16 +12,20 @@ namespace drape {
 
 glm::vec3 springColour(SpringType type) {
   switch (type) {
-    case SpringType::Structural: return {1.0f, 0.80f, 0.20f};
-    case SpringType::Shearing: return {0.20f, 0.75f, 1.0f};
-    case SpringType::Bending: return {1.0f, 0.30f, 0.55f};
+    case SpringType::Structural:
+      return {1.0f, 0.80f, 0.20f};
+    case SpringType::Shearing:
+      return {0.20f, 0.75f, 1.0f};
+    case SpringType::Bending:
+      return {1.0f, 0.30f, 0.55f};
   }
   return glm::vec3(1.0f);
 }
 
 std::array<bool, kSpringTypeCount> enabledSprings(const ClothSpec& cloth) {
   std::array<bool, kSpringTypeCount> enabled{};
-  for (int t = 0; t < kSpringTypeCount; ++t) enabled[t] = cloth.springEnabled(SpringType(t));
+  for (int t = 0; t < kSpringTypeCount; ++t)
+    enabled[t] = cloth.springEnabled(SpringType(t));
   return enabled;
 }
 
@@ -46,7 +50,9 @@ GLint currentDrawFramebuffer() {
   return framebuffer;
 }
 
-void bindStorage(GLuint binding, GLuint buffer) { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buffer); }
+void bindStorage(GLuint binding, GLuint buffer) {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buffer);
+}
 
 // The cloth's footprint on a plane: where it lands when it falls flat.
 void includePlaneFootprint(Bounds& bounds, const PlaneSpec& plane, const Topology& topology) {
@@ -70,12 +76,14 @@ Renderer::Renderer(const Scene& scene, const Topology& topology, const RendererO
 
   const glm::vec3 first = glm::vec3(topology.initial_positions.front());
   bounds_ = {first, first};
-  for (const glm::dvec3& x : topology.initial_positions) bounds_.include(glm::vec3(x));
+  for (const glm::dvec3& x : topology.initial_positions)
+    bounds_.include(glm::vec3(x));
   for (const SphereSpec& s : scene.spheres) {
     bounds_.include(glm::vec3(s.origin - s.radius));
     bounds_.include(glm::vec3(s.origin + s.radius));
   }
-  for (const PlaneSpec& p : scene.planes) includePlaneFootprint(bounds_, p, topology);
+  for (const PlaneSpec& p : scene.planes)
+    includePlaneFootprint(bounds_, p, topology);
 
   sphere_ = uploadMesh(buildSphereMesh(options.sphere_latitudes, options.sphere_longitudes));
   // Large enough to reach the horizon from any sensible camera position.
@@ -347,7 +355,8 @@ std::optional<PickHit> Renderer::pick(const ClothBuffers& cloth, const Camera& c
   // The one explicit read-back of picking: a single pixel of each target.
   GLuint point = 0;
   glm::vec4 position{0.0f};
-  glGetTextureSubImage(pick_.point.id(), 0, p.x, p.y, 0, 1, 1, 1, GL_RED_INTEGER, GL_UNSIGNED_INT, sizeof(point), &point);
+  glGetTextureSubImage(pick_.point.id(), 0, p.x, p.y, 0, 1, 1, 1, GL_RED_INTEGER, GL_UNSIGNED_INT, sizeof(point),
+                       &point);
   glGetTextureSubImage(pick_.position.id(), 0, p.x, p.y, 0, 1, 1, 1, GL_RGBA, GL_FLOAT, sizeof(position), &position);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(target));
   gl::checkDebugErrors();

@@ -20,7 +20,7 @@
 namespace drape {
 
 struct Light {
-  glm::vec3 position{0.5f, 2.0f, 2.0f};  // world space, m
+  glm::vec3 position{0.5f, 2.0f, 2.0f};   // world space, m
   glm::vec3 intensity{3.0f, 3.0f, 3.0f};  // per channel; irradiance falls off as 1/r^2
 };
 
@@ -31,11 +31,11 @@ struct RenderSettings {
   glm::vec3 plane_colour{0.52f, 0.54f, 0.58f};
   glm::vec3 background{0.12f, 0.13f, 0.16f};
   Light light;
-  std::array<bool, 3> phong_terms{true, true, true};  // ambient, diffuse, specular
-  HeightMap height_map = HeightMap::Cobblestone;      // bump and displacement
-  float normal_scaling = 100.0f;                      // kn: steepness of bump normals
-  float height_scaling = 0.02f;                       // kh, m: height of the map's white
-  int toon_levels = 4;                                // bands of the toon shading
+  std::array<bool, 3> phong_terms{true, true, true};             // ambient, diffuse, specular
+  HeightMap height_map = HeightMap::Cobblestone;                 // bump and displacement
+  float normal_scaling = 100.0f;                                 // kn: steepness of bump normals
+  float height_scaling = 0.02f;                                  // kh, m: height of the map's white
+  int toon_levels = 4;                                           // bands of the toon shading
   std::array<bool, kSpringTypeCount> springs{true, true, true};  // wireframe: types drawn
   bool show_cloth = true;
   bool show_colliders = true;
@@ -48,8 +48,8 @@ glm::vec3 springColour(SpringType type);
 std::array<bool, kSpringTypeCount> enabledSprings(const ClothSpec& cloth);
 
 struct RendererOptions {
-  int sphere_latitudes = 40;   // -a
-  int sphere_longitudes = 40;  // -o
+  int sphere_latitudes = 40;    // -a
+  int sphere_longitudes = 40;   // -o
   float sphere_shrink = 0.98f;  // drawn radius / collision radius
   std::filesystem::path texture_dir = textureDir();
   int shadow_map_size = 1024;
@@ -57,7 +57,7 @@ struct RendererOptions {
 
 // What is under a pixel of the cloth.
 struct PickHit {
-  int point = -1;           // index of the nearest cloth point
+  int point = -1;            // index of the nearest cloth point
   glm::vec3 position{0.0f};  // world position of the surface under the pixel
 };
 

@@ -4,23 +4,33 @@ namespace drape {
 
 const std::array<Shading, kShadingCount>& allShadings() {
   static const std::array<Shading, kShadingCount> all = {
-      Shading::Wireframe, Shading::Normal, Shading::Diffuse, Shading::Phong,  Shading::Texture,
-      Shading::Bump,      Shading::Displacement, Shading::Mirror, Shading::Toon, Shading::Shadow};
+      Shading::Wireframe, Shading::Normal,       Shading::Diffuse, Shading::Phong, Shading::Texture,
+      Shading::Bump,      Shading::Displacement, Shading::Mirror,  Shading::Toon,  Shading::Shadow};
   return all;
 }
 
 std::string_view shadingName(Shading shading) {
   switch (shading) {
-    case Shading::Wireframe: return "wireframe";
-    case Shading::Normal: return "normal";
-    case Shading::Diffuse: return "diffuse";
-    case Shading::Phong: return "phong";
-    case Shading::Texture: return "texture";
-    case Shading::Bump: return "bump";
-    case Shading::Displacement: return "displacement";
-    case Shading::Mirror: return "mirror";
-    case Shading::Toon: return "toon";
-    case Shading::Shadow: return "shadow";
+    case Shading::Wireframe:
+      return "wireframe";
+    case Shading::Normal:
+      return "normal";
+    case Shading::Diffuse:
+      return "diffuse";
+    case Shading::Phong:
+      return "phong";
+    case Shading::Texture:
+      return "texture";
+    case Shading::Bump:
+      return "bump";
+    case Shading::Displacement:
+      return "displacement";
+    case Shading::Mirror:
+      return "mirror";
+    case Shading::Toon:
+      return "toon";
+    case Shading::Shadow:
+      return "shadow";
   }
   return "?";
 }

@@ -15,7 +15,8 @@ using Uniforms = std::vector<std::string>;
 
 Uniforms join(std::initializer_list<Uniforms> groups) {
   Uniforms all;
-  for (const Uniforms& g : groups) all.insert(all.end(), g.begin(), g.end());
+  for (const Uniforms& g : groups)
+    all.insert(all.end(), g.begin(), g.end());
   return all;
 }
 
@@ -57,20 +58,32 @@ const std::array<ProgramSpec, kProgramCount>& programSpecs() {
   return specs;
 }
 
-const ProgramSpec& programSpec(ProgramId id) { return programSpecs()[std::size_t(id)]; }
+const ProgramSpec& programSpec(ProgramId id) {
+  return programSpecs()[std::size_t(id)];
+}
 
 ProgramId clothProgram(Shading shading) {
   switch (shading) {
-    case Shading::Wireframe: return ProgramId::Wireframe;
-    case Shading::Normal: return ProgramId::Normal;
-    case Shading::Diffuse: return ProgramId::Diffuse;
-    case Shading::Phong: return ProgramId::Phong;
-    case Shading::Texture: return ProgramId::Texture;
-    case Shading::Bump: return ProgramId::Bump;
-    case Shading::Displacement: return ProgramId::Displacement;
-    case Shading::Mirror: return ProgramId::Mirror;
-    case Shading::Toon: return ProgramId::Toon;
-    case Shading::Shadow: return ProgramId::Shadow;
+    case Shading::Wireframe:
+      return ProgramId::Wireframe;
+    case Shading::Normal:
+      return ProgramId::Normal;
+    case Shading::Diffuse:
+      return ProgramId::Diffuse;
+    case Shading::Phong:
+      return ProgramId::Phong;
+    case Shading::Texture:
+      return ProgramId::Texture;
+    case Shading::Bump:
+      return ProgramId::Bump;
+    case Shading::Displacement:
+      return ProgramId::Displacement;
+    case Shading::Mirror:
+      return ProgramId::Mirror;
+    case Shading::Toon:
+      return ProgramId::Toon;
+    case Shading::Shadow:
+      return ProgramId::Shadow;
   }
   return ProgramId::Phong;
 }
@@ -78,18 +91,21 @@ ProgramId clothProgram(Shading shading) {
 ProgramId colliderProgram(Shading shading) {
   switch (shading) {
     case Shading::Wireframe:
-    case Shading::Texture: return ProgramId::Diffuse;
-    case Shading::Displacement: return ProgramId::Bump;
-    default: return clothProgram(shading);
+    case Shading::Texture:
+      return ProgramId::Diffuse;
+    case Shading::Displacement:
+      return ProgramId::Bump;
+    default:
+      return clothProgram(shading);
   }
 }
 
 ShadingProgram::ShadingProgram(const ProgramSpec& spec)
     : spec_(&spec), program_(gl::compileGraphics(spec.vert, spec.frag, spec.defines)) {
   const std::pair<const char*, int> samplers[] = {{"u_texture", RENDER_UNIT_TEXTURE},
-                                                   {"u_height_map", RENDER_UNIT_HEIGHT_MAP},
-                                                   {"u_environment", RENDER_UNIT_ENVIRONMENT},
-                                                   {"u_shadow_map", RENDER_UNIT_SHADOW_MAP}};
+                                                  {"u_height_map", RENDER_UNIT_HEIGHT_MAP},
+                                                  {"u_environment", RENDER_UNIT_ENVIRONMENT},
+                                                  {"u_shadow_map", RENDER_UNIT_SHADOW_MAP}};
   for (const auto& [name, unit] : samplers)
     if (std::find(spec.uniforms.begin(), spec.uniforms.end(), name) != spec.uniforms.end()) set(name, unit);
 }
@@ -106,7 +122,8 @@ void ShadingProgram::requireDeclared(const char* name) const {
 
 ProgramSet ProgramSet::compileAll() {
   ProgramSet set;
-  for (const ProgramSpec& spec : programSpecs()) set.programs_[std::size_t(spec.id)] = ShadingProgram(spec);
+  for (const ProgramSpec& spec : programSpecs())
+    set.programs_[std::size_t(spec.id)] = ShadingProgram(spec);
   return set;
 }
 

@@ -38,7 +38,8 @@ gl::Texture loadCube(const std::filesystem::path& dir) {
   }
   gl::Texture cube = gl::Texture::createCube(images[0].width, GL_SRGB8_ALPHA8);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  for (int f = 0; f < 6; ++f) cube.uploadCubeFace(f, GL_RGBA, GL_UNSIGNED_BYTE, images[f].pixels.data());
+  for (int f = 0; f < 6; ++f)
+    cube.uploadCubeFace(f, GL_RGBA, GL_UNSIGNED_BYTE, images[f].pixels.data());
   cube.setSampling(GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE);
   return cube;
 }

@@ -21,17 +21,25 @@ namespace {
 constexpr float kOrbitPerPixel = 0.008f;  // rad
 constexpr float kZoomPerNotch = 0.9f;
 
-Viewer& viewerOf(GLFWwindow* window) { return *static_cast<Viewer*>(glfwGetWindowUserPointer(window)); }
+Viewer& viewerOf(GLFWwindow* window) {
+  return *static_cast<Viewer*>(glfwGetWindowUserPointer(window));
+}
 
 // GLFW calls these from glfwPollEvents; Dear ImGui's backend, installed after them, chains to them.
-void keyCallback(GLFWwindow* w, int key, int /*scancode*/, int action, int mods) { viewerOf(w).onKey(key, action, mods); }
+void keyCallback(GLFWwindow* w, int key, int /*scancode*/, int action, int mods) {
+  viewerOf(w).onKey(key, action, mods);
+}
 void mouseButtonCallback(GLFWwindow* w, int button, int action, int mods) {
   double x = 0.0, y = 0.0;
   glfwGetCursorPos(w, &x, &y);
   viewerOf(w).onMouseButton(button, action, mods, {float(x), float(y)});
 }
-void cursorCallback(GLFWwindow* w, double x, double y) { viewerOf(w).onCursor(x, y); }
-void scrollCallback(GLFWwindow* w, double /*dx*/, double dy) { viewerOf(w).onScroll(dy); }
+void cursorCallback(GLFWwindow* w, double x, double y) {
+  viewerOf(w).onCursor(x, y);
+}
+void scrollCallback(GLFWwindow* w, double /*dx*/, double dy) {
+  viewerOf(w).onScroll(dy);
+}
 
 }  // namespace
 
@@ -97,7 +105,8 @@ void Viewer::simulateFrame() {
   const auto start = std::chrono::steady_clock::now();
   solver_->stepFrame();
   ++frames_simulated_;
-  accumulator_.simulate_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  accumulator_.simulate_ms +=
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 void Viewer::drawScene() {
@@ -121,7 +130,8 @@ void Viewer::updateStats() {
   stats_.simulate_ms = accumulator_.simulate_ms / frames;
   stats_.draw_ms = accumulator_.draw_ms / frames;
   stats_.passes.clear();
-  for (const PassTiming& p : solver_->timings()) stats_.passes.push_back({p.name, p.ms / frames, double(p.calls) / frames});
+  for (const PassTiming& p : solver_->timings())
+    stats_.passes.push_back({p.name, p.ms / frames, double(p.calls) / frames});
   solver_->resetTimings();
   accumulator_ = Accumulator{};
 }
@@ -186,16 +196,29 @@ void Viewer::onKey(int key, int action, int /*mods*/) {
   if (action != GLFW_PRESS) return;
   if (panel_ && panel_->capturesKeyboard()) return;
   switch (key) {
-    case ViewerKeys::kPause: paused_ = !paused_; break;
-    case ViewerKeys::kReset: resetCloth(); break;
+    case ViewerKeys::kPause:
+      paused_ = !paused_;
+      break;
+    case ViewerKeys::kReset:
+      resetCloth();
+      break;
     case ViewerKeys::kStep:
       if (paused_) step_once_ = true;
       break;
-    case ViewerKeys::kResetCamera: resetCamera(); break;
-    case ViewerKeys::kScreenshot: requestScreenshot(); break;
-    case ViewerKeys::kReloadShaders: reloadShaders(); break;
-    case ViewerKeys::kQuit: quit_ = true; break;
-    default: break;
+    case ViewerKeys::kResetCamera:
+      resetCamera();
+      break;
+    case ViewerKeys::kScreenshot:
+      requestScreenshot();
+      break;
+    case ViewerKeys::kReloadShaders:
+      reloadShaders();
+      break;
+    case ViewerKeys::kQuit:
+      quit_ = true;
+      break;
+    default:
+      break;
   }
 }
 
@@ -221,15 +244,20 @@ void Viewer::onCursor(double x, double y) {
   const glm::vec2 delta = cursor - last_cursor_;
   last_cursor_ = cursor;
   switch (mouse_mode_) {
-    case MouseMode::Orbit: camera_.orbit(-delta.x * kOrbitPerPixel, delta.y * kOrbitPerPixel); break;
+    case MouseMode::Orbit:
+      camera_.orbit(-delta.x * kOrbitPerPixel, delta.y * kOrbitPerPixel);
+      break;
     case MouseMode::Pan: {
       int width = 0, height = 0;
       glfwGetWindowSize(window_->window(), &width, &height);
       camera_.pan(delta.x, delta.y, float(height));
       break;
     }
-    case MouseMode::Drag: updateDrag(cursor); break;
-    case MouseMode::None: break;
+    case MouseMode::Drag:
+      updateDrag(cursor);
+      break;
+    case MouseMode::None:
+      break;
   }
 }
 

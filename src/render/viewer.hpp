@@ -46,8 +46,8 @@ class ViewerPanel {
 struct ViewerOptions {
   RendererOptions renderer;
   Shading shading = Shading::Phong;
-  int frames = 0;                        // > 0: simulate this many frames, save `screenshot`, close
-  std::filesystem::path screenshot;      // with `frames`
+  int frames = 0;                              // > 0: simulate this many frames, save `screenshot`, close
+  std::filesystem::path screenshot;            // with `frames`
   std::filesystem::path screenshot_dir = ".";  // where S writes
 };
 
