@@ -1,13 +1,13 @@
-// The viewer's keys and mouse, driven in-process on a hidden GLFW window. GLFW needs an X display:
-// without one, each test runs itself again under `xvfb-run` and passes or fails with that run.
+// The viewer's keys and mouse, driven in-process on a hidden GLFW window (under xvfb-run when there is
+// no display, see display_support.hpp).
 #include "core/scene.hpp"
+#include "display_support.hpp"
 #include "gl/shader_source.hpp"
 #include "gpu/gpu_solver.hpp"
 #include "render/viewer.hpp"
 
 #include <GLFW/glfw3.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -17,34 +17,6 @@ namespace drape {
 namespace {
 
 namespace fs = std::filesystem;
-
-bool hasDisplay() {
-  const char* display = std::getenv("DISPLAY");
-  return display && *display;
-}
-
-// Runs the current test again in a child process under xvfb-run; returns its exit status.
-int rerunUnderXvfb() {
-  char self[4096];
-  const ssize_t n = ::readlink("/proc/self/exe", self, sizeof self - 1);
-  if (n <= 0) return -1;
-  self[n] = '\0';
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const std::string command = std::string("xvfb-run -a -s '-screen 0 640x480x24' '") + self +
-                              "' --gtest_filter=" + info->test_suite_name() + "." + info->name();
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-#define RUN_WITH_DISPLAY()                                                               \
-  do {                                                                                   \
-    if (!hasDisplay()) {                                                                 \
-      if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0)                       \
-        GTEST_SKIP() << "no $DISPLAY and no xvfb-run (package xvfb) to make one";        \
-      EXPECT_EQ(rerunUnderXvfb(), 0) << "the test failed under xvfb-run (output above)"; \
-      return;                                                                            \
-    }                                                                                    \
-  } while (false)
 
 class FakePanel final : public ViewerPanel {
  public:

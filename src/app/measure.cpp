@@ -64,25 +64,6 @@ long long gpuMemoryBytes(const Solver& solver) {
   return gpu ? (long long)gpu->gpuMemoryBytes() : -1;
 }
 
-std::string checkHealth(Solver& solver, double sane_bound) {
-  if (auto* gpu = dynamic_cast<GpuSolver*>(&solver)) {
-    const GpuHealth h = gpu->readHealth();
-    if (h.ok()) return {};
-    return fmt::format("{} at point {}",
-                       h.non_finite ? "non-finite position or displacement" : "a point left the sane bound",
-                       h.first_point);
-  }
-  const std::vector<glm::dvec3> x = solver.readPositions();
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    for (int a = 0; a < 3; ++a) {
-      if (!std::isfinite(x[i][a])) return fmt::format("non-finite position at point {}", i);
-      if (std::abs(x[i][a]) > sane_bound)
-        return fmt::format("point {} is beyond the sane bound of {:g} m ({:.3g} m)", i, sane_bound, x[i][a]);
-    }
-  }
-  return {};
-}
-
 Scene resampleCloth(const Scene& scene, int n) {
   Scene out = scene;
   ClothSpec& c = out.cloth;

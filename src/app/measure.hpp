@@ -5,6 +5,7 @@
 
 #include "core/scene.hpp"
 #include "core/solver.hpp"
+#include "gpu/health.hpp"
 
 #include <memory>
 #include <stdexcept>
@@ -63,11 +64,6 @@ void finishWork(Solver& solver);
 
 // Bytes of buffers a GPU solver allocated; -1 for other solvers.
 long long gpuMemoryBytes(const Solver& solver);
-
-// The per-frame blow-up check of `drape simulate`: on the GPU the integrate kernel's health flags
-// (a few bytes), on the CPU a scan of the positions for a non-finite coordinate or one beyond
-// sane_bound (the GPU kernel's test). Empty while sane, else one line saying what happened.
-std::string checkHealth(Solver& solver, double sane_bound = 1e5);
 
 // The scene with its cloth resampled to n x n points: width, height and density (kg/m^2, so the
 // total mass) stay, pins keep their relative grid place (corners stay corners), and thickness is

@@ -291,7 +291,8 @@ std::string stabilityMarkdown(const StabilityReport& report, const std::vector<S
   std::string md = fmt::format(
       "CPU float solver, 1 m cloth of 50 x 50 points (10 x 10 for the soak), 90 frames/s, 180 frames (2 s) per case "
       "unless stated; {:.0f} s in all. Unstable: a non-finite coordinate, a spring beyond 11x its rest length, or a "
-      "point more than 100 cloth sizes from its start. Guard: dt*sqrt(k_sum/m) < sqrt(1 + keep), keep = 1 - damping "
+      "point more than 100 cloth sizes from its start. Guard: dt*sqrt(k_sum/m) < sqrt(1 + keep), keep = 1 - "
+      "damping/100 "
       "(sqrt(2) = {:.4g} undamped, 1 at 100 % damping); with the guard the substeps "
       "are raised to the smallest count inside it, with damping and friction rescaled to the same loss per second (as "
       "`drape simulate --auto-substeps` does). Energy: kinetic + gravitational + spring, change from start to end "

@@ -2,6 +2,7 @@
 
 #include "gl/debug.hpp"
 #include "gpu/gpu_solver.hpp"
+#include "gpu/health.hpp"
 #include "render/image.hpp"
 
 #include <GLFW/glfw3.h>
@@ -55,6 +56,8 @@ Viewer::Viewer(gl::WindowContext& window, std::unique_ptr<Solver> solver, const 
       renderer_(scene_, solver_->topology(), options.renderer) {
   settings.shading = options.shading;
   settings.springs = enabledSprings(cloth);
+  stability_ = checkStability(scene_);
+  if (!stability_.ok) status_ = stability_.message;
   resetCamera();
   GLFWwindow* w = window.window();
   glfwSetWindowUserPointer(w, this);
@@ -84,7 +87,7 @@ bool Viewer::frame(ViewerPanel* panel) {
   panel_ = panel;
   glfwPollEvents();
   if (quit_ || glfwWindowShouldClose(window_->window())) return false;
-  if (!paused_ || step_once_) {
+  if ((!paused_ || step_once_) && blow_up_.empty()) {
     simulateFrame();
     step_once_ = false;
   }
@@ -105,6 +108,13 @@ void Viewer::simulateFrame() {
   const auto start = std::chrono::steady_clock::now();
   solver_->stepFrame();
   ++frames_simulated_;
+  // Every frame, so that no frame of garbage is ever drawn; on the GPU this reads back a few bytes.
+  if (std::string why = checkHealth(*solver_); !why.empty()) {
+    blow_up_ = "blow-up at frame " + std::to_string(frames_simulated_) + ": " + why;
+    paused_ = true;
+    status_ = blow_up_ + ". Paused; R resets the cloth (lower ks or raise steps/frame first).";
+    std::fprintf(stderr, "drape view: %s\n", status_.c_str());
+  }
   accumulator_.simulate_ms +=
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -115,7 +125,9 @@ void Viewer::drawScene() {
   const auto start = std::chrono::steady_clock::now();
   cloth_buffers_ = feed_.prepare();
   gl::Framebuffer::bindDefault();
-  renderer_.draw(cloth_buffers_, camera_, size, settings);
+  RenderSettings shown = settings;
+  shown.show_cloth = settings.show_cloth && blow_up_.empty();
+  renderer_.draw(cloth_buffers_, camera_, size, shown);
   accumulator_.draw_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -139,12 +151,26 @@ void Viewer::updateStats() {
 void Viewer::applyParams() {
   solver_->setParams(cloth, sim);
   settings.springs = enabledSprings(cloth);
+  Scene edited = scene_;
+  edited.cloth = cloth;
+  edited.sim = sim;
+  const bool was_ok = stability_.ok;
+  stability_ = checkStability(edited);
+  if (!stability_.ok) {
+    status_ = stability_.message;
+  } else if (!was_ok) {
+    status_ = "back inside the stability bound";
+  }
 }
 
 void Viewer::resetCloth() {
   endDrag();
   solver_->reset();
   frames_simulated_ = 0;
+  if (!blow_up_.empty()) {
+    blow_up_.clear();
+    status_.clear();
+  }
 }
 
 void Viewer::resetCamera() {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/solver.hpp"
+#include "core/stability.hpp"
 #include "gl/context.hpp"
 #include "gl/objects.hpp"
 #include "render/camera.hpp"
@@ -84,11 +85,14 @@ class Viewer {
   void onCursor(double x, double y);
   void onScroll(double dy);
 
-  // What the panel edits. Parameters take effect on applyParams(); render settings immediately.
+  // What the panel edits. Parameters take effect on applyParams(), which also checks them against the
+  // explicit-integration bound (core/stability.hpp) and says so in status() when they cross it; render
+  // settings take effect immediately.
   ClothSpec cloth;
   SimParams sim;
   RenderSettings settings;
   void applyParams();
+  const StabilityCheck& stability() const { return stability_; }
 
   bool paused() const { return paused_; }
   void setPaused(bool paused) { paused_ = paused; }
@@ -107,6 +111,9 @@ class Viewer {
   const ViewerStats& stats() const { return stats_; }
   const std::string& shaderErrors() const { return shader_errors_; }  // of the last failed reload
   const std::string& status() const { return status_; }               // last message (screenshot saved, ...)
+  // Why the simulation stopped: non-empty once a frame ended with a non-finite or runaway point (the
+  // viewer then pauses, stops drawing the cloth and refuses to step until R resets it).
+  const std::string& blowUp() const { return blow_up_; }
   bool canDrag() const { return gpu_ != nullptr; }
   int draggedPoint() const { return drag_point_; }
 
@@ -139,6 +146,8 @@ class Viewer {
   int screenshot_counter_ = 0;
   std::string shader_errors_;
   std::string status_;
+  std::string blow_up_;
+  StabilityCheck stability_;
 
   MouseMode mouse_mode_ = MouseMode::None;
   glm::vec2 last_cursor_{0.0f};
