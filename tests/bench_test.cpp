@@ -196,6 +196,27 @@ TEST(Accuracy, ReferenceConfigurationHasZeroErrorAndRowsAreComplete) {
   fs::remove(scene);
 }
 
+TEST(Accuracy, MarkdownShowsPenetrationOnlyWhereSomethingPenetrated) {
+  AccuracyReport r;
+  r.scene = "scenes/sphere.json";
+  r.options.steps = {5};
+  r.options.solvers = {"cpu"};
+  r.options.stretch_passes = {1};
+  r.options.times = {1};
+  AccuracyRun run;
+  run.solver = "cpu";
+  run.steps_per_frame = 5;
+  run.stretch_passes = 1;
+  run.samples.push_back(ErrorSample{.t = 1, .frame = 90, .rms_error = 0.01});
+  r.runs.push_back(run);
+  EXPECT_EQ(accuracyMarkdown(r).find("penetration"), std::string::npos);
+  r.runs[0].samples[0].penetration = 0.0025;  // m
+  const std::string md = accuracyMarkdown(r);
+  const std::size_t table = md.find("Deepest penetration into a collider, mm");
+  ASSERT_NE(table, std::string::npos) << md;
+  EXPECT_NE(md.find("| 5 | 2.5 |", table), std::string::npos) << md.substr(table);
+}
+
 TEST(StabilityCases, EveryCaseOfTheIssueIsThere) {
   std::set<std::string> names;
   for (const StabilityCase& c : stabilityCases())

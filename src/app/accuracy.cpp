@@ -330,7 +330,7 @@ std::string accuracyMarkdown(const AccuracyReport& r) {
     double (*value)(const AccuracyRun&, const ErrorSample&);
   };
   const std::string over = ", largest over t = " + times + " s";
-  const Figure figures[] = {
+  std::vector<Figure> figures = {
       {"RMS position error / cloth size" + over, [](const AccuracyRun&, const ErrorSample& s) { return s.rms_error; }},
       {"Float round-off alone: RMS distance / cloth size to cpu64 with the same substeps and passes" + over,
        [](const AccuracyRun&, const ErrorSample& s) { return s.vs_double; }},
@@ -338,6 +338,14 @@ std::string accuracyMarkdown(const AccuracyReport& r) {
       {"Wall ms per simulated second (stepping only)",
        [](const AccuracyRun& run, const ErrorSample&) { return run.ms_per_sim_s; }},
   };
+  // Only where something went inside a collider: a column of zeros says nothing about a scene without one.
+  const bool penetrates = std::any_of(r.runs.begin(), r.runs.end(), [](const AccuracyRun& run) {
+    return std::any_of(run.samples.begin(), run.samples.end(), [](const ErrorSample& s) { return s.penetration > 0; });
+  });
+  if (penetrates)
+    figures.insert(figures.begin() + 3,
+                   Figure{"Deepest penetration into a collider, mm" + over,
+                          [](const AccuracyRun&, const ErrorSample& s) { return 1000.0 * s.penetration; }});
   for (const Figure& fig : figures)
     for (int passes : o.stretch_passes) {
       md += fmt::format("\n{}, {} stretch pass{}:\n\n| substeps |", fig.title, passes, passes == 1 ? "" : "es");
