@@ -106,7 +106,7 @@ TEST_P(GpuGridTest, MatchesTheCpuGridAndBruteForce) {
   std::vector<glm::vec3> points(cloud.begin(), cloud.end());
   std::vector<std::uint32_t> size(buckets, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    ASSERT_EQ(grid.cells[i], HashGrid<float>::cellOf(points[i], cell)) << "point " << i;
+    ASSERT_EQ(grid.cells[i], HashGrid<float>::cellOf(points[i], 1.0f / cell)) << "point " << i;
     ASSERT_EQ(grid.buckets[i], hashCell(grid.cells[i]) & (buckets - 1)) << "point " << i;
     ++size[grid.buckets[i]];
   }

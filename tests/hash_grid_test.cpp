@@ -72,7 +72,7 @@ INSTANTIATE_TEST_SUITE_P(Clouds, HashGridCloud,
                          [](const auto& row) { return std::string(row.param.name); });
 
 TEST(HashGrid, CellOfFloorsNegativeCoordinates) {
-  EXPECT_EQ(HashGrid<double>::cellOf({-0.01, 0.0, 0.029}, 0.02), glm::ivec3(-1, 0, 1));
+  EXPECT_EQ(HashGrid<double>::cellOf({-0.01, 0.0, 0.029}, 1.0 / 0.02), glm::ivec3(-1, 0, 1));
 }
 
 }  // namespace

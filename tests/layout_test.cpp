@@ -60,7 +60,7 @@ TEST(Layout, SimParamsIsStd430) {
                 MEMBER(SimParams, dt2, Scalar),
                 MEMBER(SimParams, keep, Scalar),
                 MEMBER(SimParams, thickness, Scalar),
-                MEMBER(SimParams, cell_size, Scalar),
+                MEMBER(SimParams, inv_cell_size, Scalar),
                 MEMBER(SimParams, steps_per_frame, Scalar),
                 MEMBER(SimParams, stretch_limit, Scalar),
                 MEMBER(SimParams, drag_area, Scalar),

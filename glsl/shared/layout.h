@@ -64,7 +64,7 @@ struct SimParams {
   float dt2;           // s^2, dt * dt
   float keep;          // 1 - damping/100: fraction of the displacement kept per substep
   float thickness;     // m; self-collision range is 2 * thickness
-  float cell_size;     // m, hash-grid cell edge: 2 * thickness
+  float inv_cell_size; // 1/m, 1 / hash-grid cell edge (2 * thickness), rounded on the host
   float steps_per_frame;  // self-collision corrections are divided by this (CS184)
   float stretch_limit;    // springs are shortened to at most this times their rest length
   float drag_area;        // wind drag * area per point (kg/m)

@@ -27,10 +27,10 @@ layout(std430, binding = kBindingGridBlocks) GRID_MEMORY buffer GridBlocksBuffer
 layout(std430, binding = kBindingGridScatter) GRID_MEMORY buffer GridScatterBuffer { uint gridScatter[]; };
 layout(std430, binding = kBindingGridSorted) GRID_MEMORY buffer GridSortedBuffer { uint gridSorted[]; };
 
-// HashGrid::cellOf: floor(p / cell_size), a division as on the CPU (not a multiplication by the
-// reciprocal, which rounds differently at cell borders).
-ivec3 cellOf(vec3 p, float cell_size) {
-  precise vec3 q = floor(p / cell_size);
+// HashGrid::cellOf: a product with the host-rounded reciprocal. GLSL allows a division 2.5 ulp of
+// error, which would move points on a cell border to the neighbouring cell; a product is exact-rounded.
+ivec3 cellOf(vec3 p, float inv_cell_size) {
+  precise vec3 q = floor(p * inv_cell_size);
   return ivec3(q);
 }
 
@@ -41,7 +41,7 @@ ivec3 gridCell(uint i) {
 
 // The scan that follows reads and zeroes gridCounts, so counting starts from zero every substep.
 void countIntoGrid(uint i, vec3 x) {
-  ivec3 c = cellOf(x, params.cell_size);
+  ivec3 c = cellOf(x, params.inv_cell_size);
   uint bucket = hashCell(c) & params.bucket_mask;
   uint arrival = atomicAdd(gridCounts[bucket], 1u);
   gridPoints[i] = GridPoint(c.x, c.y, c.z, bucket, arrival);

@@ -15,8 +15,9 @@ void HashGrid<T>::build(const std::vector<vec3>& points, T cell_size) {
   start_.assign(std::size_t(buckets) + 1, 0);
   sorted_.resize(n);
   std::vector<std::uint32_t> bucket(n);
+  const T inv_cell_size = T(1) / cell_size;
   for (std::size_t i = 0; i < n; ++i) {
-    cells_[i] = cellOf(points[i], cell_size);
+    cells_[i] = cellOf(points[i], inv_cell_size);
     bucket[i] = physics::hashCell(cells_[i]) & mask_;
     ++start_[bucket[i] + 1];
   }

@@ -36,7 +36,10 @@ class HashGrid {
         }
   }
 
-  static glm::ivec3 cellOf(vec3 p, T cell_size) { return glm::ivec3(glm::floor(p / cell_size)); }
+  // A point's cell, from the reciprocal of the cell edge rounded once on the host. A product is
+  // correctly rounded on every GPU while GLSL lets a division be off by 2.5 ulp (NVIDIA's is), so
+  // multiplying is what keeps CPU and GPU cells identical at cell borders.
+  static glm::ivec3 cellOf(vec3 p, T inv_cell_size) { return glm::ivec3(glm::floor(p * inv_cell_size)); }
   std::size_t bucketCount() const { return start_.empty() ? 0 : start_.size() - 1; }
 
  private:

@@ -203,7 +203,7 @@ void GpuSolver::uploadParams() {
   p.dt2 = dt * dt;
   p.keep = float(1.0 - c.damping / 100.0);
   p.thickness = thickness;
-  p.cell_size = 2.0f * thickness;
+  p.inv_cell_size = 1.0f / (2.0f * thickness);  // as HashGrid<float>::build rounds it
   p.steps_per_frame = float(sim.steps_per_frame);
   p.stretch_limit = float(sim.stretch_limit);
   p.drag_area = float(wind.drag * c.width * c.height / double(n));
