@@ -10,7 +10,9 @@ const float kAmbient = 0.1;     // ambient coefficient ka, with ambient light 1
 const float kSpecular = 0.5;    // specular coefficient ks
 const float kShininess = 64.0;  // Blinn-Phong exponent p
 
-vec3 lightDirection(vec3 position) { return normalize(u_light_position - position); }
+vec3 lightDirection(vec3 position) {
+  return normalize(u_light_position - position);
+}
 
 vec3 irradiance(vec3 position) {
   vec3 to_light = u_light_position - position;

@@ -3,4 +3,6 @@
 
 out vec4 f_colour;
 
-void main() { f_colour = vec4(0.5 * facingNormal(normalize(v_normal)) + 0.5, 1.0); }
+void main() {
+  f_colour = vec4(0.5 * facingNormal(normalize(v_normal)) + 0.5, 1.0);
+}

@@ -20,7 +20,8 @@ float lightVisibility(vec3 n) {
   vec2 texel = 1.0 / vec2(textureSize(u_shadow_map, 0));
   float lit = 0.0;
   for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) lit += texture(u_shadow_map, vec3(p.xy + vec2(dx, dy) * texel, p.z - bias));
+    for (int dx = -1; dx <= 1; ++dx)
+      lit += texture(u_shadow_map, vec3(p.xy + vec2(dx, dy) * texel, p.z - bias));
   return lit / 9.0;
 }
 

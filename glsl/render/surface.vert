@@ -7,14 +7,20 @@
 //   DEPTH_ONLY     position only (shadow-map pass)
 #include "render_bindings.h"
 
-layout(std430, binding = RENDER_BINDING_POSITIONS) readonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = RENDER_BINDING_POSITIONS) readonly buffer Positions {
+  vec4 positions[];
+};
 
 uniform mat4 u_model;
 uniform mat4 u_view_projection;
 
 #ifndef DEPTH_ONLY
-layout(std430, binding = RENDER_BINDING_NORMALS) readonly buffer Normals { vec4 normals[]; };
-layout(std430, binding = RENDER_BINDING_UVS) readonly buffer Uvs { vec2 uvs[]; };
+layout(std430, binding = RENDER_BINDING_NORMALS) readonly buffer Normals {
+  vec4 normals[];
+};
+layout(std430, binding = RENDER_BINDING_UVS) readonly buffer Uvs {
+  vec2 uvs[];
+};
 uniform mat3 u_normal_matrix;
 out vec3 v_position;
 out vec3 v_normal;
@@ -22,7 +28,9 @@ out vec2 v_uv;
 #endif
 
 #ifdef TANGENT_SPACE
-layout(std430, binding = RENDER_BINDING_TANGENTS) readonly buffer Tangents { vec4 tangents[]; };
+layout(std430, binding = RENDER_BINDING_TANGENTS) readonly buffer Tangents {
+  vec4 tangents[];
+};
 out vec4 v_tangent;
 #endif
 

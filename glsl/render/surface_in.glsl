@@ -6,4 +6,6 @@ in vec3 v_normal;    // world space, interpolated (not unit)
 in vec2 v_uv;
 
 // Cloth is seen from both sides: a back face shows the other side, whose normal points the other way.
-vec3 facingNormal(vec3 n) { return gl_FrontFacing ? n : -n; }
+vec3 facingNormal(vec3 n) {
+  return gl_FrontFacing ? n : -n;
+}

@@ -2,8 +2,12 @@
 // line pairs per spring type).
 #include "render_bindings.h"
 
-layout(std430, binding = RENDER_BINDING_POSITIONS) readonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = RENDER_BINDING_POSITIONS) readonly buffer Positions {
+  vec4 positions[];
+};
 
 uniform mat4 u_view_projection;
 
-void main() { gl_Position = u_view_projection * vec4(positions[gl_VertexID].xyz, 1.0); }
+void main() {
+  gl_Position = u_view_projection * vec4(positions[gl_VertexID].xyz, 1.0);
+}

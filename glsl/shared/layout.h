@@ -19,52 +19,52 @@ using uint = std::uint32_t;
 
 // Shader storage binding points. Ping-pong passes read the *In buffers and write the *Out ones; the
 // solver binds the two copies of the state to these points alternately.
-DRAPE_CONSTANT(uint, kBindingParams, 0u);        // SimParams
-DRAPE_CONSTANT(uint, kBindingPosIn, 1u);         // vec4 per point: xyz position (m), w = 1
-DRAPE_CONSTANT(uint, kBindingDispIn, 2u);        // vec4 per point: xyz displacement x - x_prev (m), w pin flag
-DRAPE_CONSTANT(uint, kBindingPosOut, 3u);        // the other copy of positions, written by ping-pong passes
-DRAPE_CONSTANT(uint, kBindingDispOut, 4u);       // the other copy of displacements
-DRAPE_CONSTANT(uint, kBindingOffsets, 5u);       // uint per point + 1: CSR offsets into neighbours
-DRAPE_CONSTANT(uint, kBindingNeighbors, 6u);     // Neighbor per adjacency entry
-DRAPE_CONSTANT(uint, kBindingColliders, 7u);     // Collider: NUM_SPHERES spheres, then NUM_PLANES planes
-DRAPE_CONSTANT(uint, kBindingGridPoints, 8u);    // GridPoint per point
-DRAPE_CONSTANT(uint, kBindingGridCounts, 9u);    // uint per bucket: points counted into it (atomics)
-DRAPE_CONSTANT(uint, kBindingGridStart, 10u);    // uint per bucket + 1: exclusive prefix sum of counts
-DRAPE_CONSTANT(uint, kBindingGridBlocks, 11u);   // uint per scan block: block totals, then their prefix
-DRAPE_CONSTANT(uint, kBindingGridScatter, 12u);  // uint per point: indices by bucket, in atomic order
-DRAPE_CONSTANT(uint, kBindingGridSorted, 13u);   // uint per point: indices by bucket, ascending within
-DRAPE_CONSTANT(uint, kBindingHealth, 14u);       // Health
-DRAPE_CONSTANT(uint, kBindingNormals, 15u);      // vec4 per point: unit normal, w = 0
-DRAPE_CONSTANT(uint, kBindingTangents, 16u);     // vec4 per point: unit tangent along +u, w = bitangent sign
+DRAPE_CONSTANT(uint, kBindingParams, 0u);             // SimParams
+DRAPE_CONSTANT(uint, kBindingPosIn, 1u);              // vec4 per point: xyz position (m), w = 1
+DRAPE_CONSTANT(uint, kBindingDispIn, 2u);             // vec4 per point: xyz displacement x - x_prev (m), w pin flag
+DRAPE_CONSTANT(uint, kBindingPosOut, 3u);             // the other copy of positions, written by ping-pong passes
+DRAPE_CONSTANT(uint, kBindingDispOut, 4u);            // the other copy of displacements
+DRAPE_CONSTANT(uint, kBindingOffsets, 5u);            // uint per point + 1: CSR offsets into neighbours
+DRAPE_CONSTANT(uint, kBindingNeighbors, 6u);          // Neighbor per adjacency entry
+DRAPE_CONSTANT(uint, kBindingColliders, 7u);          // Collider: NUM_SPHERES spheres, then NUM_PLANES planes
+DRAPE_CONSTANT(uint, kBindingGridPoints, 8u);         // GridPoint per point
+DRAPE_CONSTANT(uint, kBindingGridCounts, 9u);         // uint per bucket: points counted into it (atomics)
+DRAPE_CONSTANT(uint, kBindingGridStart, 10u);         // uint per bucket + 1: exclusive prefix sum of counts
+DRAPE_CONSTANT(uint, kBindingGridBlocks, 11u);        // uint per scan block: block totals, then their prefix
+DRAPE_CONSTANT(uint, kBindingGridScatter, 12u);       // uint per point: indices by bucket, in atomic order
+DRAPE_CONSTANT(uint, kBindingGridSorted, 13u);        // uint per point: indices by bucket, ascending within
+DRAPE_CONSTANT(uint, kBindingHealth, 14u);            // Health
+DRAPE_CONSTANT(uint, kBindingNormals, 15u);           // vec4 per point: unit normal, w = 0
+DRAPE_CONSTANT(uint, kBindingTangents, 16u);          // vec4 per point: unit tangent along +u, w = bitangent sign
 DRAPE_CONSTANT(uint, kBindingVertexTriOffsets, 17u);  // uint per point + 1: CSR offsets into vertexTris
-DRAPE_CONSTANT(uint, kBindingVertexTris, 18u);   // uint per (vertex, triangle): triangle index
-DRAPE_CONSTANT(uint, kBindingTriangles, 19u);    // uint, 3 per triangle
-DRAPE_CONSTANT(uint, kBindingUvs, 20u);          // vec2 per point: texture coordinates
-DRAPE_CONSTANT(uint, kBindingPick, 21u);         // PickResult
+DRAPE_CONSTANT(uint, kBindingVertexTris, 18u);        // uint per (vertex, triangle): triangle index
+DRAPE_CONSTANT(uint, kBindingTriangles, 19u);         // uint, 3 per triangle
+DRAPE_CONSTANT(uint, kBindingUvs, 20u);               // vec2 per point: texture coordinates
+DRAPE_CONSTANT(uint, kBindingPick, 21u);              // PickResult
 
 // Work-group sizes, shared so C++ computes group counts from the same numbers.
-DRAPE_CONSTANT(uint, kLocalSize, 128u);       // per-point and per-bucket kernels
-DRAPE_CONSTANT(uint, kScanLocalSize, 256u);   // prefix-sum kernels
-DRAPE_CONSTANT(uint, kScanItems, 16u);        // consecutive buckets summed by one scan invocation
-DRAPE_CONSTANT(uint, kScanBlock, 4096u);      // kScanLocalSize * kScanItems buckets per scan work group
+DRAPE_CONSTANT(uint, kLocalSize, 128u);      // per-point and per-bucket kernels
+DRAPE_CONSTANT(uint, kScanLocalSize, 256u);  // prefix-sum kernels
+DRAPE_CONSTANT(uint, kScanItems, 16u);       // consecutive buckets summed by one scan invocation
+DRAPE_CONSTANT(uint, kScanBlock, 4096u);     // kScanLocalSize * kScanItems buckets per scan work group
 
 // Health flags (issue 5's blow-up guard): set by the integrate kernel, read back on request.
-DRAPE_CONSTANT(uint, kHealthNonFinite, 1u);   // a position or displacement became NaN or infinite
+DRAPE_CONSTANT(uint, kHealthNonFinite, 1u);    // a position or displacement became NaN or infinite
 DRAPE_CONSTANT(uint, kHealthOutOfBounds, 2u);  // a point left the sane box |x| <= SimParams.sane_bound
 
 // Everything a kernel needs that is not per point. Values are derived on the host with exactly the
 // float operations the CPU reference uses (weight = gravity * mass, dt2 = dt * dt, ...), so both
 // start every substep from bit-identical constants.
 struct SimParams {
-  vec4 weight;         // xyz: gravity * mass per point (N); w unused
-  vec4 stiffness;      // N/m per spring type: x structural, y shearing, z bending (0.2 ks); w unused
-  vec4 wind_velocity;  // xyz: steady air velocity (m/s); w: turbulence (relative amplitude)
-  float inv_mass;      // 1/kg
-  float dt;            // s, one substep
-  float dt2;           // s^2, dt * dt
-  float keep;          // 1 - damping/100: fraction of the displacement kept per substep
-  float thickness;     // m; self-collision range is 2 * thickness
-  float inv_cell_size; // 1/m, 1 / hash-grid cell edge (2 * thickness), rounded on the host
+  vec4 weight;            // xyz: gravity * mass per point (N); w unused
+  vec4 stiffness;         // N/m per spring type: x structural, y shearing, z bending (0.2 ks); w unused
+  vec4 wind_velocity;     // xyz: steady air velocity (m/s); w: turbulence (relative amplitude)
+  float inv_mass;         // 1/kg
+  float dt;               // s, one substep
+  float dt2;              // s^2, dt * dt
+  float keep;             // 1 - damping/100: fraction of the displacement kept per substep
+  float thickness;        // m; self-collision range is 2 * thickness
+  float inv_cell_size;    // 1/m, 1 / hash-grid cell edge (2 * thickness), rounded on the host
   float steps_per_frame;  // self-collision corrections are divided by this (CS184)
   float stretch_limit;    // springs are shortened to at most this times their rest length
   float drag_area;        // wind drag * area per point (kg/m)
@@ -84,11 +84,11 @@ struct SimParams {
 // One adjacency entry: the spring from this point to another, in the CPU's order (ascending spring
 // index), holding only the spring types the scene enables. 8 bytes, because the adjacency is the
 // largest buffer (about 24 entries per point) and must fit GL_MAX_SHADER_STORAGE_BLOCK_SIZE.
-DRAPE_CONSTANT(uint, kNeighborIndexBits, 30u);           // the other point's index (cloths < 2^30 points)
-DRAPE_CONSTANT(uint, kNeighborIndexMask, 0x3fffffffu);   // ... in the low bits of `index_type`
+DRAPE_CONSTANT(uint, kNeighborIndexBits, 30u);          // the other point's index (cloths < 2^30 points)
+DRAPE_CONSTANT(uint, kNeighborIndexMask, 0x3fffffffu);  // ... in the low bits of `index_type`
 struct Neighbor {
   uint index_type;  // other point's index | SpringType (0 structural, 1 shearing, 2 bending) << kNeighborIndexBits
-  float rest;   // m
+  float rest;       // m
 };
 
 // A sphere (a = centre xyz, radius w; b.x = friction) or a plane (a = point xyz, friction w;
@@ -103,7 +103,7 @@ struct GridPoint {
   int cell_x;
   int cell_y;
   int cell_z;
-  uint bucket;  // hashCell(cell) & bucket_mask
+  uint bucket;   // hashCell(cell) & bucket_mask
   uint arrival;  // position among the bucket's points in atomic (thread-timing) order
 };
 

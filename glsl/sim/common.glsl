@@ -20,15 +20,33 @@
 #endif
 #define COLLIDERS (NUM_SPHERES + NUM_PLANES > 0)
 
-layout(std430, binding = kBindingParams) readonly buffer ParamsBuffer { SimParams params; };
-layout(std430, binding = kBindingPosIn) readonly buffer PosInBuffer { vec4 posIn[]; };
-layout(std430, binding = kBindingDispIn) readonly buffer DispInBuffer { vec4 dispIn[]; };
-layout(std430, binding = kBindingPosOut) writeonly buffer PosOutBuffer { vec4 posOut[]; };
-layout(std430, binding = kBindingDispOut) writeonly buffer DispOutBuffer { vec4 dispOut[]; };
-layout(std430, binding = kBindingOffsets) readonly buffer OffsetsBuffer { uint offsets[]; };
-layout(std430, binding = kBindingNeighbors) readonly buffer NeighborsBuffer { Neighbor neighbors[]; };
-layout(std430, binding = kBindingColliders) readonly buffer CollidersBuffer { Collider colliders[]; };
-layout(std430, binding = kBindingHealth) buffer HealthBuffer { Health health; };
+layout(std430, binding = kBindingParams) readonly buffer ParamsBuffer {
+  SimParams params;
+};
+layout(std430, binding = kBindingPosIn) readonly buffer PosInBuffer {
+  vec4 posIn[];
+};
+layout(std430, binding = kBindingDispIn) readonly buffer DispInBuffer {
+  vec4 dispIn[];
+};
+layout(std430, binding = kBindingPosOut) writeonly buffer PosOutBuffer {
+  vec4 posOut[];
+};
+layout(std430, binding = kBindingDispOut) writeonly buffer DispOutBuffer {
+  vec4 dispOut[];
+};
+layout(std430, binding = kBindingOffsets) readonly buffer OffsetsBuffer {
+  uint offsets[];
+};
+layout(std430, binding = kBindingNeighbors) readonly buffer NeighborsBuffer {
+  Neighbor neighbors[];
+};
+layout(std430, binding = kBindingColliders) readonly buffer CollidersBuffer {
+  Collider colliders[];
+};
+layout(std430, binding = kBindingHealth) buffer HealthBuffer {
+  Health health;
+};
 
 // 1D index over a 2D dispatch: more than 65535 work groups along x is not guaranteed, so large
 // cloths spread their groups over y as well (the solver computes the split). Per-point kernels use
@@ -37,10 +55,16 @@ uint globalIndex() {
   return gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * kLocalSize) + gl_GlobalInvocationID.x;
 }
 
-bool isPinned(vec4 disp) { return disp.w != 0.0; }
+bool isPinned(vec4 disp) {
+  return disp.w != 0.0;
+}
 
-uint neighborIndex(Neighbor nb) { return nb.index_type & kNeighborIndexMask; }
-uint neighborType(Neighbor nb) { return nb.index_type >> kNeighborIndexBits; }
+uint neighborIndex(Neighbor nb) {
+  return nb.index_type & kNeighborIndexMask;
+}
+uint neighborType(Neighbor nb) {
+  return nb.index_type >> kNeighborIndexBits;
+}
 
 // Blow-up detection for the stability guard (issue 5): a few compares per point, an atomic only when
 // something is already wrong. The host reads the flags when it chooses (GpuSolver::readHealth).

@@ -20,12 +20,24 @@
 #ifndef GRID_MEMORY
 #define GRID_MEMORY
 #endif
-layout(std430, binding = kBindingGridPoints) GRID_MEMORY buffer GridPointsBuffer { GridPoint gridPoints[]; };
-layout(std430, binding = kBindingGridCounts) GRID_MEMORY buffer GridCountsBuffer { uint gridCounts[]; };
-layout(std430, binding = kBindingGridStart) GRID_MEMORY buffer GridStartBuffer { uint gridStart[]; };
-layout(std430, binding = kBindingGridBlocks) GRID_MEMORY buffer GridBlocksBuffer { uint gridBlocks[]; };
-layout(std430, binding = kBindingGridScatter) GRID_MEMORY buffer GridScatterBuffer { uint gridScatter[]; };
-layout(std430, binding = kBindingGridSorted) GRID_MEMORY buffer GridSortedBuffer { uint gridSorted[]; };
+layout(std430, binding = kBindingGridPoints) GRID_MEMORY buffer GridPointsBuffer {
+  GridPoint gridPoints[];
+};
+layout(std430, binding = kBindingGridCounts) GRID_MEMORY buffer GridCountsBuffer {
+  uint gridCounts[];
+};
+layout(std430, binding = kBindingGridStart) GRID_MEMORY buffer GridStartBuffer {
+  uint gridStart[];
+};
+layout(std430, binding = kBindingGridBlocks) GRID_MEMORY buffer GridBlocksBuffer {
+  uint gridBlocks[];
+};
+layout(std430, binding = kBindingGridScatter) GRID_MEMORY buffer GridScatterBuffer {
+  uint gridScatter[];
+};
+layout(std430, binding = kBindingGridSorted) GRID_MEMORY buffer GridSortedBuffer {
+  uint gridSorted[];
+};
 
 // HashGrid::cellOf: a product with the host-rounded reciprocal. GLSL allows a division 2.5 ulp of
 // error, which would move points on a cell border to the neighbouring cell; a product is exact-rounded.
@@ -57,6 +69,7 @@ void rankPoint(uint i) {
   uint bucket = gridPoints[i].bucket;
   uint first = gridStart[bucket], last = gridStart[bucket + 1u];
   uint rank = 0u;
-  for (uint s = first; s < last; ++s) rank += gridScatter[s] < i ? 1u : 0u;
+  for (uint s = first; s < last; ++s)
+    rank += gridScatter[s] < i ? 1u : 0u;
   gridSorted[first + rank] = i;
 }

@@ -7,12 +7,24 @@
 
 layout(local_size_x = kLocalSize) in;
 
-layout(std430, binding = kBindingNormals) writeonly buffer NormalsBuffer { vec4 normals[]; };
-layout(std430, binding = kBindingTangents) writeonly buffer TangentsBuffer { vec4 tangents[]; };
-layout(std430, binding = kBindingVertexTriOffsets) readonly buffer VertexTriOffsetsBuffer { uint vertexTriOffsets[]; };
-layout(std430, binding = kBindingVertexTris) readonly buffer VertexTrisBuffer { uint vertexTris[]; };
-layout(std430, binding = kBindingTriangles) readonly buffer TrianglesBuffer { uint triangles[]; };
-layout(std430, binding = kBindingUvs) readonly buffer UvsBuffer { vec2 uvs[]; };
+layout(std430, binding = kBindingNormals) writeonly buffer NormalsBuffer {
+  vec4 normals[];
+};
+layout(std430, binding = kBindingTangents) writeonly buffer TangentsBuffer {
+  vec4 tangents[];
+};
+layout(std430, binding = kBindingVertexTriOffsets) readonly buffer VertexTriOffsetsBuffer {
+  uint vertexTriOffsets[];
+};
+layout(std430, binding = kBindingVertexTris) readonly buffer VertexTrisBuffer {
+  uint vertexTris[];
+};
+layout(std430, binding = kBindingTriangles) readonly buffer TrianglesBuffer {
+  uint triangles[];
+};
+layout(std430, binding = kBindingUvs) readonly buffer UvsBuffer {
+  vec2 uvs[];
+};
 
 void main() {
   uint i = globalIndex();

@@ -10,7 +10,9 @@
 
 layout(local_size_x = kLocalSize) in;
 
-layout(std430, binding = kBindingPick) buffer PickBuffer { PickResult pick; };
+layout(std430, binding = kBindingPick) buffer PickBuffer {
+  PickResult pick;
+};
 
 uniform vec3 u_origin;     // m
 uniform vec3 u_direction;  // unit
