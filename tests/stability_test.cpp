@@ -222,9 +222,12 @@ TEST(Stability, CheckSaysWhatToDo) {
   EXPECT_FALSE(c.ok);
   EXPECT_GE(c.number, c.limit);
   EXPECT_NE(c.message.find(std::to_string(autoSubsteps(s)) + " substeps"), std::string::npos) << c.message;
+  EXPECT_EQ(c.steps_needed, autoSubsteps(s));
+  EXPECT_GT(c.steps_needed, s.sim.steps_per_frame);
   s.cloth.density = 0.0;
   EXPECT_EQ(autoSubsteps(s), 0);
   EXPECT_FALSE(checkStability(s).ok);
+  EXPECT_EQ(checkStability(s).steps_needed, 0);
   s.cloth.enable_structural = s.cloth.enable_shearing = s.cloth.enable_bending = false;
   EXPECT_TRUE(checkStability(s).ok);  // no springs, nothing to be stiff
 }

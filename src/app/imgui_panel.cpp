@@ -150,17 +150,12 @@ void ImGuiPanel::drawParameters(Viewer& viewer) {
   const StabilityCheck& check = viewer.stability();
   const ImVec4 colour = check.ok ? ImVec4(0.5f, 0.85f, 0.5f, 1.0f) : ImVec4(1.0f, 0.4f, 0.4f, 1.0f);
   ImGui::TextColored(colour, "dt sqrt(k/m) = %.3g, stable below %.3g", check.number, check.limit);
-  if (!check.ok) {
-    Scene edited = viewer.scene();
-    edited.cloth = c;
-    edited.sim = s;
-    if (const int need = autoSubsteps(edited); need > 0 && need <= 10000) {
-      ImGui::SameLine();
-      const std::string label = "use " + std::to_string(need) + " steps/frame";
-      if (track(ImGui::Button(label.c_str()), "auto substeps")) {
-        s.steps_per_frame = need;
-        viewer.applyParams();
-      }
+  if (!check.ok && check.steps_needed > 0 && check.steps_needed <= 10000) {
+    ImGui::SameLine();
+    const std::string label = "use " + std::to_string(check.steps_needed) + " steps/frame";
+    if (track(ImGui::Button(label.c_str()), "auto substeps")) {
+      s.steps_per_frame = check.steps_needed;
+      viewer.applyParams();
     }
   }
 }

@@ -441,4 +441,16 @@ Scene loadScene(const std::filesystem::path& file) {
   return parseScene(text.str(), name);
 }
 
+void applyLiveParams(Scene& scene, const ClothSpec& cloth, const SimParams& sim) {
+  const ClothSpec kept = scene.cloth;
+  scene.cloth = cloth;
+  scene.cloth.width = kept.width;
+  scene.cloth.height = kept.height;
+  scene.cloth.num_width_points = kept.num_width_points;
+  scene.cloth.num_height_points = kept.num_height_points;
+  scene.cloth.orientation = kept.orientation;
+  scene.cloth.pinned = kept.pinned;
+  scene.sim = sim;
+}
+
 }  // namespace drape

@@ -90,6 +90,10 @@ class SceneError : public std::runtime_error {
 Scene loadScene(const std::filesystem::path& file);
 Scene parseScene(const std::string& json_text, const std::string& name);
 
+// A live parameter change (Solver::setParams): everything from `cloth` and `sim` except what defines
+// the topology, which stays as in `scene`: grid size, extent, orientation and pins.
+void applyLiveParams(Scene& scene, const ClothSpec& cloth, const SimParams& sim);
+
 // Largest cloth accepted (points), so a typo cannot ask for terabytes.
 inline constexpr long long kMaxClothPoints = 4096LL * 4096LL;
 

@@ -67,7 +67,7 @@ StabilityCheck checkStability(const Scene& scene) {
                        c.limit, scene.sim.steps_per_frame);
     return c;
   }
-  const int need = autoSubsteps(scene);
+  const int need = c.steps_needed = autoSubsteps(scene);
   c.message = format("explicit-integration bound crossed: dt*sqrt(k/m) = %.3g >= %.3g with %d substeps per frame",
                      c.number, c.limit, scene.sim.steps_per_frame);
   c.message += need > 0 ? "; " + std::to_string(need) + " substeps per frame stay inside it (--auto-substeps)"

@@ -39,7 +39,8 @@ struct StabilityCheck {
   double number = 0.0;             // dt sqrt(k_sum / m)
   double limit = kStabilityLimit;  // stable when number < limit (stabilityLimit of the scene's damping)
   bool ok = true;
-  std::string message;  // one line; says what to do when !ok
+  int steps_needed = 0;  // when !ok: autoSubsteps of the scene (0: no count up to kMaxAutoSubsteps)
+  std::string message;   // one line; says what to do when !ok
 };
 
 // Largest sum over one point of the stiffness of its enabled springs, N/m (bending counts 0.2 ks),

@@ -35,23 +35,29 @@ const char* stageName(GLenum stage) {
   }
 }
 
+// Compiles `text` into `shader`. On failure deletes the shader and returns its info log.
+std::optional<std::string> compile(GLuint shader, const std::string& text) {
+  const char* source = text.c_str();
+  glShaderSource(shader, 1, &source, nullptr);
+  glCompileShader(shader);
+  GLint compiled = GL_FALSE;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &compiled);
+  if (compiled) return std::nullopt;
+  GLint length = 0;
+  glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+  std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
+  glGetShaderInfoLog(shader, length, nullptr, log.data());
+  glDeleteShader(shader);
+  return log;
+}
+
 // Compiles one stage and attaches it; the shader is flagged for deletion and goes with the program.
 void attachStage(GLuint program, GLenum stage, const fs::path& file, const Defines& defines) {
   const ShaderSource source = preprocess(resolveShader(file), defines, glslRoot());
   const GLuint shader = glCreateShader(stage);
-  const char* text = source.text.c_str();
-  glShaderSource(shader, 1, &text, nullptr);
-  glCompileShader(shader);
-  GLint compiled = GL_FALSE;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &compiled);
-  if (!compiled) {
-    GLint length = 0;
-    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
-    glGetShaderInfoLog(shader, length, nullptr, log.data());
-    glDeleteShader(shader);
-    const auto [where, line] = source.firstLocation(log);
-    std::string message = trimTrailing(source.translateLog(trimTrailing(log)));
+  if (const std::optional<std::string> log = compile(shader, source.text)) {
+    const auto [where, line] = source.firstLocation(*log);
+    std::string message = trimTrailing(source.translateLog(trimTrailing(*log)));
     // A log with no location still names the shader.
     if (where.empty()) message = source.files.at(1) + ": " + stageName(stage) + " shader failed to compile: " + message;
     throw ShaderError(message, where.empty() ? source.files.at(1) : where, line);
@@ -90,18 +96,8 @@ void attachText(GLuint program, GLenum stage, const std::string& text, const std
     full += "#define " + name + " " + value + "\n";
   full += "#line 1 1\n" + text;
   const GLuint shader = glCreateShader(stage);
-  const char* source = full.c_str();
-  glShaderSource(shader, 1, &source, nullptr);
-  glCompileShader(shader);
-  GLint compiled = GL_FALSE;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &compiled);
-  if (!compiled) {
-    GLint length = 0;
-    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
-    glGetShaderInfoLog(shader, length, nullptr, log.data());
-    glDeleteShader(shader);
-    throw ShaderError(label + ": " + stageName(stage) + " shader failed to compile: " + trimTrailing(log), label);
+  if (const std::optional<std::string> log = compile(shader, full)) {
+    throw ShaderError(label + ": " + stageName(stage) + " shader failed to compile: " + trimTrailing(*log), label);
   }
   glAttachShader(program, shader);
   glDeleteShader(shader);

@@ -269,15 +269,7 @@ void GpuSolver::compilePrograms() {
 }
 
 void GpuSolver::setParams(const ClothSpec& cloth, const SimParams& sim) {
-  const ClothSpec kept = scene_.cloth;  // grid, orientation and pins stay: they define the topology
-  scene_.cloth = cloth;
-  scene_.cloth.width = kept.width;
-  scene_.cloth.height = kept.height;
-  scene_.cloth.num_width_points = kept.num_width_points;
-  scene_.cloth.num_height_points = kept.num_height_points;
-  scene_.cloth.orientation = kept.orientation;
-  scene_.cloth.pinned = kept.pinned;
-  scene_.sim = sim;
+  applyLiveParams(scene_, cloth, sim);
   bool springs_changed = false;
   for (int t = 0; t < kSpringTypeCount; ++t) {
     const bool enabled = scene_.cloth.springEnabled(SpringType(t));

@@ -151,11 +151,8 @@ void Viewer::updateStats() {
 void Viewer::applyParams() {
   solver_->setParams(cloth, sim);
   settings.springs = enabledSprings(cloth);
-  Scene edited = scene_;
-  edited.cloth = cloth;
-  edited.sim = sim;
   const bool was_ok = stability_.ok;
-  stability_ = checkStability(edited);
+  stability_ = checkStability(solver_->scene());  // what the solver now runs
   if (!stability_.ok) {
     status_ = stability_.message;
   } else if (!was_ok) {
