@@ -80,6 +80,10 @@ TEST(Layout, SimParamsIsStd430) {
 }
 
 TEST(Layout, ArrayElementsAreStd430) {
+  expectStd430("ColouredSpring",
+               {MEMBER(ColouredSpring, a, Scalar), MEMBER(ColouredSpring, b, Scalar),
+                MEMBER(ColouredSpring, rest, Scalar), MEMBER(ColouredSpring, pad0, Scalar)},
+               sizeof(ColouredSpring));
   expectStd430("Neighbor", {MEMBER(Neighbor, index_type, Scalar), MEMBER(Neighbor, rest, Scalar)}, sizeof(Neighbor));
   EXPECT_EQ(sizeof(Neighbor), 8u) << "8-byte stride: std430 does not pad scalar structs to 16";
   EXPECT_EQ(kNeighborIndexMask, (1u << kNeighborIndexBits) - 1);
@@ -113,7 +117,8 @@ TEST(Layout, BindingPointsAreDistinct) {
       kBindingOffsets,   kBindingNeighbors,  kBindingColliders,        kBindingGridPoints, kBindingGridCounts,
       kBindingGridStart, kBindingGridBlocks, kBindingGridScatter,      kBindingGridSorted, kBindingHealth,
       kBindingNormals,   kBindingTangents,   kBindingVertexTriOffsets, kBindingVertexTris, kBindingTriangles,
-      kBindingUvs,       kBindingPick};
+      kBindingUvs,       kBindingPick,       kBindingColouredSprings};
+  EXPECT_EQ(kBindingCount, std::size(bindings)) << "kBindingCount is one more than the largest binding point";
   std::vector<bool> used(64, false);
   for (uint b : bindings) {
     ASSERT_LT(b, 64u);

@@ -41,6 +41,8 @@ DRAPE_CONSTANT(uint, kBindingVertexTris, 18u);        // uint per (vertex, trian
 DRAPE_CONSTANT(uint, kBindingTriangles, 19u);         // uint, 3 per triangle
 DRAPE_CONSTANT(uint, kBindingUvs, 20u);               // vec2 per point: texture coordinates
 DRAPE_CONSTANT(uint, kBindingPick, 21u);              // PickResult
+DRAPE_CONSTANT(uint, kBindingColouredSprings, 22u);   // ColouredSpring, grouped by colour (Gauss-Seidel stretch)
+DRAPE_CONSTANT(uint, kBindingCount, 23u);             // binding points used: one more than the largest
 
 // Work-group sizes, shared so C++ computes group counts from the same numbers.
 DRAPE_CONSTANT(uint, kLocalSize, 128u);      // per-point and per-bucket kernels
@@ -89,6 +91,15 @@ DRAPE_CONSTANT(uint, kNeighborIndexMask, 0x3fffffffu);  // ... in the low bits o
 struct Neighbor {
   uint index_type;  // other point's index | SpringType (0 structural, 1 shearing, 2 bending) << kNeighborIndexBits
   float rest;       // m
+};
+
+// A spring of the Gauss-Seidel stretch pass (src/core/colouring.hpp): springs of one colour share no
+// point, so one invocation per spring can move both ends in place.
+struct ColouredSpring {
+  uint a;      // end with the smaller index
+  uint b;      // other end
+  float rest;  // m
+  uint pad0;
 };
 
 // A sphere (a = centre xyz, radius w; b.x = friction) or a plane (a = point xyz, friction w;

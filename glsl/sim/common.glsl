@@ -23,10 +23,17 @@
 layout(std430, binding = kBindingParams) readonly buffer ParamsBuffer {
   SimParams params;
 };
-layout(std430, binding = kBindingPosIn) readonly buffer PosInBuffer {
+// A kernel that updates the current state in place (limit_stretch_coloured.comp) defines STATE_IN_PLACE
+// before including this file; every other kernel only reads *In.
+#ifdef STATE_IN_PLACE
+#define STATE_IN_ACCESS
+#else
+#define STATE_IN_ACCESS readonly
+#endif
+layout(std430, binding = kBindingPosIn) STATE_IN_ACCESS buffer PosInBuffer {
   vec4 posIn[];
 };
-layout(std430, binding = kBindingDispIn) readonly buffer DispInBuffer {
+layout(std430, binding = kBindingDispIn) STATE_IN_ACCESS buffer DispInBuffer {
   vec4 dispIn[];
 };
 layout(std430, binding = kBindingPosOut) writeonly buffer PosOutBuffer {

@@ -1,6 +1,7 @@
 #include "app/bench.hpp"
 
 #include "core/stability.hpp"
+#include "cpu/cpu_solver.hpp"
 
 #include <fmt/format.h>
 
@@ -43,7 +44,7 @@ std::vector<BenchPass> timeGpuPasses(SolverFactory& factory, const Scene& scene,
 }  // namespace
 
 BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::string& scene_name, int size,
-                  const std::string& solver_name, const BenchOptions& o) {
+                  const std::string& solver_name, const BenchOptions& o, int threads) {
   const Scene scene = resampleCloth(original, size);
   BenchRun run;
   run.scene = scene_name;
@@ -58,12 +59,14 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
 
   std::unique_ptr<Solver> solver;
   try {
-    solver = factory.make(scene, solver_name);
+    solver = factory.make(scene, solver_name, false, threads);
   } catch (const SkippedRun& e) {
     run.skipped = e.what();
     return run;
   }
   const bool gpu = solver_name == "gpu";
+  if (auto* cpu = dynamic_cast<const CpuSolver<float>*>(solver.get())) run.threads = cpu->threads();
+  if (auto* cpu = dynamic_cast<const CpuSolver<double>*>(solver.get())) run.threads = cpu->threads();
   int frame = 0;
   auto sane = [&] {
     const std::string why = checkHealth(*solver);
@@ -113,7 +116,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
   run.gpu_memory_bytes = gpuMemoryBytes(*solver);
   if (!gpu) {
     if (timed_frames > 0) run.passes = passesPerFrame(*solver, timed_frames);
-    run.pass_timing = "wall clock per pass, one thread";
+    run.pass_timing = fmt::format("wall clock per pass, {} thread{}", run.threads, run.threads == 1 ? "" : "s");
   } else if (run.blew_up.empty()) {
     solver.reset();
     run.passes = timeGpuPasses(factory, scene, o.warmup, frames);
@@ -126,6 +129,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
 std::string describeRun(const BenchRun& r) {
   std::string head =
       fmt::format("{} {}x{} {}", std::filesystem::path(r.scene).stem().string(), r.size, r.size, r.solver);
+  if (r.threads > 0) head += fmt::format(" ({} thread{})", r.threads, r.threads == 1 ? "" : "s");
   if (!r.skipped.empty()) return head + ": skipped (" + r.skipped + ")";
   std::string line = head;
   if (r.frame_ms.samples > 0)
@@ -147,13 +151,16 @@ BenchReport runBench(const BenchOptions& o, const std::function<void(const std::
   for (const std::string& path : o.scenes)
     scenes.push_back(loadScene(path));  // all bad input fails first
   SolverFactory factory;
-  const std::size_t total = o.scenes.size() * o.sizes.size() * o.solvers.size();
+  std::size_t total = 0;
+  for (const std::string& solver : o.solvers)
+    total += o.scenes.size() * o.sizes.size() * (solver == "gpu" ? 1 : o.threads.size());
   for (std::size_t s = 0; s < scenes.size(); ++s)
     for (int size : o.sizes)
-      for (const std::string& solver : o.solvers) {
-        report.runs.push_back(benchOne(factory, scenes[s], o.scenes[s], size, solver, o));
-        if (progress) progress(fmt::format("[{}/{}] {}", report.runs.size(), total, describeRun(report.runs.back())));
-      }
+      for (const std::string& solver : o.solvers)
+        for (int threads : solver == "gpu" ? std::vector<int>{0} : o.threads) {
+          report.runs.push_back(benchOne(factory, scenes[s], o.scenes[s], size, solver, o, threads));
+          if (progress) progress(fmt::format("[{}/{}] {}", report.runs.size(), total, describeRun(report.runs.back())));
+        }
   if (const GlInfo* gl = factory.glInfo()) report.gl = *gl;
   report.wall_s = msSince(start) * 1e-3;
   report.load_at_end = readLoadAverage();
@@ -197,11 +204,12 @@ nlohmann::json benchJson(const BenchReport& r) {
                    {"budget_s_per_run", r.options.budget_s},
                    {"warmup_frames", r.options.warmup},
                    {"repeats", r.options.repeats},
-                   {"cpu_threads", 1}};
+                   {"cpu_threads", r.options.threads}};
   j["runs"] = nlohmann::json::array();
   for (const BenchRun& run : r.runs) {
     nlohmann::json o = {{"scene", run.scene},
                         {"solver", run.solver},
+                        {"threads", run.threads},
                         {"size", run.size},
                         {"frames_per_repeat", run.frames_per_repeat},
                         {"points", run.points},
@@ -238,7 +246,7 @@ std::string benchMarkdown(const BenchReport& r) {
                     : r.gl->renderer;
   std::string md = fmt::format(
       "Machine: {} ({} logical cores, {:.0f} GiB; load average {} at the start, {} at the end). GPU solver: {}. "
-      "CPU solver: one thread.\n"
+      "CPU solvers: threads as shown after the solver's name.\n"
       "{} warm-up frames, then {} repeats of up to {} frames (fewer where a run would take over {:g} s); ms/frame is "
       "the median over repeats [min, max].\n\n",
       r.machine.cpu_model, r.machine.logical_cores, double(r.machine.memory_bytes) / (1024.0 * 1024.0 * 1024.0),
@@ -252,6 +260,7 @@ std::string benchMarkdown(const BenchReport& r) {
     const std::string scene = std::filesystem::path(run.scene).stem().string();
     std::string solver = run.solver;
     if (run.solver == "gpu" && r.gl && r.gl->software) solver = "gpu (llvmpipe)";
+    if (run.threads > 0) solver += fmt::format(" ×{}", run.threads);
     if (!run.skipped.empty()) {
       md += fmt::format("| {} | {} | {} | {} | – | – | – | – | skipped: {} |\n", scene, run.size, solver,
                         run.steps_per_frame, run.skipped);

@@ -17,10 +17,11 @@ struct BenchOptions {
   std::vector<std::string> scenes = {"scenes/pinned2.json", "scenes/sphere.json"};
   std::vector<int> sizes = {32, 64, 128, 256};
   std::vector<std::string> solvers = {"cpu", "gpu"};
-  int frames = 5;        // timed frames per repeat, at most
-  int warmup = 2;        // frames run first and not timed (GPU: programs, caches, first dispatches)
-  int repeats = 3;       // timed repeats; median and spread are over these
-  double budget_s = 10;  // timed seconds per run: slow runs time fewer frames per repeat (at least 1)
+  std::vector<int> threads = {0};  // CPU solvers' thread counts, each a run of its own (0 = every core)
+  int frames = 5;                  // timed frames per repeat, at most
+  int warmup = 2;                  // frames run first and not timed (GPU: programs, caches, first dispatches)
+  int repeats = 3;                 // timed repeats; median and spread are over these
+  double budget_s = 10;            // timed seconds per run: slow runs time fewer frames per repeat (at least 1)
 };
 
 struct BenchPass {
@@ -32,7 +33,8 @@ struct BenchPass {
 struct BenchRun {
   std::string scene;  // file as given
   std::string solver;
-  int size = 0;  // N: the cloth is N x N
+  int threads = 0;  // CPU solvers: OpenMP threads; 0 for the GPU
+  int size = 0;     // N: the cloth is N x N
   long long points = 0;
   int steps_per_frame = 0;
   int frames_per_repeat = 0;  // after the budget
@@ -63,7 +65,7 @@ struct BenchReport {
 // progress receives one line per run as it ends (the command prints it on stderr).
 BenchReport runBench(const BenchOptions& options, const std::function<void(const std::string&)>& progress = {});
 BenchRun benchOne(SolverFactory& factory, const Scene& scene, const std::string& scene_name, int size,
-                  const std::string& solver, const BenchOptions& options);
+                  const std::string& solver, const BenchOptions& options, int threads = 0);
 
 nlohmann::json benchJson(const BenchReport& report);
 std::string benchMarkdown(const BenchReport& report);

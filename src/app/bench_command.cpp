@@ -19,6 +19,7 @@ struct BenchCommandOptions {
   std::string scenes = kDefaultScenes;
   std::string sizes = "32,64,128,256";
   std::string solvers = "cpu,gpu";
+  std::string threads = "0";
   int frames = 5;
   int warmup = 2;
   int repeats = 3;
@@ -36,6 +37,7 @@ void runBenchCommand(const BenchCommandOptions& c) {
       if (!std::filesystem::exists(path)) path = std::string(DRAPE_SOURCE_DIR) + "/" + path;
   o.sizes = parseIntList("--sizes", c.sizes, 2);
   o.solvers = parseNameList("--solver", c.solvers, kMeasuredSolvers);
+  o.threads = parseIntList("--threads", c.threads, 0);
   o.frames = c.frames;
   o.warmup = c.warmup;
   o.repeats = c.repeats;
@@ -62,6 +64,9 @@ void addBenchCommand(CLI::App& app) {
   cmd->add_option("--scenes", c->scenes, "Comma-separated scene files")->capture_default_str();
   cmd->add_option("--sizes", c->sizes, "Comma-separated cloth sizes N (N x N points)")->capture_default_str();
   cmd->add_option("--solver", c->solvers, "Comma-separated solvers: cpu, cpu-xprev, cpu64, gpu")->capture_default_str();
+  cmd->add_option("--threads", c->threads,
+                  "Comma-separated thread counts for the CPU solvers, a run each (0 = every core)")
+      ->capture_default_str();
   cmd->add_option("--frames", c->frames, "Timed frames per repeat, at most")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

@@ -24,9 +24,12 @@ SolverFactory::SolverFactory() = default;
 
 SolverFactory::~SolverFactory() = default;
 
-std::unique_ptr<Solver> SolverFactory::make(const Scene& scene, const std::string& name, bool pass_timing) {
-  if (name == "cpu" || name == "cpu64") return makeSolver(scene, name);
-  if (name == "cpu-xprev") return std::make_unique<CpuSolver<float>>(scene, VerletForm::PreviousPosition);
+std::unique_ptr<Solver> SolverFactory::make(const Scene& scene, const std::string& name, bool pass_timing,
+                                            int threads) {
+  if (name == "cpu" || name == "cpu64") return makeSolver(scene, name, false, threads);
+  if (name == "cpu-xprev")
+    return std::make_unique<CpuSolver<float>>(
+        scene, CpuSolverOptions{.form = VerletForm::PreviousPosition, .threads = threads});
   if (name != "gpu")
     throw CommandError(kExitBadInput, fmt::format("unknown solver '{}' (cpu, cpu-xprev, cpu64, gpu)", name));
   if (!gpu_unavailable_.empty()) throw SkippedRun(gpu_unavailable_);

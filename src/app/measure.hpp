@@ -48,7 +48,8 @@ class SolverFactory {
   SolverFactory& operator=(const SolverFactory&) = delete;
 
   // Throws SkippedRun when the solver cannot run here, CommandError(kExitBadInput) for an unknown name.
-  std::unique_ptr<Solver> make(const Scene& scene, const std::string& name, bool pass_timing = false);
+  // threads: the CPU solvers' OpenMP threads (0 = every core).
+  std::unique_ptr<Solver> make(const Scene& scene, const std::string& name, bool pass_timing = false, int threads = 0);
   // Set once a GPU solver was made.
   const GlInfo* glInfo() const { return gl_info_.renderer.empty() ? nullptr : &gl_info_; }
 

@@ -22,6 +22,7 @@ struct SimulateOptions {
   std::string out;
   bool verbose = false;
   bool auto_substeps = false;
+  int threads = 0;
 };
 
 void printSummary(const Scene& scene, Solver& solver, int frames, double wall_ms) {
@@ -62,7 +63,7 @@ Scene guardStability(Scene scene, bool auto_substeps) {
 
 void runSimulate(const SimulateOptions& o) {
   const Scene scene = guardStability(loadScene(o.scene), o.auto_substeps);
-  auto solver = makeSolver(scene, o.solver, o.verbose);
+  auto solver = makeSolver(scene, o.solver, o.verbose, o.threads);
   if (o.verbose) fmt::print(stderr, "{}", describePasses(*solver));
   const auto start = std::chrono::steady_clock::now();
   for (int f = 0; f < o.frames; ++f) {
@@ -91,6 +92,9 @@ void addSimulateCommand(CLI::App& app) {
       ->check(CLI::IsMember({"cpu", "cpu64", "gpu"}));
   cmd->add_option("--out", opts->out, "Write the final positions as JSON [[x,y,z],...]");
   cmd->add_flag("--verbose,-v", opts->verbose, "List the passes and dispatches per frame");
+  cmd->add_option("--threads", opts->threads,
+                  "CPU solvers' threads (default 0: every core); every count computes the same bytes")
+      ->check(CLI::Range(0, 1024));
   cmd->add_flag("--auto-substeps", opts->auto_substeps,
                 "Raise the substeps per frame to stay inside the explicit-integration bound");
   cmd->callback([opts] { runSimulate(*opts); });

@@ -31,9 +31,9 @@ std::unique_ptr<Solver> makeGpuSolver(const Scene& scene, bool verbose) {
 
 }  // namespace
 
-std::unique_ptr<Solver> makeSolver(const Scene& scene, const std::string& name, bool verbose) {
-  if (name == "cpu") return std::make_unique<CpuSolver<float>>(scene);
-  if (name == "cpu64") return std::make_unique<CpuSolver<double>>(scene);
+std::unique_ptr<Solver> makeSolver(const Scene& scene, const std::string& name, bool verbose, int threads) {
+  if (name == "cpu") return std::make_unique<CpuSolver<float>>(scene, CpuSolverOptions{.threads = threads});
+  if (name == "cpu64") return std::make_unique<CpuSolver<double>>(scene, CpuSolverOptions{.threads = threads});
   if (name == "gpu") return makeGpuSolver(scene, verbose);
   throw CommandError(kExitBadInput, fmt::format("--solver: unknown solver '{}' (cpu, cpu64, gpu)", name));
 }

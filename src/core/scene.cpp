@@ -258,6 +258,11 @@ class Node {
     return static_cast<long long>(v);
   }
 
+  std::string text() const {
+    if (!json_->is_string()) fail(std::string("expected a string, got ") + json_->type_name());
+    return json_->get<std::string>();
+  }
+
   bool boolean() const {
     if (!json_->is_boolean()) fail(std::string("expected true or false, got ") + json_->type_name());
     return json_->get<bool>();
@@ -383,9 +388,16 @@ WindSpec readWind(const Node& n) {
   return w;
 }
 
+StretchScheme readStretchScheme(const Node& n) {
+  const std::string name = n.text();
+  for (StretchScheme s : {StretchScheme::GaussSeidel, StretchScheme::Jacobi})
+    if (name == stretchSchemeName(s)) return s;
+  n.fail("unknown scheme '" + name + "' (gauss_seidel or jacobi)");
+}
+
 SimParams readSimulation(const Node& n) {
-  n.expectObject(
-      {"frames_per_sec", "steps_per_frame", "gravity", "self_collision", "stretch_passes", "stretch_limit", "wind"});
+  n.expectObject({"frames_per_sec", "steps_per_frame", "gravity", "self_collision", "stretch_passes", "stretch_limit",
+                  "stretch_scheme", "wind"});
   SimParams s;
   if (auto v = n.find("frames_per_sec")) s.frames_per_sec = positive(*v);
   if (auto v = n.find("steps_per_frame")) s.steps_per_frame = integerAtLeast(*v, 1);
@@ -393,6 +405,7 @@ SimParams readSimulation(const Node& n) {
   if (auto v = n.find("self_collision")) s.self_collision = v->boolean();
   if (auto v = n.find("stretch_passes")) s.stretch_passes = integerAtLeast(*v, 0);
   if (auto v = n.find("stretch_limit")) s.stretch_limit = atLeast(*v, 1.0);
+  if (auto v = n.find("stretch_scheme")) s.stretch_scheme = readStretchScheme(*v);
   if (auto v = n.find("wind")) s.wind = readWind(*v);
   return s;
 }

@@ -13,6 +13,10 @@ namespace drape {
 
 enum class Orientation { Horizontal = 0, Vertical = 1 };
 enum class SpringType { Structural = 0, Shearing = 1, Bending = 2 };
+enum class StretchScheme { GaussSeidel, Jacobi };
+inline const char* stretchSchemeName(StretchScheme s) {
+  return s == StretchScheme::GaussSeidel ? "gauss_seidel" : "jacobi";
+}
 inline constexpr int kSpringTypeCount = 3;
 
 struct ClothSpec {
@@ -68,6 +72,9 @@ struct SimParams {
   bool self_collision = true;          // CS184 always runs it
   int stretch_passes = 1;              // Provot stretch-limit passes per substep (0 = off)
   double stretch_limit = 1.1;          // springs are shortened to at most this times rest length
+  // How a stretch pass visits the springs: Gauss-Seidel over a colouring (each spring as CS184's sequential
+  // Provot pass does it, springs of one colour sharing no point) or the older averaged per-point Jacobi.
+  StretchScheme stretch_scheme = StretchScheme::Jacobi;
   WindSpec wind;
 
   double dt() const { return 1.0 / (frames_per_sec * steps_per_frame); }

@@ -2,8 +2,9 @@
 // as the GPU, templated on float (to compare with the GPU) and double (the accuracy reference).
 #pragma once
 
+#include "core/colouring.hpp"
 #include "core/solver.hpp"
-#include "cpu/hash_grid.hpp"
+#include "cpu/collision_pairs.hpp"
 #include "cpu/physics.hpp"
 
 #include <chrono>
@@ -15,12 +16,24 @@ namespace drape {
 // x_prev itself (CS184's form, kept to measure the round-off it costs).
 enum class VerletForm { Displacement, PreviousPosition };
 
+struct CpuSolverOptions {
+  VerletForm form = VerletForm::Displacement;
+  int threads = 0;  // OpenMP threads for the per-point loops; 0 = every core. Any count gives the same bytes.
+  // Self-collision list skin, as a fraction of the collision range 2*thickness (measured in the bench:
+  // see kDefaultPairMargin); 0 rebuilds the candidate list every substep.
+  double pair_margin = -1.0;  // < 0: kDefaultPairMargin
+};
+
+// Skin of the self-collision candidate list, in units of the range 2*thickness.
+inline constexpr double kDefaultPairMargin = 0.5;
+
 template <class T>
 class CpuSolver final : public Solver {
  public:
   using vec3 = glm::vec<3, T>;
 
-  explicit CpuSolver(Scene scene, VerletForm form = VerletForm::Displacement);
+  explicit CpuSolver(Scene scene, CpuSolverOptions options = {});
+  CpuSolver(Scene scene, VerletForm form) : CpuSolver(std::move(scene), CpuSolverOptions{.form = form}) {}
 
   std::string name() const override;
   const Scene& scene() const override { return scene_; }
@@ -30,9 +43,9 @@ class CpuSolver final : public Solver {
   void step() override;
   void accumulateForces();  // gravity + springs + wind -> forces_
   void integrate();         // Verlet, pinned points stay
-  void selfCollide();       // hash grid, Jacobi, averaged, / steps_per_frame
+  void selfCollide();       // candidate lists, Jacobi, averaged, / steps_per_frame
   void collide();           // each sphere, then each plane
-  void limitStretch();      // Provot, sim.stretch_passes Jacobi passes
+  void limitStretch();      // Provot, sim.stretch_passes passes (Gauss-Seidel over colours, or Jacobi)
 
   void reset() override;
   void setParams(const ClothSpec& cloth, const SimParams& sim) override;
@@ -49,6 +62,8 @@ class CpuSolver final : public Solver {
   const std::vector<vec3>& forces() const { return f_; }
   void setState(const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& v);
   T mass() const { return mass_; }
+  int threads() const { return threads_; }
+  const CollisionPairs<T>& collisionPairs() const { return pairs_; }
 
  private:
   struct Stiffness {
@@ -56,6 +71,8 @@ class CpuSolver final : public Solver {
   };
   void refreshDerived();
   void applyCorrections();  // x += c, and v += c so that x_prev stays put
+  void limitStretchColoured();
+  void limitStretchJacobi();
   vec3 pointNormal(int i) const;
   bool needsPass(int pass) const;
   template <class F>
@@ -64,9 +81,13 @@ class CpuSolver final : public Solver {
   Scene scene_;
   Topology topo_;
   VerletForm form_;
+  int threads_ = 1;
+  double pair_margin_ = kDefaultPairMargin;
   std::vector<vec3> x_, v_, f_, correction_;
-  std::vector<T> rest_;  // per adjacency entry, in T
-  HashGrid<T> grid_;
+  std::vector<T> rest_;                    // per spring, in T
+  std::vector<vec3> spring_a_, spring_b_;  // per spring: force or correction on its end a, on its end b
+  CollisionPairs<T> pairs_;
+  SpringColouring colouring_;
   T mass_ = 0, dt_ = 0, keep_ = 1;
   Stiffness stiffness_{};
   long long substeps_ = 0;

@@ -14,7 +14,8 @@ void HashGrid<T>::build(const std::vector<vec3>& points, T cell_size) {
   cells_.resize(n);
   start_.assign(std::size_t(buckets) + 1, 0);
   sorted_.resize(n);
-  std::vector<std::uint32_t> bucket(n);
+  std::vector<std::uint32_t>& bucket = bucket_;
+  bucket.resize(n);
   const T inv_cell_size = T(1) / cell_size;
   for (std::size_t i = 0; i < n; ++i) {
     cells_[i] = cellOf(points[i], inv_cell_size);
@@ -24,9 +25,9 @@ void HashGrid<T>::build(const std::vector<vec3>& points, T cell_size) {
   for (std::uint32_t b = 0; b < buckets; ++b)
     start_[b + 1] += start_[b];
   // Counting sort, stable: within a bucket, points keep ascending index (the GPU builds the same).
-  std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
+  fill_.assign(start_.begin(), start_.end() - 1);
   for (std::size_t i = 0; i < n; ++i)
-    sorted_[fill[bucket[i]]++] = std::uint32_t(i);
+    sorted_[fill_[bucket[i]]++] = std::uint32_t(i);
 }
 
 template class HashGrid<float>;

@@ -7,6 +7,7 @@
 
 #include "cpu/physics.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -36,16 +37,43 @@ class HashGrid {
         }
   }
 
+  // Calls f(j) once for every pair {i, j} whose cells are within one cell of each other, over all i:
+  // j > i in i's own cell, and every point of the 13 cells that come after i's cell in (z, y, x)
+  // order. Half the lookups of forEachCandidate, for callers that record both ends of a pair.
+  template <class F>
+  void forEachForwardCandidate(std::size_t i, F&& f) const {
+    const glm::ivec3 c = cells_[i];
+    for (int k = 13; k < 27; ++k) {
+      const glm::ivec3 n = c + glm::ivec3(k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1);
+      const std::uint32_t b = physics::hashCell(n) & mask_;
+      for (std::uint32_t s = start_[b]; s < start_[b + 1]; ++s) {
+        const std::uint32_t j = sorted_[s];
+        if (cells_[j] == n && (k > 13 || j > i)) f(j);
+      }
+    }
+  }
+
   // A point's cell, from the reciprocal of the cell edge rounded once on the host. A product is
   // correctly rounded on every GPU while GLSL lets a division be off by 2.5 ulp (NVIDIA's is), so
   // multiplying is what keeps CPU and GPU cells identical at cell borders.
-  static glm::ivec3 cellOf(vec3 p, T inv_cell_size) { return glm::ivec3(glm::floor(p * inv_cell_size)); }
+  // Coordinates are clamped to +-2^30 cells (a NaN goes to cell 0) before the conversion: converting
+  // a non-finite or out-of-range float to int is undefined, and a blown-up cloth reaches this before
+  // the frame's health check. Neighbouring cells (+-1) then still fit an int.
+  static glm::ivec3 cellOf(vec3 p, T inv_cell_size) {
+    const vec3 q = glm::floor(p * inv_cell_size);
+    return {clampCell(q.x), clampCell(q.y), clampCell(q.z)};
+  }
+  static int clampCell(T q) {
+    constexpr T kLimit = T(1 << 30);
+    return q != q ? 0 : int(std::min(std::max(q, -kLimit), kLimit));
+  }
   std::size_t bucketCount() const { return start_.empty() ? 0 : start_.size() - 1; }
 
  private:
   std::vector<glm::ivec3> cells_;
-  std::vector<std::uint32_t> start_;   // bucketCount + 1 prefix sums
-  std::vector<std::uint32_t> sorted_;  // point indices grouped by bucket
+  std::vector<std::uint32_t> start_;          // bucketCount + 1 prefix sums
+  std::vector<std::uint32_t> sorted_;         // point indices grouped by bucket
+  std::vector<std::uint32_t> bucket_, fill_;  // build's scratch, kept to spare the allocations
   std::uint32_t mask_ = 0;
 };
 

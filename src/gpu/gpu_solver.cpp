@@ -53,6 +53,7 @@ GpuSolver::GpuSolver(Scene scene, GpuSolverOptions options, gl::HeadlessContext 
   // springs on the CPU first.
   checkLimits();
   topo_ = buildTopology(scene_.cloth);
+  colouring_ = colourSprings(topo_);
   try {
     allocate();
   } catch (const gl::GlError& e) {
@@ -91,6 +92,7 @@ void GpuSolver::checkLimits() const {
   const Need needs[] = {
       {"positions", n * sizeof(glm::vec4)},
       {"spring adjacency", 2 * springs * sizeof(gpu::Neighbor)},
+      {"coloured springs", springs * sizeof(gpu::ColouredSpring)},
       {"hash-grid points", scene_.sim.self_collision ? n * sizeof(gpu::GridPoint) : 0},
       {"hash-grid buckets", scene_.sim.self_collision ? (buckets + 1) * sizeof(std::uint32_t) : 0},
   };
@@ -103,8 +105,8 @@ void GpuSolver::checkLimits() const {
   static_assert(kMaxClothPoints <= gpu::kNeighborIndexMask + 1LL, "point indices must fit Neighbor::index_type");
   GLint bindings = 0;
   glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &bindings);
-  if (bindings <= GLint(gpu::kBindingPick))
-    throw GpuLimitError("gpu solver: needs " + std::to_string(gpu::kBindingPick + 1) +
+  if (bindings < GLint(gpu::kBindingCount))
+    throw GpuLimitError("gpu solver: needs " + std::to_string(gpu::kBindingCount) +
                         " shader storage binding points, this GPU has " + std::to_string(bindings) +
                         " (GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS)");
   GLint max_y = 0;
@@ -236,6 +238,18 @@ void GpuSolver::uploadAdjacency() {
   }
   offsets_ = gl::Buffer::fromVector(offsets, 0);
   neighbors_ = gl::Buffer::fromVector(neighbors, 0);
+  // The Gauss-Seidel stretch pass: the enabled springs in colour order, and where each colour starts.
+  std::vector<gpu::ColouredSpring> coloured;
+  coloured.reserve(topo_.springs.size());
+  colour_start_.assign(1, 0);
+  for (int c = 0; c < colouring_.colourCount(); ++c) {
+    for (std::uint32_t k = colouring_.start[std::size_t(c)]; k < colouring_.start[std::size_t(c) + 1]; ++k) {
+      const Spring& s = topo_.springs[colouring_.springs[k]];
+      if (enabled_springs_[int(s.type)]) coloured.push_back({s.a, s.b, float(s.rest), 0u});
+    }
+    colour_start_.push_back(std::uint32_t(coloured.size()));
+  }
+  coloured_springs_ = gl::Buffer::fromVector(coloured, 0);
 }
 
 gl::Defines GpuSolver::sceneDefines() const {
@@ -251,6 +265,7 @@ void GpuSolver::compilePrograms() {
   defines_ = sceneDefines();
   programs_.forces_integrate = gl::compileCompute("sim/forces_integrate.comp", defines_);
   programs_.limit_stretch = gl::compileCompute("sim/limit_stretch.comp", defines_);
+  programs_.limit_stretch_coloured = gl::compileCompute("sim/limit_stretch_coloured.comp", defines_);
   if (scene_.sim.self_collision) {
     programs_.grid_count = gl::compileCompute("sim/grid_count.comp", defines_);
     if (gridInOneGroup()) {

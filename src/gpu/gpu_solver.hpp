@@ -10,11 +10,14 @@
 //                                               work group, up to 4096 buckets; beyond that 5 dispatches:
 //                                               grid_scan grid_scan_blocks grid_scan_offsets grid_scatter grid_rank
 //   self_collide[+collide]                      Jacobi self-collision, then the point's collisions
-//   limit_stretch                               once per stretch pass
+//   limit_stretch_colour                        Gauss-Seidel stretch scheme: one dispatch per spring colour
+//                                               and stretch pass, each moving both ends of its springs in place
+//   limit_stretch                               Jacobi stretch scheme: once per stretch pass
 // Every pass that reads other points' positions reads one copy of the state and writes the other
 // (Jacobi / ping-pong), so no invocation sees a neighbour's half-finished update.
 #pragma once
 
+#include "core/colouring.hpp"
 #include "core/solver.hpp"
 #include "gl/context.hpp"
 #include "gl/objects.hpp"
@@ -128,6 +131,7 @@ class GpuSolver final : public Solver {
     kGridRank,
     kSelfCollide,
     kLimitStretch,
+    kLimitStretchColoured,
     kNormals,
     kPick,
     kPassCount
@@ -138,7 +142,7 @@ class GpuSolver final : public Solver {
   };
   struct Programs {
     gl::Program forces_integrate, grid_count, grid_build, grid_scan[3], grid_scatter, grid_rank, self_collide;
-    gl::Program limit_stretch;
+    gl::Program limit_stretch, limit_stretch_coloured;
     gl::Program normals, pick[2];  // compiled on first use
   };
   struct PendingQuery {
@@ -182,6 +186,9 @@ class GpuSolver final : public Solver {
   StateBuffers state_[2];
   int current_ = 0;
   gl::Buffer params_, offsets_, neighbors_, colliders_, health_;
+  SpringColouring colouring_;
+  gl::Buffer coloured_springs_;              // ColouredSpring, enabled springs in colour order
+  std::vector<std::uint32_t> colour_start_;  // colour c is coloured_springs_[colour_start_[c] .. [c+1])
   gl::Buffer grid_points_, grid_counts_, grid_start_, grid_blocks_, grid_scatter_, grid_sorted_;
   gl::Buffer normals_, tangents_, vertex_tri_offsets_, vertex_tris_, triangles_, uvs_, pick_;
   Programs programs_;

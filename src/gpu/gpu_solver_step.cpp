@@ -42,9 +42,26 @@ void GpuSolver::selfCollide() {
 }
 
 void GpuSolver::limitStretch() {
-  if (scene_.sim.stretch_passes > 0) bindShared();
+  if (scene_.sim.stretch_passes == 0) return;
+  bindShared();
+  if (scene_.sim.stretch_scheme == StretchScheme::Jacobi) {
+    for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass)
+      dispatchPingPong(kLimitStretch, programs_.limit_stretch);
+    return;
+  }
+  // In place on the current state: the springs of one colour share no point, and the storage barrier
+  // after each dispatch lets the next colour see the moved points (CpuSolver::limitStretchColoured).
+  bindState(current_, 1 - current_);
+  coloured_springs_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColouredSprings);
+  const gl::Program& program = programs_.limit_stretch_coloured;
   for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass)
-    dispatchPingPong(kLimitStretch, programs_.limit_stretch);
+    for (std::size_t c = 0; c + 1 < colour_start_.size(); ++c) {
+      const std::uint32_t count = colour_start_[c + 1] - colour_start_[c];
+      if (count == 0) continue;
+      program.setUniform("u_first", colour_start_[c]);
+      program.setUniform("u_count", count);
+      dispatch(kLimitStretchColoured, program, groupsFor(count, gpu::kLocalSize));
+    }
 }
 
 std::vector<std::string> GpuSolver::passes() const {
@@ -58,8 +75,14 @@ std::vector<std::string> GpuSolver::passes() const {
     }
     out.push_back(passName(kSelfCollide));
   }
-  for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass)
-    out.push_back(passName(kLimitStretch));
+  for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass) {
+    if (scene_.sim.stretch_scheme == StretchScheme::Jacobi) {
+      out.push_back(passName(kLimitStretch));
+      continue;
+    }
+    for (std::size_t c = 0; c + 1 < colour_start_.size(); ++c)
+      if (colour_start_[c + 1] > colour_start_[c]) out.push_back(passName(kLimitStretchColoured));
+  }
   return out;
 }
 
@@ -92,6 +115,8 @@ std::string GpuSolver::passName(PassId pass) const {
       return colliders ? "self_collide+collide" : "self_collide";
     case kLimitStretch:
       return "limit_stretch";
+    case kLimitStretchColoured:
+      return "limit_stretch_colour";
     case kNormals:
       return "normals";
     case kPick:

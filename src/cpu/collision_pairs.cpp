@@ -1,0 +1,99 @@
+#include "cpu/collision_pairs.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <limits>
+
+namespace drape {
+
+template <class T>
+void CollisionPairs<T>::configure(T range, T margin) {
+  if (range != range_ || margin != margin_) built_ = false;
+  range_ = range;
+  margin_ = margin;
+}
+
+template <class T>
+T CollisionPairs<T>::safeTravel(T margin, T extent) {
+  // Each computed distance is off by at most a few ulps of the coordinates it came from; 16 ulps of
+  // the largest coordinate covers the differences, dot products and square roots of the argument.
+  return T(0.5) * margin - T(16) * std::numeric_limits<T>::epsilon() * extent;
+}
+
+template <class T>
+bool CollisionPairs<T>::update(const std::vector<vec3>& x, int threads) {
+  if (built_ && anchor_.size() == x.size() && !stale(x, threads)) return false;
+  build(x, threads);
+  return true;
+}
+
+template <class T>
+bool CollisionPairs<T>::stale(const std::vector<vec3>& x, int threads) const {
+  if (travel_ <= T(0)) return true;
+  const T limit2 = travel_ * travel_;
+  const long long n = (long long)x.size();
+  bool moved = false;
+  // `!(d2 <= limit2)` so that a non-finite position also counts as moved.
+#pragma omp parallel for schedule(static) num_threads(threads) reduction(|| : moved)
+  for (long long i = 0; i < n; ++i) {
+    const vec3 d = x[std::size_t(i)] - anchor_[std::size_t(i)];
+    moved = moved || !(glm::dot(d, d) <= limit2);
+  }
+  return moved;
+}
+
+template <class T>
+void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
+  const T reach = range_ + margin_;
+  const T reach2 = reach * reach;
+  grid_.build(x, reach);  // cells at least as large as the reach, so neighbouring cells hold every candidate
+  const std::size_t n = x.size();
+  // Each pair once (half the cell lookups), found in parallel; the lists made from them are sorted, so
+  // they do not depend on how the points were split between threads.
+  found_.resize(std::size_t(threads));
+  const long long count = (long long)n;
+#pragma omp parallel num_threads(threads)
+  {
+    std::vector<Pair>& mine = found_[std::size_t(omp_get_thread_num())];
+    mine.clear();
+#pragma omp for schedule(static)
+    for (long long p = 0; p < count; ++p) {
+      const std::size_t i = std::size_t(p);
+      grid_.forEachForwardCandidate(i, [&](std::uint32_t j) {
+        const vec3 d = x[i] - x[j];
+        if (glm::dot(d, d) < reach2) mine.push_back({std::uint32_t(i), j});
+      });
+    }
+  }
+  start_.assign(n + 1, 0);
+  for (const std::vector<Pair>& part : found_)
+    for (const Pair& pair : part) {
+      ++start_[pair.i + 1];
+      ++start_[pair.j + 1];
+    }
+  for (std::size_t i = 0; i < n; ++i)
+    start_[i + 1] += start_[i];
+  list_.resize(start_[n]);
+  fill_.assign(start_.begin(), start_.end() - 1);
+  for (const std::vector<Pair>& part : found_)
+    for (const Pair& pair : part) {
+      list_[fill_[pair.i]++] = pair.j;
+      list_[fill_[pair.j]++] = pair.i;
+    }
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (long long p = 0; p < count; ++p)
+    std::sort(list_.data() + start_[std::size_t(p)], list_.data() + start_[std::size_t(p) + 1]);
+  anchor_ = x;
+  T extent = reach;
+  for (const vec3& p : x)
+    extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  travel_ = safeTravel(margin_, extent + margin_);
+  built_ = true;
+  ++rebuilds_;
+}
+
+template class CollisionPairs<float>;
+template class CollisionPairs<double>;
+
+}  // namespace drape

@@ -1,0 +1,199 @@
+// Self-collision by candidate lists (src/cpu/collision_pairs.hpp): every pair in range is listed at
+// every substep, whenever the list was built, and the sum visits the pairs in the order of the 27-cell
+// grid query it replaced, so the bytes are those of the grid query.
+#include "cpu/collision_pairs.hpp"
+#include "core/colouring.hpp"
+#include "core/scene.hpp"
+#include "cpu/cpu_solver.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <set>
+
+namespace drape {
+namespace {
+
+using vec3 = glm::vec3;
+
+Scene cs184Scene(const std::string& name) {
+  Scene scene = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name);
+  scene.sim.self_collision = true;  // as CS184 runs every scene
+  return scene;
+}
+
+// The grid query the lists replaced: all 27 cells of a grid of cell size 2*thickness, cells in z, y, x
+// order, ascending index within a cell. Its sum is the reference the lists must reproduce bit for bit.
+vec3 gridQueryCorrection(const HashGrid<float>& grid, const std::vector<vec3>& x, std::size_t i, float thickness,
+                         float steps) {
+  vec3 sum(0);
+  int count = 0;
+  grid.forEachCandidate(i, [&](std::uint32_t j) {
+    const vec3 c = physics::selfCollisionCorrection(x[i], x[j], thickness);
+    if (c != vec3(0)) {
+      sum += c;
+      ++count;
+    }
+  });
+  return count > 0 ? sum / (float(count) * steps) : vec3(0);
+}
+
+vec3 listCorrection(const CollisionPairs<float>& pairs, const std::vector<vec3>& x, std::size_t i, float thickness,
+                    float steps) {
+  vec3 sum(0);
+  int count = 0;
+  forEachOrderedPair(pairs, i, x, thickness, 1.0f / (2.0f * thickness), [&](vec3 c) {
+    sum += c;
+    ++count;
+  });
+  return count > 0 ? sum / (float(count) * steps) : vec3(0);
+}
+
+bool sameBits(vec3 a, vec3 b) {
+  return std::memcmp(&a, &b, sizeof(vec3)) == 0;
+}
+
+struct PairCase {
+  const char* name;
+  const char* scene;
+  double margin;  // in units of 2*thickness
+  int frames;
+};
+
+class CollisionPairsCase : public ::testing::TestWithParam<PairCase> {};
+
+// Every substep of a falling, folding and crumpling cloth: the pairs in range are all listed (checked
+// against brute force over all pairs), and each point's correction equals the grid query's, bit for bit.
+TEST_P(CollisionPairsCase, ListsEveryPairInRangeAndSumsInTheGridOrder) {
+  const PairCase pc = GetParam();
+  const Scene scene = cs184Scene(pc.scene);
+  CpuSolver<float> solver(scene, CpuSolverOptions{.threads = 1, .pair_margin = pc.margin});
+  const float thickness = float(scene.cloth.thickness);
+  const float range = 2.0f * thickness;
+  const float steps = float(scene.sim.steps_per_frame);
+  CollisionPairs<float> pairs;
+  pairs.configure(range, range * float(pc.margin));
+  HashGrid<float> grid;
+  long long checked = 0, before_rebuild = 0, pairs_in_range = 0;
+  bool previous_checked_without_rebuild = false;
+  for (int s = 0; s < pc.frames * scene.sim.steps_per_frame; ++s) {
+    solver.accumulateForces();
+    solver.integrate();
+    const std::vector<vec3>& x = solver.positions();
+    const bool rebuilt = pairs.update(x, 1);
+    // The substep before this one used a list that was about to be rebuilt: the oldest a list gets.
+    if (rebuilt && previous_checked_without_rebuild) ++before_rebuild;
+    previous_checked_without_rebuild = !rebuilt;
+    grid.build(x, range);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const std::set<std::uint32_t> listed(pairs.begin(i), pairs.end(i));
+      for (std::size_t j = 0; j < x.size(); ++j) {
+        if (j == i || physics::selfCollisionCorrection(x[i], x[j], thickness) == vec3(0)) continue;
+        ++pairs_in_range;
+        ASSERT_TRUE(listed.count(std::uint32_t(j))) << "substep " << s << ": pair " << i << "-" << j << " in range "
+                                                    << "but not listed (list built " << pairs.rebuilds() << " times)";
+      }
+      const vec3 expected = gridQueryCorrection(grid, x, i, thickness, steps);
+      const vec3 got = listCorrection(pairs, x, i, thickness, steps);
+      ASSERT_TRUE(sameBits(expected, got)) << "substep " << s << ", point " << i;
+    }
+    ++checked;
+    solver.selfCollide();
+    solver.collide();
+    solver.limitStretch();
+  }
+  EXPECT_GT(pairs_in_range, 0) << "the case must bring points into range";
+  EXPECT_GT(before_rebuild, 0) << "the case must check lists just before their rebuild";
+  EXPECT_LT(pairs.rebuilds(), checked) << "the lists must outlive a substep";
+  std::printf("[ %s ] %lld substeps, %lld rebuilds, %lld pairs in range\n", pc.name, checked, pairs.rebuilds(),
+              pairs_in_range);
+}
+
+// selfCollision folds and crumples on the plane; sphere drapes and slides; pinned2 swings with its
+// halves folding towards each other; margin 0 rebuilds every substep.
+INSTANTIATE_TEST_SUITE_P(Cloths, CollisionPairsCase,
+                         ::testing::Values(PairCase{"crumpling", "selfCollision.json", kDefaultPairMargin, 40},
+                                           PairCase{"draped", "sphere.json", kDefaultPairMargin, 20},
+                                           PairCase{"swinging", "pinned2.json", kDefaultPairMargin, 12},
+                                           PairCase{"thin_margin", "selfCollision.json", 0.1, 40}),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(CollisionPairs, MarginZeroRebuildsEverySubstep) {
+  CollisionPairs<float> pairs;
+  pairs.configure(0.02f, 0.0f);
+  std::vector<vec3> x = {{0, 0, 0}, {0.01f, 0, 0}};
+  EXPECT_TRUE(pairs.update(x, 1));
+  EXPECT_TRUE(pairs.update(x, 1)) << "no skin: nothing may be reused";
+}
+
+TEST(CollisionPairs, ReusesTheListUntilAPointTravelsHalfTheMargin) {
+  CollisionPairs<float> pairs;
+  pairs.configure(0.02f, 0.01f);
+  std::vector<vec3> x = {{0, 0, 0}, {0.025f, 0, 0}, {1, 0, 0}};
+  ASSERT_TRUE(pairs.update(x, 1));
+  EXPECT_EQ(pairs.pairCount(), 2u) << "0 and 1 are within range + margin (0.03), 2 is not";
+  x[1].x = 0.029f;  // 4 mm: under half the margin
+  EXPECT_FALSE(pairs.update(x, 1));
+  x[2].x = 1.0051f;  // 5.1 mm: over half the margin
+  EXPECT_TRUE(pairs.update(x, 1));
+  x[0].x = std::numeric_limits<float>::quiet_NaN();  // a blown-up point forces a rebuild
+  EXPECT_TRUE(pairs.update(x, 1));
+}
+
+TEST(CollisionPairs, CellOrderFollowsTheQueryAndDropsCellsOutsideIt) {
+  EXPECT_EQ(cellOrder({5, 5, 5}, {4, 4, 4}), 0);
+  EXPECT_EQ(cellOrder({5, 5, 5}, {5, 5, 5}), 13);
+  EXPECT_EQ(cellOrder({5, 5, 5}, {6, 5, 5}), 14);
+  EXPECT_EQ(cellOrder({5, 5, 5}, {5, 6, 5}), 16);
+  EXPECT_EQ(cellOrder({5, 5, 5}, {6, 6, 6}), 26);
+  EXPECT_EQ(cellOrder({5, 5, 5}, {7, 5, 5}), -1);
+}
+
+TEST(HashGridCells, NonFiniteAndHugeCoordinatesStayInsideInt) {
+  const float inf = std::numeric_limits<float>::infinity();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(HashGrid<float>::cellOf({nan, inf, -inf}, 50.0f), glm::ivec3(0, 1 << 30, -(1 << 30)));
+  EXPECT_EQ(HashGrid<float>::cellOf({3e38f, -3e38f, 0.0f}, 50.0f), glm::ivec3(1 << 30, -(1 << 30), 0));
+}
+
+// Threads share the per-point loops; each point's arithmetic is the same whoever runs it.
+TEST(CpuSolverThreads, OneAndTwoThreadsComputeTheSameBytes) {
+  for (const char* name : {"selfCollision.json", "sphere.json", "wind.json"}) {
+    const Scene scene = cs184Scene(name);
+    CpuSolver<float> one(scene, CpuSolverOptions{.threads = 1});
+    CpuSolver<float> two(scene, CpuSolverOptions{.threads = 2});
+    for (int f = 0; f < 30; ++f) {
+      one.stepFrame();
+      two.stepFrame();
+    }
+    ASSERT_EQ(one.positions().size(), two.positions().size());
+    EXPECT_EQ(std::memcmp(one.positions().data(), two.positions().data(), one.positions().size() * sizeof(vec3)), 0)
+        << name;
+    EXPECT_EQ(
+        std::memcmp(one.displacements().data(), two.displacements().data(), one.positions().size() * sizeof(vec3)), 0)
+        << name;
+  }
+}
+
+TEST(SpringColouring, SpringsOfAColourShareNoPointAndAGridTakesSixteen) {
+  Scene scene = cs184Scene("pinned2.json");
+  const Topology topo = buildTopology(scene.cloth);
+  const SpringColouring colouring = colourSprings(topo);
+  EXPECT_EQ(colouring.colourCount(), 16);
+  ASSERT_EQ(colouring.springs.size(), topo.springs.size());
+  std::vector<int> seen(topo.springs.size(), 0);
+  for (int c = 0; c < colouring.colourCount(); ++c) {
+    std::set<std::uint32_t> points;
+    for (std::uint32_t k = colouring.start[std::size_t(c)]; k < colouring.start[std::size_t(c) + 1]; ++k) {
+      const Spring& s = topo.springs[colouring.springs[k]];
+      EXPECT_TRUE(points.insert(s.a).second) << "colour " << c << " touches point " << s.a << " twice";
+      EXPECT_TRUE(points.insert(s.b).second) << "colour " << c << " touches point " << s.b << " twice";
+      ++seen[colouring.springs[k]];
+    }
+  }
+  EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int n) { return n == 1; })) << "each spring exactly once";
+}
+
+}  // namespace
+}  // namespace drape
