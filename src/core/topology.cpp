@@ -56,7 +56,6 @@ Topology buildTopology(const ClothSpec& cloth) {
   topo.H = cloth.num_height_points;
   const int W = topo.W, H = topo.H;
   const double dx = cloth.width / (W - 1), dy = cloth.height / (H - 1);
-  topo.mass = cloth.width * cloth.height * cloth.density / double(W * H);
 
   topo.initial_positions.resize(std::size_t(W) * H);
   topo.uvs.resize(std::size_t(W) * H);
