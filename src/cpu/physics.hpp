@@ -160,11 +160,4 @@ vec3<T> gridNormal(vec3<T> left, vec3<T> right, vec3<T> down, vec3<T> up) {
   return len > T(0) ? n / len : vec3<T>(0);
 }
 
-// Explicit-integration bound: Verlet on a spring of stiffness k and mass m is stable for
-// dt*sqrt(k/m) < 2; with the per-vertex stiffness sum as k this is a conservative estimate.
-template <class T>
-T stabilityNumber(T dt, T stiffness_sum, T mass) {
-  return dt * std::sqrt(stiffness_sum / mass);
-}
-
 }  // namespace drape::physics
