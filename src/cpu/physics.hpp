@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -86,8 +87,11 @@ bool collidePlane(vec3<T> x, vec3<T> v, vec3<T> p, vec3<T> n, T friction, vec3<T
   bool crossed = prev_above ? dx <= T(0) : dx >= T(0);
   if (!crossed) return false;
   // x(s) = x_prev + s v meets the plane at 1 - s = dx / vn, so target - x = -(dx / vn) v; a point
-  // moving along the plane (vn = 0) is on it and goes straight to the offset.
-  vec3<T> target_minus_x = vn != T(0) ? (-dx / vn) * v : -dx * n;
+  // moving along the plane (vn = 0) is on it and goes straight to the offset. The band lets the
+  // line meet the plane outside the step (x_prev up to kPlaneEpsilon below it, moving up too slowly
+  // to reach it, or down): there |dx / vn| would throw the point far along v. Clamped to the step's
+  // segment, s in [0, 1], it goes to x or back to x_prev, then gets the offset.
+  vec3<T> target_minus_x = vn != T(0) ? -std::clamp(dx / vn, T(0), T(1)) * v : -dx * n;
   target_minus_x += ((prev_above ? T(1) : T(-1)) * T(kSurfaceOffset)) * n;
   c = frictionCorrection(target_minus_x, v, friction);
   return true;
