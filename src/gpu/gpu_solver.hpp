@@ -114,6 +114,8 @@ class GpuSolver final : public Solver {
   void clearHealth();
 
   std::size_t gpuMemoryBytes() const;  // all buffers this solver allocated
+  // The #defines the scene's kernels were compiled with (NUM_SPHERES, NUM_PLANES, SELF_COLLISION, WIND).
+  const gl::Defines& defines() const { return defines_; }
   const gl::ContextInfo& contextInfo() const { return context_info_; }
 
  private:
