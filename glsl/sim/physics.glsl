@@ -1,6 +1,6 @@
 // The physics of one spring, one collision, one stretch limit: the same pure functions, by the same
 // names and with the same operations in the same order, as src/cpu/physics.hpp. Keep the two side
-// by side when changing either. Model: DESIGN.md section 2.
+// by side when changing either. The model: docs/design.md.
 //
 // Every result is `precise`: without it the compiler may contract a*b + c into one fused multiply-add
 // (rounded once, where the CPU rounds twice) or reassociate sums, and the GPU would drift from the CPU

@@ -72,7 +72,7 @@ Topology buildTopology(const ClothSpec& cloth) {
   for (glm::ivec2 p : cloth.pinned)
     topo.pinned[std::size_t(p.y) * W + p.x] = 1;
 
-  // Structural, then shearing, then bending (DESIGN section 2 counts).
+  // Structural, then shearing, then bending (counts in docs/design.md section 2).
   addSprings(topo, SpringType::Structural, 1, 0);
   addSprings(topo, SpringType::Structural, 0, 1);
   addSprings(topo, SpringType::Shearing, 1, 1);

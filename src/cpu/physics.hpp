@@ -1,6 +1,6 @@
 // The physics of one spring, one collision, one stretch limit: pure functions of values that return
 // forces or position corrections. glsl/sim/physics.glsl implements the same functions under the same
-// names; keep the two side by side when changing either. Model: ../shared/DESIGN.md section 2.
+// names; keep the two side by side when changing either. The model: docs/design.md.
 #pragma once
 
 #include "core/hash.hpp"

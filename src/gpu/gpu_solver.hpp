@@ -1,4 +1,4 @@
-// GPU solver: the passes of DESIGN section 2 as OpenGL 4.5 compute kernels over SSBOs
+// GPU solver: the passes of docs/design.md section 2 as OpenGL 4.5 compute kernels over SSBOs
 // (glsl/sim/*.comp), compiled per scene with #defines, fused where the data flow allows, and
 // consistent with CpuSolver<float> (tests/gpu_*_gl_test.cpp). Needs a current GL 4.5 context.
 //
