@@ -9,9 +9,9 @@
 # variant is checked again only when one of its files changes.
 #
 # Variants: glsl/<dir>/variants.txt, one variant per line, "<file>: NAME=VALUE NAME ...", e.g.
-#   forces.comp: NUM_SPHERES=1 NUM_PLANES=1 SELF_COLLISION=1
-#   forces.comp: NUM_SPHERES=0 NUM_PLANES=0
-#   forces.comp:
+#   forces_integrate.comp: NUM_SPHERES=1 NUM_PLANES=1 SELF_COLLISION=1
+#   forces_integrate.comp: NUM_SPHERES=0 NUM_PLANES=0
+#   forces_integrate.comp:
 # A bare NAME defines it empty (fine for #ifdef, an error for #if); an empty list means no defines. '#' starts a comment line. A shader with no line is checked once with
 # no defines. List enough variants that every #if branch compiles at least once.
 

@@ -4,6 +4,7 @@
 #include "app/accuracy.hpp"
 #include "app/commands.hpp"
 #include "app/stability_cases.hpp"
+#include "core/derived.hpp"
 #include "core/stability.hpp"
 
 #include <gtest/gtest.h>
@@ -33,7 +34,7 @@ TEST(Resample, KeepsSizeMassAndCornerPins) {
     EXPECT_EQ(s.cloth.width, scene.cloth.width);
     EXPECT_EQ(s.cloth.height, scene.cloth.height);
     EXPECT_EQ(s.cloth.density, scene.cloth.density);
-    EXPECT_NEAR(pointMass(s.cloth) * n * n, pointMass(scene.cloth) * scene.cloth.pointCount(), 1e-9);
+    EXPECT_NEAR(derived::pointMass(s.cloth) * n * n, derived::pointMass(scene.cloth) * scene.cloth.pointCount(), 1e-9);
     const std::set<std::pair<int, int>> pins = [&] {
       std::set<std::pair<int, int>> out;
       for (glm::ivec2 p : s.cloth.pinned)

@@ -142,4 +142,24 @@ TEST(Cli, SummaryReportsTheColliders) {
   EXPECT_NE(r.out.find("cpu64"), std::string::npos) << r.out;
 }
 
+// ks = 1e7 N/m at one substep per frame: dt sqrt(k_sum / m) = (1/90) sqrt(8.8e7 / 2.34) = 68, far
+// beyond the stability bound of about 1.4. Pinned at a corner, so the springs stretch from the first
+// step. The run must stop with status 4 and one line, and write no output; the same scene with
+// --auto-substeps runs inside the bound and succeeds, so the failure is the blow-up and not the file.
+TEST(Cli, ABlowUpExitsWithStatusFourAndWritesNothing) {
+  const fs::path path = writeScene("blows_up.json", "{" + std::string(kCloth) + R"(, "ks": 1e7, "pinned": [[0, 0]]},
+    "simulation": {"steps_per_frame": 1, "stretch_passes": 0, "self_collision": false}})");
+  const fs::path out = tempDir() / "blows_up_out.json";
+  fs::remove(out);
+  Result r = run("simulate " + path.string() + " --frames 30 --out " + out.string());
+  EXPECT_EQ(r.status, 4) << r.out << r.err;
+  EXPECT_NE(r.err.find("blew up at frame"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out)) << "no output from a blown-up run";
+  EXPECT_FALSE(fs::exists(out.string() + ".partial"));
+
+  Result guarded = run("simulate " + path.string() + " --frames 30 --auto-substeps --out " + out.string());
+  EXPECT_EQ(guarded.status, 0) << guarded.err;
+  EXPECT_TRUE(fs::exists(out));
+}
+
 }  // namespace

@@ -100,12 +100,10 @@ TEST(Topology, VerticalOffsetsAreSmallDeterministicAndVaried) {
   EXPECT_GT(distinct.size(), 390u);
 }
 
-TEST(Topology, MassAndPins) {
+TEST(Topology, Pins) {
   ClothSpec c = grid(50, 50);
-  c.density = 150;
   c.pinned = {{0, 0}, {49, 0}, {3, 7}};
   Topology t = buildTopology(c);
-  EXPECT_DOUBLE_EQ(t.mass, 150.0 / 2500.0);
   EXPECT_EQ(std::count(t.pinned.begin(), t.pinned.end(), 1), 3);
   EXPECT_EQ(t.pinned[7 * 50 + 3], 1);
 }

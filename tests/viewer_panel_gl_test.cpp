@@ -184,11 +184,19 @@ TEST(ViewerPanel, ABlowUpPausesTheViewerUntilReset) {
   scene.sim.steps_per_frame = 10;
   PanelSession s(scene);
   Viewer& v = *s.viewer;
+  const long long drawn_before = v.clothDraws();
+  s.frame(s.away, false);
+  ASSERT_GT(v.clothDraws(), drawn_before) << "a running cloth is drawn every frame";
   s.click(PanelSession::sliderEnd(s.control("ks (N/m)")));  // 1e5 N/m at 10 substeps: far outside the bound
   for (int i = 0; i < 60 && v.blowUp().empty(); ++i)
     s.frame(s.away, false);
   ASSERT_NE(v.blowUp(), "") << "1e5 N/m at 10 substeps per frame should blow up within 60 frames";
   EXPECT_TRUE(v.paused());
+  // Hidden: the frames after the blow-up draw the scene and the panel, but not the cloth.
+  const long long drawn_at_blow_up = v.clothDraws();
+  for (int i = 0; i < 3; ++i)
+    s.frame(s.away, false);
+  EXPECT_EQ(v.clothDraws(), drawn_at_blow_up) << "a blown-up cloth must not be drawn";
   EXPECT_NE(v.status().find("blow-up at frame " + std::to_string(v.framesSimulated())), std::string::npos)
       << v.status();
   const long long frames = v.framesSimulated();
@@ -202,10 +210,12 @@ TEST(ViewerPanel, ABlowUpPausesTheViewerUntilReset) {
   EXPECT_EQ(v.status(), "");
   ASSERT_FALSE(v.paused());  // resumed above, and the reset lets it run again
   const long long restarted = v.framesSimulated();
+  const long long drawn_after_reset = v.clothDraws();
   for (int i = 0; i < 10; ++i)
     s.frame(s.away, false);
   EXPECT_EQ(v.framesSimulated(), restarted + 10);
   EXPECT_EQ(v.blowUp(), "");
+  EXPECT_GT(v.clothDraws(), drawn_after_reset) << "shown again after the reset";
 }
 
 }  // namespace

@@ -85,7 +85,8 @@ struct SimParams {
 
 // One adjacency entry: the spring from this point to another, in the CPU's order (ascending spring
 // index), holding only the spring types the scene enables. 8 bytes, because the adjacency is the
-// largest buffer (about 24 entries per point) and must fit GL_MAX_SHADER_STORAGE_BLOCK_SIZE.
+// largest buffer (about 12 entries per point: some 6 springs each, listed from both ends) and must fit
+// GL_MAX_SHADER_STORAGE_BLOCK_SIZE.
 DRAPE_CONSTANT(uint, kNeighborIndexBits, 30u);          // the other point's index (cloths < 2^30 points)
 DRAPE_CONSTANT(uint, kNeighborIndexMask, 0x3fffffffu);  // ... in the low bits of `index_type`
 struct Neighbor {

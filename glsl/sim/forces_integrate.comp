@@ -1,8 +1,8 @@
-// Forces and Verlet integration of one point in one kernel (DESIGN section 2, steps 1 and 2), followed
-// by what else only needs the point's own new state: its collisions when no self-collision pass sits
-// in between, else its hash-grid count for that pass. Mirrors CpuSolver::accumulateForces, integrate
-// (and collide). Reads *In and writes *Out: the force gather reads the neighbours' positions while
-// other invocations move theirs, so integrating in place would race.
+// Forces and Verlet integration of one point in one kernel (docs/design.md section 2, steps 1 and 2),
+// followed by what else only needs the point's own new state: its collisions when no self-collision
+// pass sits in between, else its hash-grid count for that pass. Mirrors CpuSolver::accumulateForces,
+// integrate (and collide). Reads *In and writes *Out: the force gather reads the neighbours' positions
+// while other invocations move theirs, so integrating in place would race.
 #include "common.glsl"
 #include "physics.glsl"
 #include "collide.glsl"

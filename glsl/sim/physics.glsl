@@ -1,6 +1,6 @@
 // The physics of one spring, one collision, one stretch limit: the same pure functions, by the same
 // names and with the same operations in the same order, as src/cpu/physics.hpp. Keep the two side
-// by side when changing either. Model: DESIGN.md section 2.
+// by side when changing either. The model: docs/design.md.
 //
 // Every result is `precise`: without it the compiler may contract a*b + c into one fused multiply-add
 // (rounded once, where the CPU rounds twice) or reassociate sums, and the GPU would drift from the CPU
@@ -85,7 +85,9 @@ bool collidePlane(vec3 x, vec3 v, vec3 p, vec3 n, float friction, out vec3 c) {
   bool crossed = prev_above ? dx <= 0.0 : dx >= 0.0;
   if (!crossed) return false;
   // x(s) = x_prev + s v meets the plane at 1 - s = dx / vn; moving along the plane: straight to it.
-  precise vec3 target_minus_x = vn != 0.0 ? (-dx / vn) * v : -dx * n;
+  // Clamped to s in [0, 1], as physics.hpp explains: x_prev in the band below the plane, moving up
+  // slowly, would otherwise be thrown along v by |dx / vn|.
+  precise vec3 target_minus_x = vn != 0.0 ? -clamp(dx / vn, 0.0, 1.0) * v : -dx * n;
   target_minus_x += ((prev_above ? 1.0 : -1.0) * kSurfaceOffset) * n;
   precise vec3 r = frictionCorrection(target_minus_x, v, friction);
   c = r;

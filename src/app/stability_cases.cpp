@@ -1,5 +1,6 @@
 #include "app/stability_cases.hpp"
 
+#include "core/derived.hpp"
 #include "core/hash.hpp"
 #include "core/metrics.hpp"
 #include "core/stability.hpp"
@@ -52,7 +53,7 @@ double springEnergy(const Topology& topo, const ClothSpec& c, const Positions& x
   double e = 0;
   for (const Spring& s : topo.springs) {
     if (!c.springEnabled(s.type)) continue;
-    const double k = s.type == SpringType::Bending ? 0.2 * c.ks : c.ks;
+    const double k = derived::springStiffness(c, s.type);
     const double stretch = glm::distance(x[s.a], x[s.b]) - s.rest;
     e += 0.5 * k * stretch * stretch;
   }
@@ -171,7 +172,7 @@ StabilityResult runStabilityCase(const StabilityCase& c, int steps, bool guard) 
   CpuSolver<float> solver(run.scene);
   solver.setState(x0, v0);
   const Topology& topo = solver.topology();
-  const double mass = topo.mass, dt = run.scene.sim.dt();
+  const double mass = derived::pointMass(run.scene.cloth), dt = run.scene.sim.dt();
   auto energy = [&](const Positions& x, double ke) {
     return ke + gravityEnergy(run.scene, mass, x) + springEnergy(topo, run.scene.cloth, x);
   };

@@ -25,7 +25,7 @@ class Solver {
   virtual const Scene& scene() const = 0;
   virtual const Topology& topology() const = 0;
 
-  virtual void step() = 0;  // one substep: the passes of DESIGN section 2 in order
+  virtual void step() = 0;  // one substep: the passes of docs/design.md section 2, in order
   void stepFrame() {
     for (int s = 0; s < scene().sim.steps_per_frame; ++s)
       step();

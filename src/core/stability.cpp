@@ -1,5 +1,7 @@
 #include "core/stability.hpp"
 
+#include "core/derived.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -27,7 +29,7 @@ double maxStiffnessSum(const ClothSpec& cloth) {
   const int W = cloth.num_width_points, H = cloth.num_height_points;
   const double k_straight = cloth.enable_structural ? cloth.ks : 0.0;
   const double k_diagonal = cloth.enable_shearing ? cloth.ks : 0.0;
-  const double k_bending = cloth.enable_bending ? 0.2 * cloth.ks : 0.0;
+  const double k_bending = cloth.enable_bending ? derived::bendingStiffness(cloth) : 0.0;
   // A point's springs depend only on its distance to the nearest edge along each axis, and every
   // distance beyond 2 looks like 2, so x, y in 0..2 cover every kind of point (small grids have fewer).
   double best = 0.0;
@@ -41,12 +43,8 @@ double maxStiffnessSum(const ClothSpec& cloth) {
   return best;
 }
 
-double pointMass(const ClothSpec& cloth) {
-  return cloth.width * cloth.height * cloth.density / double(cloth.pointCount());
-}
-
 double stabilityNumber(const Scene& scene) {
-  const double k = maxStiffnessSum(scene.cloth), m = pointMass(scene.cloth);
+  const double k = maxStiffnessSum(scene.cloth), m = derived::pointMass(scene.cloth);
   if (k <= 0.0) return 0.0;
   if (m <= 0.0) return INFINITY;
   return scene.sim.dt() * std::sqrt(k / m);
@@ -76,7 +74,7 @@ StabilityCheck checkStability(const Scene& scene) {
 }
 
 int autoSubsteps(const Scene& scene, int max_steps) {
-  const double k = maxStiffnessSum(scene.cloth), m = pointMass(scene.cloth);
+  const double k = maxStiffnessSum(scene.cloth), m = derived::pointMass(scene.cloth);
   if (k <= 0.0) return 1;
   if (m <= 0.0 || !(scene.sim.frames_per_sec > 0.0)) return 0;
   // More substeps lower the number and (with the damping rescaled) raise the limit, so "inside" is

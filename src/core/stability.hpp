@@ -47,7 +47,6 @@ struct StabilityCheck {
 // from the grid size alone (an interior point has 4 structural, 4 shearing and 4 bending springs; on
 // small grids no point has them all). Pins are ignored, which can only overestimate.
 double maxStiffnessSum(const ClothSpec& cloth);
-double pointMass(const ClothSpec& cloth);  // kg, width*height*density / (W*H)
 double stabilityNumber(const Scene& scene);
 StabilityCheck checkStability(const Scene& scene);
 // Smallest steps_per_frame (>= 1) at which withSubsteps(scene, steps) is inside the bound; 0 if more than

@@ -56,7 +56,6 @@ Topology buildTopology(const ClothSpec& cloth) {
   topo.H = cloth.num_height_points;
   const int W = topo.W, H = topo.H;
   const double dx = cloth.width / (W - 1), dy = cloth.height / (H - 1);
-  topo.mass = cloth.width * cloth.height * cloth.density / double(W * H);
 
   topo.initial_positions.resize(std::size_t(W) * H);
   topo.uvs.resize(std::size_t(W) * H);
@@ -73,7 +72,7 @@ Topology buildTopology(const ClothSpec& cloth) {
   for (glm::ivec2 p : cloth.pinned)
     topo.pinned[std::size_t(p.y) * W + p.x] = 1;
 
-  // Structural, then shearing, then bending (DESIGN section 2 counts).
+  // Structural, then shearing, then bending (counts in docs/design.md section 2).
   addSprings(topo, SpringType::Structural, 1, 0);
   addSprings(topo, SpringType::Structural, 0, 1);
   addSprings(topo, SpringType::Shearing, 1, 1);

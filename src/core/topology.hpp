@@ -34,7 +34,6 @@ struct Topology {
   std::vector<Neighbor> adjacency;
   std::vector<std::uint32_t> triangles;  // 3 indices each, counter-clockwise seen from +normal
   std::vector<glm::vec2> uvs;            // (x/(W-1), y/(H-1))
-  double mass = 0.0;                     // kg per point
 
   int pointCount() const { return W * H; }
   std::size_t springCount(SpringType t) const;

@@ -1,12 +1,13 @@
 // The physics of one spring, one collision, one stretch limit: pure functions of values that return
 // forces or position corrections. glsl/sim/physics.glsl implements the same functions under the same
-// names; keep the two side by side when changing either. Model: ../shared/DESIGN.md section 2.
+// names; keep the two side by side when changing either. The model: docs/design.md.
 #pragma once
 
 #include "core/hash.hpp"
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -86,8 +87,11 @@ bool collidePlane(vec3<T> x, vec3<T> v, vec3<T> p, vec3<T> n, T friction, vec3<T
   bool crossed = prev_above ? dx <= T(0) : dx >= T(0);
   if (!crossed) return false;
   // x(s) = x_prev + s v meets the plane at 1 - s = dx / vn, so target - x = -(dx / vn) v; a point
-  // moving along the plane (vn = 0) is on it and goes straight to the offset.
-  vec3<T> target_minus_x = vn != T(0) ? (-dx / vn) * v : -dx * n;
+  // moving along the plane (vn = 0) is on it and goes straight to the offset. The band lets the
+  // line meet the plane outside the step (x_prev up to kPlaneEpsilon below it, moving up too slowly
+  // to reach it, or down): there |dx / vn| would throw the point far along v. Clamped to the step's
+  // segment, s in [0, 1], it goes to x or back to x_prev, then gets the offset.
+  vec3<T> target_minus_x = vn != T(0) ? -std::clamp(dx / vn, T(0), T(1)) * v : -dx * n;
   target_minus_x += ((prev_above ? T(1) : T(-1)) * T(kSurfaceOffset)) * n;
   c = frictionCorrection(target_minus_x, v, friction);
   return true;
@@ -158,13 +162,6 @@ vec3<T> gridNormal(vec3<T> left, vec3<T> right, vec3<T> down, vec3<T> up) {
   vec3<T> n = glm::cross(right - left, up - down);
   T len = glm::length(n);
   return len > T(0) ? n / len : vec3<T>(0);
-}
-
-// Explicit-integration bound: Verlet on a spring of stiffness k and mass m is stable for
-// dt*sqrt(k/m) < 2; with the per-vertex stiffness sum as k this is a conservative estimate.
-template <class T>
-T stabilityNumber(T dt, T stiffness_sum, T mass) {
-  return dt * std::sqrt(stiffness_sum / mass);
 }
 
 }  // namespace drape::physics

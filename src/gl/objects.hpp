@@ -271,7 +271,7 @@ class Query {
 
 // Whether GL_TIME_ELAPSED measures compute dispatches on the current context: times one small
 // dispatch and reports whether the result is plausible (>= 1 us). llvmpipe reads a token 1 ns for
-// any query (DESIGN calls it 0), so callers time with the wall clock around glFinish instead.
+// any query (docs/design.md, section 8, calls it 0), so callers time with the wall clock around glFinish instead.
 // Probed once per process (the first context decides); defined in shader.cpp since it compiles its
 // own probe program.
 bool timerQueriesWork();

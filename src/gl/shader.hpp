@@ -11,7 +11,7 @@
 
 namespace drape::gl {
 
-// `file` is relative to glslRoot() (absolute paths are used as they are), e.g. "sim/forces.comp".
+// `file` is relative to glslRoot() (absolute paths are used as they are), e.g. "sim/forces_integrate.comp".
 Program compileCompute(const std::filesystem::path& file, const Defines& defines = {});
 
 // A compute program from text (no #version, no #include) rather than a file: for small programs

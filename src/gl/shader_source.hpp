@@ -31,7 +31,7 @@ using Defines = std::vector<std::pair<std::string, std::string>>;
 // mapped back. Index 0 is the preamble (#version and #defines); the shader's own file is 1.
 struct ShaderSource {
   std::string text;
-  std::vector<std::string> files;            // source-string number -> display name ("glsl/sim/forces.comp")
+  std::vector<std::string> files;            // source-string number -> display name ("glsl/sim/forces_integrate.comp")
   std::vector<std::filesystem::path> paths;  // source-string number -> canonical path (empty for the preamble)
 
   // Rewrites compiler/validator messages from source-string numbers to file names:

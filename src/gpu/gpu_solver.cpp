@@ -1,5 +1,6 @@
 #include "gpu/gpu_solver.hpp"
 
+#include "core/derived.hpp"
 #include "gl/shader.hpp"
 #include "gpu/layout.hpp"
 
@@ -80,7 +81,7 @@ void GpuSolver::checkLimits() const {
   std::uint64_t springs = 0;
   for (int t = 0; t < kSpringTypeCount; ++t)
     if (enabled_springs_[t]) springs += springCount(c, SpringType(t));
-  const std::uint64_t buckets = options_.buckets ? options_.buckets : std::bit_ceil(std::max<std::uint64_t>(n, 1));
+  const std::uint64_t buckets = options_.buckets ? options_.buckets : derived::hashBucketCount(n);
   GLint64 block = 0;
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
   const std::uint64_t limit = options_.max_buffer_bytes ? options_.max_buffer_bytes : std::uint64_t(block);
@@ -121,7 +122,8 @@ void GpuSolver::checkLimits() const {
 }
 
 std::uint32_t GpuSolver::bucketCount() const {
-  return options_.buckets ? options_.buckets : std::bit_ceil(std::uint32_t(std::max(topo_.pointCount(), 1)));
+  return options_.buckets ? options_.buckets
+                          : std::uint32_t(derived::hashBucketCount(std::uint64_t(topo_.pointCount())));
 }
 
 std::uint32_t GpuSolver::scanBlocks() const {
@@ -193,12 +195,12 @@ void GpuSolver::uploadParams() {
   const SimParams& sim = scene_.sim;
   const WindSpec& wind = sim.wind;
   const int n = c.num_width_points * c.num_height_points;
-  const float mass = float(c.width * c.height * c.density / double(n));
+  const float mass = float(derived::pointMass(c));
   const float dt = float(sim.dt());
   const float thickness = float(c.thickness);
   gpu::SimParams p{};
   p.weight = glm::vec4(glm::vec3(sim.gravity) * mass, 0.0f);
-  p.stiffness = glm::vec4(float(c.ks), float(c.ks), float(0.2 * c.ks), 0.0f);
+  p.stiffness = glm::vec4(float(c.ks), float(c.ks), float(derived::bendingStiffness(c)), 0.0f);
   p.wind_velocity = glm::vec4(glm::vec3(wind.velocity), float(wind.turbulence));
   p.inv_mass = 1.0f / mass;
   p.dt = dt;
@@ -215,7 +217,7 @@ void GpuSolver::uploadParams() {
   p.point_count = std::uint32_t(n);
   p.grid_width = std::uint32_t(c.num_width_points);
   p.grid_height = std::uint32_t(c.num_height_points);
-  p.bucket_count = options_.buckets ? options_.buckets : std::bit_ceil(std::uint32_t(std::max(n, 1)));
+  p.bucket_count = bucketCount();
   p.bucket_mask = p.bucket_count - 1;
   p.scan_blocks = (p.bucket_count + gpu::kScanBlock - 1) / gpu::kScanBlock;
   params_.upload(0, sizeof p, &p);

@@ -1,4 +1,4 @@
-// GPU solver: the passes of DESIGN section 2 as OpenGL 4.5 compute kernels over SSBOs
+// GPU solver: the passes of docs/design.md section 2 as OpenGL 4.5 compute kernels over SSBOs
 // (glsl/sim/*.comp), compiled per scene with #defines, fused where the data flow allows, and
 // consistent with CpuSolver<float> (tests/gpu_*_gl_test.cpp). Needs a current GL 4.5 context.
 //
@@ -117,6 +117,8 @@ class GpuSolver final : public Solver {
   void clearHealth();
 
   std::size_t gpuMemoryBytes() const;  // all buffers this solver allocated
+  // The #defines the scene's kernels were compiled with (NUM_SPHERES, NUM_PLANES, SELF_COLLISION, WIND).
+  const gl::Defines& defines() const { return defines_; }
   const gl::ContextInfo& contextInfo() const { return context_info_; }
 
  private:

@@ -114,6 +114,7 @@ class Viewer {
   // Why the simulation stopped: non-empty once a frame ended with a non-finite or runaway point (the
   // viewer then pauses, stops drawing the cloth and refuses to step until R resets it).
   const std::string& blowUp() const { return blow_up_; }
+  long long clothDraws() const { return renderer_.clothDraws(); }  // how often the cloth was drawn
   bool canDrag() const { return gpu_ != nullptr; }
   int draggedPoint() const { return drag_point_; }
 
