@@ -1,4 +1,4 @@
-// Provot (1995) stretch limit as a per-point gather over the adjacency (DESIGN section 2, step 5),
+// Provot (1995) stretch limit as a per-point gather over the adjacency (docs/design.md section 2, step 5),
 // mirroring CpuSolver::limitStretch: one dispatch per stretch pass, Jacobi (reads *In, writes *Out).
 #include "common.glsl"
 #include "physics.glsl"

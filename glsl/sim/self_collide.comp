@@ -1,4 +1,4 @@
-// Self-collision (DESIGN section 2, step 3), then the point's sphere and plane collisions, which only
+// Self-collision (docs/design.md section 2, step 3), then the point's sphere and plane collisions, which only
 // need its own corrected state. Mirrors CpuSolver::selfCollide (and collide). Jacobi: every point reads
 // the positions from before the pass (*In) and writes *Out, so no invocation sees another's result.
 #include "common.glsl"

@@ -48,8 +48,14 @@ std::string describePasses(const Solver& solver) {
   } else {
     out = fmt::format("{}: {} passes per substep, {} substeps per frame\n", solver.name(), passes.size(), substeps);
   }
-  for (std::size_t i = 0; i < passes.size(); ++i)
-    out += fmt::format("  {}. {}\n", i + 1, passes[i]);
+  // A pass dispatched several times in a row (the stretch limit's colours) is one line with its count.
+  for (std::size_t i = 0, line = 1; i < passes.size(); ++line) {
+    std::size_t run = 1;
+    while (i + run < passes.size() && passes[i + run] == passes[i])
+      ++run;
+    out += run == 1 ? fmt::format("  {}. {}\n", line, passes[i]) : fmt::format("  {}. {} x{}\n", line, passes[i], run);
+    i += run;
+  }
   return out;
 }
 

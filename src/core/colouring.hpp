@@ -18,7 +18,7 @@ struct SpringColouring {
 };
 
 // Greedy in spring order (the smallest colour free at both ends), so the same topology always gets the
-// same colouring. A W x H grid's structural, shearing and bending springs take 16 colours this way.
+// same colouring. A W x H grid's structural, shearing and bending springs take 12 colours this way.
 SpringColouring colourSprings(const Topology& topo);
 
 }  // namespace drape

@@ -74,7 +74,7 @@ struct SimParams {
   double stretch_limit = 1.1;          // springs are shortened to at most this times rest length
   // How a stretch pass visits the springs: Gauss-Seidel over a colouring (each spring as CS184's sequential
   // Provot pass does it, springs of one colour sharing no point) or the older averaged per-point Jacobi.
-  StretchScheme stretch_scheme = StretchScheme::Jacobi;
+  StretchScheme stretch_scheme = StretchScheme::GaussSeidel;
   WindSpec wind;
 
   double dt() const { return 1.0 / (frames_per_sec * steps_per_frame); }

@@ -1,5 +1,7 @@
 #include "cpu/cpu_solver.hpp"
 
+#include "core/derived.hpp"
+
 #include <omp.h>
 
 #include <algorithm>
@@ -41,13 +43,13 @@ std::string CpuSolver<T>::name() const {
 template <class T>
 void CpuSolver<T>::refreshDerived() {
   const ClothSpec& c = scene_.cloth;
-  mass_ = T(c.width * c.height * c.density / double(topo_.pointCount()));
+  mass_ = T(derived::pointMass(c));
   dt_ = T(scene_.sim.dt());
   keep_ = T(1.0 - c.damping / 100.0);
   // A disabled spring type exerts no force: stiffness 0 is never used, the gather skips the type.
   stiffness_.k[int(SpringType::Structural)] = T(c.ks);
   stiffness_.k[int(SpringType::Shearing)] = T(c.ks);
-  stiffness_.k[int(SpringType::Bending)] = T(0.2 * c.ks);
+  stiffness_.k[int(SpringType::Bending)] = T(derived::bendingStiffness(c));
 }
 
 template <class T>

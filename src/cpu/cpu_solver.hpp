@@ -1,4 +1,4 @@
-// CPU reference solver: the passes of DESIGN section 2, in that order, with the same Jacobi semantics
+// CPU reference solver: the passes of docs/design.md section 2, in that order, with the same Jacobi semantics
 // as the GPU, templated on float (to compare with the GPU) and double (the accuracy reference).
 #pragma once
 

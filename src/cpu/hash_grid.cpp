@@ -1,5 +1,7 @@
 #include "cpu/hash_grid.hpp"
 
+#include "core/derived.hpp"
+
 #include <bit>
 
 namespace drape {
@@ -9,7 +11,7 @@ void HashGrid<T>::build(const std::vector<vec3>& points, T cell_size) {
   const std::size_t n = points.size();
   // One bucket per point on average (a power of two, so the bucket is a mask of the hash) keeps
   // collisions between distinct cells rare without a table sized to the scene's extent.
-  const std::uint32_t buckets = std::bit_ceil(std::uint32_t(std::max<std::size_t>(n, 1)));
+  const std::uint32_t buckets = std::uint32_t(derived::hashBucketCount(n));
   mask_ = buckets - 1;
   cells_.resize(n);
   start_.assign(std::size_t(buckets) + 1, 0);
