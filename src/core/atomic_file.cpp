@@ -34,7 +34,8 @@ class Temporary {
  public:
   explicit Temporary(const std::filesystem::path& target) : target_(target) {
     name_ = (directoryOf(target) / ".drape-XXXXXX").string();
-    fd_ = ::mkstemp(name_.data());
+    // O_CLOEXEC: a child started later (ffmpeg, the plot) must not inherit a half-written file.
+    fd_ = ::mkostemp(name_.data(), O_CLOEXEC);
     if (fd_ < 0)
       fail(errno == ENOENT || errno == ENOTDIR || errno == EACCES || errno == EROFS, target_,
            std::string("cannot create a file in its directory: ") + std::strerror(errno));
