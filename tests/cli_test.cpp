@@ -1,13 +1,22 @@
 // The `drape` command line as a user meets it: runs the real binary as a subprocess.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace {
 
@@ -31,10 +40,11 @@ fs::path tempDir() {
   return dir;
 }
 
-Result run(const std::string& args) {
+// `prefix` goes before the binary: a `cd`, environment settings, `timeout`.
+Result run(const std::string& args, const std::string& prefix = "") {
   const fs::path dir = tempDir();
-  const std::string cmd = std::string(DRAPE_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" +
-                          (dir / "err").string() + " </dev/null";
+  const std::string cmd = prefix + " " + std::string(DRAPE_BINARY) + " " + args + " >" + (dir / "out").string() +
+                          " 2>" + (dir / "err").string() + " </dev/null";
   int raw = std::system(cmd.c_str());
   Result r;
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
@@ -114,6 +124,20 @@ INSTANTIATE_TEST_SUITE_P(
                 "plane.normal"},
         BadCase{"non_finite", cloth(R"(, "ks": 1e999)"), "", "cloth.ks"},
         BadCase{"negative_frames", cloth(""), "--frames -3", "--frames"},
+        // Values that vanish or overflow in float, and counts that would run forever.
+        BadCase{"thickness_vanishes",
+                R"({"cloth": {"width": 1, "height": 1, "num_width_points": 8, "num_height_points": 8,
+                   "thickness": 1e-300, "orientation": 0}})",
+                "", "cloth.thickness"},
+        BadCase{"noise_scale_vanishes", cloth(R"(}, "simulation": {"wind": {"noise_scale": 1e-300})"), "",
+                "simulation.wind.noise_scale"},
+        BadCase{"ks_beyond_float", cloth(R"(, "ks": 1e300)"), "", "cloth.ks"},
+        BadCase{"endless_steps", cloth(R"(}, "simulation": {"steps_per_frame": 2000000000)"), "",
+                "simulation.steps_per_frame: must be <= 10000"},
+        BadCase{"endless_stretch_passes", cloth(R"(}, "simulation": {"stretch_passes": 2000000000)"), "",
+                "simulation.stretch_passes: must be <= 100"},
+        BadCase{"time_step_vanishes", cloth(R"(}, "simulation": {"frames_per_sec": 1e38, "steps_per_frame": 100)"), "",
+                "simulation.frames_per_sec"},
         BadCase{"unknown_solver", cloth(""), "--solver quantum", "--solver"}),
     [](const auto& row) { return std::string(row.param.name); });
 
@@ -155,11 +179,280 @@ TEST(Cli, ABlowUpExitsWithStatusFourAndWritesNothing) {
   EXPECT_EQ(r.status, 4) << r.out << r.err;
   EXPECT_NE(r.err.find("blew up at frame"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out)) << "no output from a blown-up run";
-  EXPECT_FALSE(fs::exists(out.string() + ".partial"));
 
   Result guarded = run("simulate " + path.string() + " --frames 30 --auto-substeps --out " + out.string());
   EXPECT_EQ(guarded.status, 0) << guarded.err;
   EXPECT_TRUE(fs::exists(out));
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Hostile names and output paths.
+
+// Single-quoted for /bin/sh, whatever the text holds.
+std::string quote(const std::string& text) {
+  std::string out = "'";
+  for (char c : text)
+    out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// A name that runs `touch PWNED` wherever it is pasted into a shell command inside single quotes.
+const std::string kHostile = "x';touch PWNED;'";
+
+fs::path freshDir(const std::string& name) {
+  const fs::path dir = tempDir() / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// 6 x 6 points without self-collision: an accuracy run of it takes a moment.
+const char* kTinyScene = R"({"cloth": {"width": 1, "height": 1, "num_width_points": 6, "num_height_points": 6,
+  "thickness": 0.01, "orientation": 1, "pinned": [[0, 5], [5, 5]]}, "simulation": {"self_collision": false}})";
+
+const char* kTinyAccuracy = " --solver cpu --steps 2 --passes 1 --times 0.05 --reference-factor 2";
+
+TEST(ChildProcesses, ThePlotGetsHostileNamesAsArgumentsNotAsCommands) {
+  const fs::path dir = freshDir("inject_plot");
+  const fs::path scene_file = dir / (kHostile + ".json"), out = dir / ("o" + kHostile);
+  std::ofstream(scene_file) << kTinyScene;
+  // Stands in for python: answers the matplotlib probe, records the plot's arguments one per line.
+  const fs::path python = dir / "python";
+  std::ofstream(python) << "#!/bin/sh\n[ \"$1\" = -c ] && exit 0\nfor a in \"$@\"; do printf '%s\\n' \"$a\"; done > "
+                        << quote((dir / "args").string()) << "\n";
+  fs::permissions(python, fs::perms::owner_all);
+  const Result r = run("accuracy " + quote(scene_file.string()) + " --out " + quote(out.string()) + kTinyAccuracy,
+                       "cd " + quote(dir.string()) + " && DRAPE_PYTHON=" + quote(python.string()));
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "PWNED")) << "a name ran a command";
+  const std::string args = slurp(dir / "args");
+  EXPECT_NE(args.find("\n--title=" + kHostile + "\n"), std::string::npos) << args;
+  EXPECT_NE(args.find("\n" + (out / "accuracy.csv").string() + "\n"), std::string::npos) << args;
+}
+
+TEST(ChildProcesses, TheRealPlotWritesItsPictureForAHostileName) {
+  if (std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "no matplotlib for /usr/bin/python3 (tools/setup installs python3-matplotlib)";
+  const fs::path dir = freshDir("inject_real_plot");
+  const fs::path scene_file = dir / (kHostile + ".json"), out = dir / ("o" + kHostile);
+  std::ofstream(scene_file) << kTinyScene;
+  const Result r = run("accuracy " + quote(scene_file.string()) + " --out " + quote(out.string()) + kTinyAccuracy,
+                       "cd " + quote(dir.string()) + " && env -u DRAPE_PYTHON");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "PWNED")) << "a name ran a command";
+  EXPECT_TRUE(fs::exists(out / "accuracy.png")) << r.err;
+}
+
+class SimulateOut : public ::testing::Test {
+ protected:
+  fs::path dir = freshDir("simulate_out");
+  Result simulate(const fs::path& out, const std::string& prefix = "") {
+    return run("simulate " + scene("pinned2.json") + " --frames 2 --out " + quote(out.string()), prefix);
+  }
+  void expectRefused(const Result& r, const fs::path& out) {
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find(out.string()), std::string::npos) << "names the path: " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_TRUE(r.out.empty()) << "the path is checked before the run: " << r.out;
+  }
+};
+
+TEST_F(SimulateOut, ASymbolicLinkIsRefusedAndWhatItPointsToKept) {
+  std::ofstream(dir / "victim") << "precious";
+  fs::create_symlink(dir / "victim", dir / "out.json");
+  expectRefused(simulate(dir / "out.json"), dir / "out.json");
+  EXPECT_EQ(slurp(dir / "victim"), "precious");
+}
+
+TEST_F(SimulateOut, ALinkPlantedAtTheTemporaryNameIsNotWrittenThrough) {
+  std::ofstream(dir / "victim") << "precious";
+  fs::create_symlink(dir / "victim", dir / "out.json.partial");
+  const Result r = simulate(dir / "out.json");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(slurp(dir / "victim"), "precious");
+  EXPECT_EQ(slurp(dir / "out.json").substr(0, 2), "[\n");
+}
+
+TEST_F(SimulateOut, AFifoIsRefusedWithoutWaitingForAReader) {
+  ASSERT_EQ(::mkfifo((dir / "out.json").c_str(), 0600), 0);
+  expectRefused(simulate(dir / "out.json", "timeout 60"), dir / "out.json");
+  EXPECT_TRUE(fs::is_fifo(dir / "out.json"));
+}
+
+TEST_F(SimulateOut, ADeviceIsRefusedAndStaysADevice) {
+  // A node of /dev/full's device in the test's directory: a failing run replaces this one, not the machine's.
+  const fs::path device = dir / "full";
+  if (::mknod(device.c_str(), S_IFCHR | 0666, makedev(1, 7)) != 0) GTEST_SKIP() << "mknod: " << std::strerror(errno);
+  expectRefused(simulate(device), device);
+  EXPECT_TRUE(fs::is_character_file(device));
+}
+
+TEST_F(SimulateOut, ADirectoryOrAMissingDirectoryIsStatusTwo) {
+  fs::create_directory(dir / "out.json");
+  expectRefused(simulate(dir / "out.json"), dir / "out.json");
+  expectRefused(simulate(dir / "missing" / "out.json"), dir / "missing" / "out.json");
+}
+
+TEST_F(SimulateOut, AFullDiskIsStatusOneAndLeavesNoFile) {
+  const fs::path mount = dir / "small";
+  fs::create_directory(mount);
+  if (std::system(("mount -t tmpfs -o size=16k tmpfs " + quote(mount.string()) + " 2>/dev/null").c_str()) != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here; AtomicFileTest and WriteAll cover the write errors";
+  const Result r =
+      run("simulate " + scene("selfCollision.json") + " --frames 1 --out " + quote((mount / "out.json").string()));
+  const std::vector<fs::path> left(fs::directory_iterator(mount), fs::directory_iterator{});
+  std::system(("umount " + quote(mount.string())).c_str());
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("No space left"), std::string::npos) << r.err;
+  EXPECT_TRUE(left.empty()) << "left behind: " << (left.empty() ? "" : left.front().string());
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Limits.
+
+TEST(Limits, AnEndlessSceneFileIsRefusedAfterSixteenMebibytes) {
+  // ulimit: without the bound the old loader read /dev/zero until memory ran out.
+  const Result r = run("simulate /dev/zero --frames 1", "ulimit -v 4000000; timeout 60");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("/dev/zero: too large for a scene (more than 16 MiB)"), std::string::npos) << r.err;
+}
+
+TEST(Limits, ASceneFileOverSixteenMebibytesIsRefused) {
+  // Valid JSON: a cloth followed by 17 MiB of spaces.
+  const fs::path file = writeScene("huge.json", cloth("") + std::string(17 << 20, ' '));
+  const Result r = run("simulate " + file.string() + " --frames 1");
+  fs::remove(file);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("too large for a scene"), std::string::npos) << r.err;
+}
+
+TEST(Limits, AccuracySampleTimesAreBounded) {
+  const fs::path file = writeScene("tiny_accuracy.json", kTinyScene);
+  for (const char* times : {"1e9", "601", "1e400"}) {
+    const Result r = run("accuracy " + file.string() + " --no-plot --out " + (tempDir() / "acc").string() +
+                         " --solver cpu --steps 2 --passes 1 --times " + times);
+    EXPECT_EQ(r.status, 2) << times << ": " << r.err;
+    EXPECT_NE(r.err.find("--times"), std::string::npos) << r.err;
+  }
+}
+
+TEST(Limits, SubstepsPassesAndSizesOnTheCommandLineAreBounded) {
+  const fs::path file = writeScene("tiny_limits.json", kTinyScene);
+  const std::pair<std::string, std::string> cases[] = {
+      {"stability --steps 1,20000 --out " + (tempDir() / "stab").string(), "--steps: 20000 is above the maximum 10000"},
+      {"accuracy " + file.string() + " --steps 99999999999", "--steps"},
+      {"accuracy " + file.string() + " --passes 1000", "--passes: 1000 is above the maximum 100"},
+      {"bench --sizes 4096", "--sizes: 4096 is above the maximum 2048"},
+  };
+  for (const auto& [args, message] : cases) {
+    const Result r = run(args);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << args << ": " << r.err;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Exit statuses and messages, as README.md's "Exit status" section lists them.
+
+TEST(ExitStatus, AnUnknownOrMissingSubcommandIsStatusTwoAndNamed) {
+  Result r = run("frobnicate");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("frobnicate"), std::string::npos) << r.err;
+  r = run("");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("simulate"), std::string::npos) << "lists the commands: " << r.err;
+}
+
+bool hasLongNumber(const std::string& text) {
+  // DBL_MAX written out, or in any form: no option's range needs 20 digits or e+308.
+  int run_length = 0;
+  for (char c : text) {
+    run_length = std::isdigit(static_cast<unsigned char>(c)) ? run_length + 1 : 0;
+    if (run_length >= 20) return true;
+  }
+  return text.find("e+308") != std::string::npos || text.find("1.79769") != std::string::npos;
+}
+
+TEST(ExitStatus, HelpIsStatusZeroAndShowsNoDoubleMaximum) {
+  for (const char* command : {"", "simulate", "view", "render", "bench", "accuracy", "stability"}) {
+    const Result r = run(std::string(command) + " --help");
+    EXPECT_EQ(r.status, 0) << command << ": " << r.err;
+    EXPECT_FALSE(hasLongNumber(r.out)) << command << " --help:\n" << r.out;
+  }
+}
+
+TEST(ExitStatus, BadOptionValuesAreStatusTwoWithOneShortLine) {
+  const std::string s = scene("pinned2.json");
+  const std::string cases[] = {
+      "simulate " + s + " --frames -1",
+      "simulate " + s + " --frames 1 --frames 2",
+      "simulate " + s + " " + s,
+      "render " + s + " --out o --frames -1",
+      "render " + s + " --out o --every 0",
+      "render " + s + " --out o --samples 0",
+      "render " + s + " --out o --samples 17",
+      "render " + s + " --out o --zoom 0",
+      "view " + s + " --frames 0",
+      "bench --frames 0",
+      "bench --warmup -1",
+      "bench --repeats 0",
+      "bench --budget 0",
+      "bench --budget -5",
+      "accuracy " + s + " --reference-factor 1",
+  };
+  for (const std::string& args : cases) {
+    const Result r = run(args);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
+    EXPECT_FALSE(hasLongNumber(r.err)) << args << ": " << r.err;
+    EXPECT_EQ(r.err.find("At Most"), std::string::npos) << args << ": " << r.err;
+    EXPECT_LT(r.err.size(), 200u) << args << ": " << r.err;
+  }
+}
+
+TEST(ExitStatus, BenchWithoutOpenGlIsStatusThreeBeforeAnyRun) {
+  const Result r = run("bench --solver gpu --sizes 8 --frames 1 --repeats 1 --warmup 0",
+                       "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json");
+  EXPECT_EQ(r.status, 3) << r.err;
+  EXPECT_NE(r.err.find("OpenGL"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "no run before the check: " << r.err;
+}
+
+TEST(ExitStatus, BenchChecksItsOutputPathsBeforeAnyRun) {
+  const fs::path dir = freshDir("bench_out");
+  fs::create_symlink("/etc/passwd", dir / "bench.json");
+  for (const std::string option : {"--json", "--markdown"}) {
+    const Result r = run("bench --solver cpu --sizes 8 --frames 1 --repeats 1 --warmup 0 " + option + " " +
+                         (dir / "bench.json").string());
+    EXPECT_EQ(r.status, 2) << option << ": " << r.err;
+    EXPECT_NE(r.err.find((dir / "bench.json").string()), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "no run before the check: " << r.err;
+  }
+  const Result r = run("bench --solver cpu --sizes 8 --frames 1 --repeats 1 --warmup 0 --json " +
+                       (dir / "nowhere" / "bench.json").string());
+  EXPECT_EQ(r.status, 2) << r.err;
+}
+
+TEST(ExitStatus, SimulateStatusesAsDocumented) {
+  EXPECT_EQ(run("simulate " + scene("pinned2.json") + " --frames 1").status, 0);
+  EXPECT_EQ(run("simulate /nonexistent.json").status, 2);
+  EXPECT_EQ(run("simulate " + scene("pinned2.json") + " --frames 1 --solver gpu",
+                "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json")
+                .status,
+            3);
+  // ks far beyond the bound, with the guard's warning ignored: the cloth blows up.
+  const fs::path file = writeScene("blow_up.json", cloth(R"(, "ks": 1e9)"));
+  const Result r = run("simulate " + file.string() + " --frames 30");
+  EXPECT_EQ(r.status, 4) << r.err;
+}
+
+TEST(ExitStatus, StabilityAndAccuracyRefuseAnOutThatIsAFile) {
+  const fs::path file = writeScene("tiny_out.json", kTinyScene);
+  std::ofstream(tempDir() / "a_file") << "x";
+  EXPECT_EQ(run("stability --steps 1 --cases jittered --out " + (tempDir() / "a_file").string()).status, 2);
+  EXPECT_EQ(
+      run("accuracy " + file.string() + " --no-plot --out " + (tempDir() / "a_file").string() + kTinyAccuracy).status,
+      2);
 }
 
 }  // namespace

@@ -124,6 +124,9 @@ const BadOption kBadOptions[] = {
     {"unknown_solver", "render SCENE --out OUT --solver quantum", "--solver"},
     {"missing_out", "render SCENE", "--out"},
     {"missing_scene", "render /nonexistent/scene.json --out OUT", "/nonexistent/scene.json"},
+    {"samples_zero", "render SCENE --out OUT --samples 0", "--samples"},
+    {"frames_beyond_int", "render SCENE --out OUT --frames 99999999999", "--frames"},
+    {"every_beyond_limit", "render SCENE --out OUT --every 2000000000", "--every"},
     {"view_unknown_shader", "view SCENE --shader glossy", "glossy"},
     {"view_screenshot_without_frames", "view SCENE --screenshot x.png", "--frames"},
     {"view_bad_tessellation", "view SCENE -a 1", "latitudes"},
@@ -151,6 +154,101 @@ TEST_F(RenderCliTest, VideoNeedsFfmpeg) {
     EXPECT_EQ(r.status, 1) << r.err;
     EXPECT_NE(r.err.find("ffmpeg is not installed"), std::string::npos) << r.err;
   }
+}
+
+// Single-quoted for /bin/sh, whatever the text holds.
+std::string quote(const std::string& text) {
+  std::string out = "'";
+  for (char c : text)
+    out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// A name that runs `touch PWNED` wherever it is pasted into a shell command inside single quotes.
+const std::string kHostile = "x';touch PWNED;'";
+
+TEST_F(RenderCliTest, FfmpegGetsHostileNamesAsArgumentsNotAsCommands) {
+  // A stand-in ffmpeg first on $PATH records its arguments, one per line, and writes the video.
+  fs::create_directories(dir / "bin");
+  const fs::path ffmpeg = dir / "bin" / "ffmpeg";
+  std::ofstream(ffmpeg) << "#!/bin/sh\nfor a in \"$@\"; do printf '%s\\n' \"$a\"; done > "
+                        << quote((dir / "args").string())
+                        << "\nfor a in \"$@\"; do last=\"$a\"; done\necho video > \"$last\"\n";
+  fs::permissions(ffmpeg, fs::perms::owner_all);
+  const fs::path out = dir / ("o" + kHostile), video = dir / ("v" + kHostile + ".mp4");
+  const Result r = run("render " + scene("sphere.json") + " --frames 1 --size 32x32 --out " + quote(out.string()) +
+                           " --video " + quote(video.string()),
+                       "cd " + quote(dir.string()) + " && PATH=" + quote((dir / "bin").string()) + ":\"$PATH\"");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "PWNED")) << "a name ran a command";
+  const std::string args = [&] {
+    std::ifstream in(dir / "args");
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+  }();
+  EXPECT_NE(args.find("\n" + video.string() + "\n"), std::string::npos) << args;
+  EXPECT_NE(args.find("\n" + out.string() + "/frame_*.png\n"), std::string::npos) << args;
+  EXPECT_TRUE(fs::exists(video));
+}
+
+TEST_F(RenderCliTest, AFullDiskIsStatusOneAndLeavesOnlyWholeFrames) {
+  const fs::path mount = dir / "small";
+  fs::create_directories(mount);
+  if (std::system(("mount -t tmpfs -o size=48k tmpfs " + quote(mount.string()) + " 2>/dev/null").c_str()) != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here; AtomicFileTest covers the writer's errors";
+  const Result r = run("render " + scene("sphere.json") + " --frames 20 --size 256x192 --shader normal --out " +
+                       quote((mount / "frames").string()));
+  std::vector<fs::path> frames;
+  for (const auto& entry : fs::directory_iterator(mount / "frames"))
+    frames.push_back(entry.path());
+  bool all_whole = true;
+  for (const fs::path& frame : frames) {
+    try {
+      all_whole = loadImage(frame, 3).width == 256 && all_whole;
+    } catch (const ImageError& e) {
+      all_whole = false;
+      ADD_FAILURE() << e.what();
+    }
+  }
+  std::system(("umount " + quote(mount.string())).c_str());
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("No space left"), std::string::npos) << r.err;
+  EXPECT_LT(frames.size(), 21u) << "48 KiB cannot hold 21 frames";
+  EXPECT_TRUE(all_whole) << "a truncated or temporary file was left";
+}
+
+TEST_F(RenderCliTest, TooManySamplesIsStatusTwoNamingTheLimit) {
+  const Result r = run("render " + scene("sphere.json") + " --frames 0 --size 32x32 --samples 16 --out '" +
+                       (dir / "o").string() + "'");
+  if (r.status == 0) GTEST_SKIP() << "this OpenGL allows 16 samples";
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("GL_MAX_SAMPLES"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "o")) << "nothing is made before the check";
+}
+
+TEST_F(RenderCliTest, AFailureBeforeRenderingLeavesNoDirectory) {
+  const std::string out = " --frames 1 --out '" + (dir / "o").string() + "'";
+  EXPECT_EQ(run("render /nonexistent/scene.json" + out).status, 2);
+  EXPECT_FALSE(fs::exists(dir / "o"));
+  EXPECT_EQ(run("render " + scene("sphere.json") + out, "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json").status, 3);
+  EXPECT_FALSE(fs::exists(dir / "o"));
+}
+
+TEST_F(RenderCliTest, AnOutThatIsAFileOrAFrameThatIsALinkIsStatusTwo) {
+  std::ofstream(dir / "file") << "x";
+  Result r = run("render " + scene("sphere.json") + " --frames 0 --size 32x32 --out '" + (dir / "file").string() + "'");
+  EXPECT_EQ(r.status, 2) << r.err;
+  fs::create_directories(dir / "frames");
+  std::ofstream(dir / "victim") << "precious";
+  fs::create_symlink(dir / "victim", dir / "frames" / "frame_0000.png");
+  r = run("render " + scene("sphere.json") + " --frames 0 --size 32x32 --out '" + (dir / "frames").string() + "'");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("frame_0000.png"), std::string::npos) << r.err;
+  std::ifstream in(dir / "victim");
+  std::string text;
+  in >> text;
+  EXPECT_EQ(text, "precious");
 }
 
 TEST_F(RenderCliTest, ViewerWithoutDisplayExitsWithStatusThree) {

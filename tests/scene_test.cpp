@@ -169,6 +169,25 @@ const PatchCase kPatchCases[] = {
   {"wind_turbulence_negative", R"({"simulation": {"wind": {"turbulence": -0.5}}})", "simulation.wind.turbulence", "must be >= 0"},
   {"wind_noise_speed_negative", R"({"simulation": {"wind": {"noise_speed": -1}}})", "simulation.wind.noise_speed", "must be >= 0"},
   {"wind_velocity_short", R"({"simulation": {"wind": {"velocity": [1, 0]}}})", "simulation.wind.velocity", "expected [x, y, z]"},
+  // values that vanish or overflow in float, where the solvers compute
+  {"thickness_vanishes", R"({"cloth": {"thickness": 1e-300}})", "cloth.thickness", "too small: 1e-300 is 0 or denormal in float"},
+  {"thickness_denormal", R"({"cloth": {"thickness": 1e-40}})", "cloth.thickness", "too small"},
+  {"noise_scale_vanishes", R"({"simulation": {"wind": {"noise_scale": 1e-300}}})", "simulation.wind.noise_scale", "too small"},
+  {"density_vanishes", R"({"cloth": {"density": 1e-300}})", "cloth.density", "too small"},
+  {"fps_vanishes", R"({"simulation": {"frames_per_sec": 1e-300}})", "simulation.frames_per_sec", "too small"},
+  {"ks_beyond_float", R"({"cloth": {"ks": 1e300}})", "cloth.ks", "out of float range"},
+  {"gravity_beyond_float", R"({"simulation": {"gravity": [0, -1e39, 0]}})", "simulation.gravity[1]", "out of float range"},
+  {"origin_beyond_float", R"({"sphere": {"origin": [1e300, 0, 0]}})", "sphere.origin[0]", "out of float range"},
+  {"mass_vanishes", R"({"cloth": {"width": 1e-20, "height": 1e-20}})", "cloth", "mass per point"},
+  {"mass_overflows", R"({"cloth": {"width": 1e20, "height": 1e20, "density": 1e20}})", "cloth", "mass per point"},
+  {"spacing_vanishes", R"({"cloth": {"width": 2e-38, "density": 1e30}})", "cloth", "point spacing"},
+  {"time_step_vanishes", R"({"simulation": {"frames_per_sec": 1e30}})", "simulation.frames_per_sec", "time step"},
+  {"time_step_squared_overflows", R"({"simulation": {"frames_per_sec": 1e-30}})", "simulation.frames_per_sec", "time step"},
+  // counts that would run forever
+  {"steps_endless", R"({"simulation": {"steps_per_frame": 2000000000}})", "simulation.steps_per_frame", "must be <= 10000 (got 2000000000)"},
+  {"steps_above_limit", R"({"simulation": {"steps_per_frame": 10001}})", "simulation.steps_per_frame", "must be <= 10000"},
+  {"stretch_passes_endless", R"({"simulation": {"stretch_passes": 2000000000}})", "simulation.stretch_passes", "must be <= 100 (got 2000000000)"},
+  {"grid_above_limit", R"({"cloth": {"num_width_points": 2049, "num_height_points": 2048}})", "cloth", "grid too large"},
 };
 // clang-format on
 
@@ -530,9 +549,32 @@ TEST(SceneValues, IntegralFloatsAreIntegers) {
 
 TEST(SceneValues, LargestGridIsAccepted) {
   nlohmann::json scene = fullScene();
-  scene["cloth"]["num_width_points"] = 4096;
-  scene["cloth"]["num_height_points"] = 4096;
+  scene["cloth"]["num_width_points"] = 2048;
+  scene["cloth"]["num_height_points"] = 2048;
   EXPECT_EQ(parseScene(scene.dump(), "large.json").cloth.pointCount(), kMaxClothPoints);
+}
+
+TEST(SceneValues, LargestCountsAndSmallestFloatsAreAccepted) {
+  nlohmann::json scene = fullScene();
+  scene["simulation"]["steps_per_frame"] = kMaxStepsPerFrame;
+  scene["simulation"]["stretch_passes"] = kMaxStretchPasses;
+  scene["cloth"]["thickness"] = 1.2e-38;
+  scene["simulation"]["wind"]["noise_scale"] = 1.2e-38;
+  const Scene s = parseScene(scene.dump(), "edges.json");
+  EXPECT_EQ(s.sim.steps_per_frame, kMaxStepsPerFrame);
+  EXPECT_EQ(s.sim.stretch_passes, kMaxStretchPasses);
+  EXPECT_GT(float(s.cloth.thickness), 0.0f);
+}
+
+TEST(SceneFiles, AFileBeyondTheSizeLimitIsRefusedWithoutReadingItAll) {
+  // /dev/zero never ends; the loader stops one byte past the limit.
+  try {
+    loadScene("/dev/zero");
+    ADD_FAILURE() << "/dev/zero loaded";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/zero: too large for a scene (more than 16 MiB)"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <set>
+#include <utility>
 
 namespace drape {
 namespace {
@@ -106,6 +107,15 @@ TEST(Topology, Pins) {
   Topology t = buildTopology(c);
   EXPECT_EQ(std::count(t.pinned.begin(), t.pinned.end(), 1), 3);
   EXPECT_EQ(t.pinned[7 * 50 + 3], 1);
+}
+
+TEST(Topology, SpringsAreReservedExactlyNotGrownByDoubling) {
+  // Growing the largest cloth's 25 million springs doubled their memory while copying; the count is
+  // known up front.
+  for (auto [w, h] : {std::pair{2, 2}, std::pair{3, 7}, std::pair{50, 50}, std::pair{129, 64}}) {
+    const Topology t = buildTopology(grid(w, h));
+    EXPECT_EQ(t.springs.capacity(), t.springs.size()) << w << " x " << h;
+  }
 }
 
 }  // namespace

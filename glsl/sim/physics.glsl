@@ -137,8 +137,12 @@ float noiseCorner(ivec3 cell) {
   return r;
 }
 
-// Value noise in [-1, 1]: lattice values from hashCell, quintic interpolation.
+// Value noise in [-1, 1]: lattice values from hashCell, quintic interpolation. 0 for non-finite points
+// and beyond 2^30 wavelengths, where ivec3(floor(p)) is undefined (kNoiseLimit in physics.hpp).
 float valueNoise(vec3 p) {
+  const float kNoiseLimit = 1073741824.0;
+  // isnan/isinf spelled out: a compiler may assume no NaN and turn !(a < b) into a >= b.
+  if (any(isnan(p)) || any(isinf(p)) || any(greaterThanEqual(abs(p), vec3(kNoiseLimit)))) return 0.0;
   precise vec3 f = floor(p);
   ivec3 i = ivec3(f);
   precise vec3 t = p - f;

@@ -1,5 +1,7 @@
 #include "app/accuracy.hpp"
 
+#include "app/commands.hpp"
+
 #include "core/metrics.hpp"
 #include "core/stability.hpp"
 #include "cpu/cpu_solver.hpp"
@@ -116,8 +118,14 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
   };
 
   std::vector<int> frames;
-  for (double t : o.times)
-    frames.push_back(std::max(1, int(std::lround(t * scene.sim.frames_per_sec))));
+  for (double t : o.times) {
+    // In double before any int: t x frames_per_sec can be far beyond int (--times 1e9 wrapped around).
+    const double frame = std::round(t * scene.sim.frames_per_sec);
+    if (!(frame <= kMaxSampleFrames))
+      throw CommandError(kExitBadInput, fmt::format("--times: t = {:g} s is {:g} frames at {:g} frames/s, more than {}",
+                                                    t, frame, scene.sim.frames_per_sec, kMaxSampleFrames));
+    frames.push_back(std::max(1, int(frame)));
+  }
   std::sort(frames.begin(), frames.end());
   frames.erase(std::unique(frames.begin(), frames.end()), frames.end());
 

@@ -12,6 +12,11 @@
 
 namespace drape {
 
+// The latest sample time, s (--times), and the most frames a sample time may be at the scene's
+// frames_per_sec: bounds that keep a typo from running for days (or overflowing the frame count).
+inline constexpr double kMaxSampleTime = 600.0;
+inline constexpr int kMaxSampleFrames = 1000000;
+
 struct AccuracyOptions {
   std::string scene;  // scene file
   std::vector<int> steps = {5, 10, 20, 30, 60, 120};

@@ -3,6 +3,7 @@
 #include "app/accuracy.hpp"
 #include "app/commands.hpp"
 #include "app/output.hpp"
+#include "app/process.hpp"
 
 #include <fmt/core.h>
 
@@ -29,18 +30,27 @@ struct AccuracyCommandOptions {
 };
 
 // The plot needs Debian's matplotlib, which a pyenv python3 on PATH may not see (DESIGN section 4).
+// DRAPE_PYTHON names another interpreter. No shell: the scene's name and --out reach python as they are.
 void plot(const fs::path& dir, const std::string& title) {
   const fs::path script = fs::path(DRAPE_SOURCE_DIR) / "tools" / "plot_accuracy.py";
-  if (std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") != 0) {
+  const char* python_env = std::getenv("DRAPE_PYTHON");
+  const std::string python = python_env && *python_env ? python_env : "/usr/bin/python3";
+  if (runProcess({python, "-c", "import matplotlib"}, /*quiet=*/true) != 0) {
     fmt::print(stderr,
-               "accuracy: no plot: /usr/bin/python3 cannot import matplotlib (tools/setup installs "
-               "python3-matplotlib); the CSV files are written\n");
+               "accuracy: no plot: {} cannot import matplotlib (tools/setup installs python3-matplotlib); the CSV "
+               "files are written\n",
+               python);
     return;
   }
-  const std::string cmd =
-      fmt::format("/usr/bin/python3 '{}' '{}' '{}' '{}' --title '{}'", script.string(), (dir / "accuracy.csv").string(),
-                  (dir / "reference.csv").string(), (dir / "accuracy.png").string(), title);
-  if (std::system(cmd.c_str()) != 0)
+  // Absolute paths and --title=: a name starting with '-' must not read as an option to argparse.
+  const fs::path abs = fs::absolute(dir);
+  const std::vector<std::string> command = {python,
+                                            script.string(),
+                                            (abs / "accuracy.csv").string(),
+                                            (abs / "reference.csv").string(),
+                                            (abs / "accuracy.png").string(),
+                                            "--title=" + title};
+  if (runProcess(command) != 0)
     throw CommandError(kExitFailure, fmt::format("accuracy: {} failed (the CSV files are written)", script.string()));
   fmt::print(stderr, "accuracy: wrote {}\n", (dir / "accuracy.png").string());
 }
@@ -49,16 +59,20 @@ void runAccuracyCommand(const AccuracyCommandOptions& c) {
   AccuracyOptions o;
   o.scene = c.scene;
   const Scene scene = loadScene(c.scene);  // bad input fails before the output directory is made
-  o.steps = parseIntList("--steps", c.quick ? "5,10,30,120" : c.steps, 1);
+  o.steps = parseIntList("--steps", c.quick ? "5,10,30,120" : c.steps, 1, kMaxStepsPerFrame);
   o.solvers = parseNameList("--solver", c.solvers, kMeasuredSolvers);
-  o.stretch_passes = c.quick ? std::vector<int>{scene.sim.stretch_passes} : parseIntList("--passes", c.passes, 0);
-  o.times = parseDoubleList("--times", c.quick ? "0.5,1" : c.times);
+  o.stretch_passes =
+      c.quick ? std::vector<int>{scene.sim.stretch_passes} : parseIntList("--passes", c.passes, 0, kMaxStretchPasses);
+  o.times = parseDoubleList("--times", c.quick ? "0.5,1" : c.times, kMaxSampleTime);
   o.reference_factor = c.quick ? 8 : c.reference_factor;
   const std::string stem = fs::path(c.scene).stem().string();
   const fs::path dir = c.out.empty() ? fs::path("out") / "accuracy" / stem : fs::path(c.out);
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw CommandError(kExitBadInput, fmt::format("--out: {}: {}", dir.string(), ec.message()));
+  // Before the runs, which take minutes: every file written at the end (matplotlib writes the PNG).
+  for (const char* name : {"accuracy.csv", "reference.csv", "accuracy.md", "accuracy.png"})
+    checkOutputFile(dir / name);
 
   const AccuracyReport report = runAccuracy(o, [](const std::string& line) {
     fmt::print(stderr, "accuracy {}\n", line);

@@ -3,9 +3,12 @@
 #include "app/bench.hpp"
 #include "app/commands.hpp"
 #include "app/output.hpp"
+#include "gl/context.hpp"
 
 #include <fmt/core.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -28,6 +31,19 @@ struct BenchCommandOptions {
   std::string markdown;
 };
 
+// Without a context every GPU run would be skipped and the command would look like a success: fail
+// before any work instead (status 3), as --solver gpu does everywhere else.
+void requireGlIfAsked(const std::vector<std::string>& solvers) {
+  if (std::find(solvers.begin(), solvers.end(), "gpu") == solvers.end()) return;
+  try {
+    [[maybe_unused]] const gl::HeadlessContext probe = gl::HeadlessContext::create();
+  } catch (const gl::ContextError& e) {
+    throw CommandError(kExitNoGl, fmt::format("bench: --solver gpu: no OpenGL 4.5 context ({}); --solver cpu "
+                                              "benches the CPU solvers only",
+                                              e.what()));
+  }
+}
+
 void runBenchCommand(const BenchCommandOptions& c) {
   BenchOptions o;
   o.scenes = parseNameList("--scenes", c.scenes, {});
@@ -35,16 +51,17 @@ void runBenchCommand(const BenchCommandOptions& c) {
   if (c.scenes == kDefaultScenes)
     for (std::string& path : o.scenes)
       if (!std::filesystem::exists(path)) path = std::string(DRAPE_SOURCE_DIR) + "/" + path;
-  o.sizes = parseIntList("--sizes", c.sizes, 2);
+  o.sizes = parseIntList("--sizes", c.sizes, 2, int(std::sqrt(double(kMaxClothPoints))));  // N x N points
   o.solvers = parseNameList("--solver", c.solvers, kMeasuredSolvers);
-  o.threads = parseIntList("--threads", c.threads, 0);
+  o.threads = parseIntList("--threads", c.threads, 0, 1024);
   o.frames = c.frames;
   o.warmup = c.warmup;
   o.repeats = c.repeats;
   o.budget_s = c.budget_s;
-  for (int n : o.sizes)
-    if ((long long)n * n > kMaxClothPoints)
-      throw CommandError(kExitBadInput, fmt::format("--sizes: {}x{} is more than {} points", n, n, kMaxClothPoints));
+  // Output paths are checked before the runs, which may take minutes, not after them.
+  if (!c.json.empty()) checkOutputFile(c.json);
+  if (!c.markdown.empty()) checkOutputFile(c.markdown);
+  requireGlIfAsked(o.solvers);
   const BenchReport report = runBench(o, [](const std::string& line) {
     fmt::print(stderr, "bench {}\n", line);
     std::fflush(stderr);
@@ -67,17 +84,13 @@ void addBenchCommand(CLI::App& app) {
   cmd->add_option("--threads", c->threads,
                   "Comma-separated thread counts for the CPU solvers, a run each (0 = every core)")
       ->capture_default_str();
-  cmd->add_option("--frames", c->frames, "Timed frames per repeat, at most")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  cmd->add_option("--warmup", c->warmup, "Untimed frames before timing")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  cmd->add_option("--frames", c->frames, "Timed frames per repeat, at most")->check(kPositive)->capture_default_str();
+  cmd->add_option("--warmup", c->warmup, "Untimed frames before timing")->check(kNonNegative)->capture_default_str();
   cmd->add_option("--repeats", c->repeats, "Timed repeats (median and spread over these)")
-      ->check(CLI::PositiveNumber)
+      ->check(kPositive)
       ->capture_default_str();
   cmd->add_option("--budget", c->budget_s, "Timed seconds per run: slow runs time fewer frames per repeat")
-      ->check(CLI::PositiveNumber)
+      ->check(kPositive)
       ->capture_default_str();
   cmd->add_option("--json", c->json, "Write the results as JSON here (default: stdout)");
   cmd->add_option("--markdown", c->markdown, "Write a markdown table of the results here");

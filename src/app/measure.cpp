@@ -164,13 +164,15 @@ std::string utcTimestamp() {
   return buf;
 }
 
-std::vector<int> parseIntList(const std::string& option, const std::string& text, int min_value) {
+std::vector<int> parseIntList(const std::string& option, const std::string& text, int min_value, int max_value) {
   std::vector<int> out;
   for (const std::string& item : splitList(text)) {
     std::size_t used = 0;
     int value = 0;
     try {
       value = std::stoi(item, &used);
+    } catch (const std::out_of_range&) {
+      throw CommandError(kExitBadInput, fmt::format("{}: {} is above the maximum {}", option, item, max_value));
     } catch (const std::exception&) {
       used = 0;
     }
@@ -178,13 +180,15 @@ std::vector<int> parseIntList(const std::string& option, const std::string& text
       throw CommandError(kExitBadInput, fmt::format("{}: '{}' is not an integer", option, item));
     if (value < min_value)
       throw CommandError(kExitBadInput, fmt::format("{}: {} is below the minimum {}", option, value, min_value));
+    if (value > max_value)
+      throw CommandError(kExitBadInput, fmt::format("{}: {} is above the maximum {}", option, value, max_value));
     out.push_back(value);
   }
   if (out.empty()) throw CommandError(kExitBadInput, fmt::format("{}: empty list", option));
   return out;
 }
 
-std::vector<double> parseDoubleList(const std::string& option, const std::string& text) {
+std::vector<double> parseDoubleList(const std::string& option, const std::string& text, double max_value) {
   std::vector<double> out;
   for (const std::string& item : splitList(text)) {
     std::size_t used = 0;
@@ -196,6 +200,8 @@ std::vector<double> parseDoubleList(const std::string& option, const std::string
     }
     if (item.empty() || used != item.size() || !std::isfinite(value) || value <= 0)
       throw CommandError(kExitBadInput, fmt::format("{}: '{}' is not a positive number", option, item));
+    if (value > max_value)
+      throw CommandError(kExitBadInput, fmt::format("{}: {} is above the maximum {:g}", option, item, max_value));
     out.push_back(value);
   }
   if (out.empty()) throw CommandError(kExitBadInput, fmt::format("{}: empty list", option));

@@ -7,6 +7,7 @@
 #include "core/solver.hpp"
 #include "gpu/health.hpp"
 
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -90,9 +91,11 @@ Spread summarize(std::vector<double> values);
 // "2026-11-22T03:50:00Z"
 std::string utcTimestamp();
 
-// Comma-separated lists for the command-line options.
-std::vector<int> parseIntList(const std::string& option, const std::string& text, int min_value);
-std::vector<double> parseDoubleList(const std::string& option, const std::string& text);
+// Comma-separated lists for the command-line options; a value outside the bounds is an error.
+std::vector<int> parseIntList(const std::string& option, const std::string& text, int min_value,
+                              int max_value = std::numeric_limits<int>::max());
+std::vector<double> parseDoubleList(const std::string& option, const std::string& text,
+                                    double max_value = std::numeric_limits<double>::max());
 // An empty `allowed` accepts any non-empty name.
 std::vector<std::string> parseNameList(const std::string& option, const std::string& text,
                                        const std::vector<std::string>& allowed);

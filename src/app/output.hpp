@@ -1,13 +1,13 @@
-// Output files are written whole or not at all: to a temporary file beside the target, then renamed.
+// Output files: written whole or not at all, never through a link or over a device (core/atomic_file).
 #pragma once
 
+#include "core/atomic_file.hpp"
 #include "core/metrics.hpp"
 
 #include <string>
 
 namespace drape {
 
-void writeFileAtomically(const std::string& path, const std::string& contents);
 void writePositionsJson(const std::string& path, const Positions& x);
 
 }  // namespace drape

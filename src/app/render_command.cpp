@@ -1,5 +1,7 @@
 // `drape render`: run a scene headless (EGL, no display) and write frames as PNGs, optionally a video.
 #include "app/commands.hpp"
+#include "app/output.hpp"
+#include "app/process.hpp"
 #include "app/solver_factory.hpp"
 #include "core/metrics.hpp"
 #include "gl/context.hpp"
@@ -13,13 +15,15 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <filesystem>
 #include <regex>
+#include <string_view>
 
 namespace drape {
 
 namespace {
+
+constexpr int kMaxRenderFrames = 1000000;
 
 struct RenderOptions {
   std::string scene;
@@ -76,32 +80,63 @@ Image readImage(const gl::Framebuffer& target) {
   return image;
 }
 
-bool ffmpegAvailable() {
-  return std::system("command -v ffmpeg >/dev/null 2>&1") == 0;
+// ffmpeg's image2 glob reads \ as an escape: the directory's own * ? [ ] { } \ must match literally.
+std::string globEscape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (std::string_view("*?[]{}\\").find(c) != std::string_view::npos) out += '\\';
+    out += c;
+  }
+  return out;
 }
 
+// No shell: the directory and video names reach ffmpeg as they are. Absolute paths, so that a name
+// starting with '-' is not an option and one with a ':' is not a protocol (e.g. pipe:).
 void encodeVideo(const std::filesystem::path& dir, const std::string& video, double fps) {
-  const std::string command = fmt::format(
-      "ffmpeg -loglevel error -y -framerate {:.6g} -pattern_type glob -i '{}/frame_*.png' -c:v libx264 "
-      "-pix_fmt yuv420p -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' '{}'",
-      fps, dir.string(), video);
-  if (std::system(command.c_str()) != 0)
-    throw CommandError(kExitFailure, fmt::format("--video: ffmpeg failed to write {} (command: {})", video, command));
+  const std::string output = std::filesystem::absolute(video).string();
+  const std::vector<std::string> command = {"ffmpeg",
+                                            "-nostdin",
+                                            "-loglevel",
+                                            "error",
+                                            "-y",
+                                            "-framerate",
+                                            fmt::format("{:.6g}", fps),
+                                            "-pattern_type",
+                                            "glob",
+                                            "-i",
+                                            globEscape(std::filesystem::absolute(dir).string()) + "/frame_*.png",
+                                            "-c:v",
+                                            "libx264",
+                                            "-pix_fmt",
+                                            "yuv420p",
+                                            "-vf",
+                                            "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+                                            output};
+  if (const int status = runProcess(command); status != 0)
+    throw CommandError(kExitFailure, fmt::format("--video: ffmpeg failed to write {} (exit status {})", video, status));
   fmt::print(stderr, "render: wrote {}\n", video);
 }
 
 // The GPU solver draws from the context that is current; CPU solvers need one for the renderer only.
 std::unique_ptr<Solver> makeRenderSolver(const Scene& scene, const std::string& name) {
-  if (name == "gpu") return std::make_unique<GpuSolver>(scene);
-  return makeSolver(scene, name);
+  if (name != "gpu") return makeSolver(scene, name);
+  try {
+    return std::make_unique<GpuSolver>(scene);
+  } catch (const GpuLimitError& e) {  // a cloth too large for this GPU is bad input, as for simulate
+    throw CommandError(kExitBadInput, fmt::format("{}: {}", scene.path, e.what()));
+  }
 }
 
-void runRender(const RenderOptions& o) {
-  const glm::ivec2 size = parseSize(o.size);
-  const std::vector<Shading> shadings = parseShadings(o.shader);
-  if (!o.video.empty() && !ffmpegAvailable())
-    throw CommandError(kExitFailure, fmt::format("--video: ffmpeg is not installed (apt-get install ffmpeg); "
-                                                 "leave out --video to write the PNG frames only"));
+// An existing --out must be a directory; the directories are made only once everything else is known to
+// work, so that a bad scene or a missing context leaves nothing behind.
+void checkOutputDirectory(const std::filesystem::path& dir) {
+  std::error_code error;
+  const auto status = std::filesystem::status(dir, error);
+  if (std::filesystem::exists(status) && !std::filesystem::is_directory(status))
+    throw CommandError(kExitBadInput, fmt::format("--out: {} exists and is not a directory", dir.string()));
+}
+
+std::vector<std::filesystem::path> makeOutputDirectories(const RenderOptions& o, const std::vector<Shading>& shadings) {
   // One shader writes DIR/frame_NNNN.png; several write DIR/SHADER/frame_NNNN.png.
   std::vector<std::filesystem::path> dirs;
   for (Shading shading : shadings)
@@ -114,19 +149,38 @@ void runRender(const RenderOptions& o) {
       throw CommandError(kExitBadInput, fmt::format("--out: cannot create directory {}: {}", dir.string(),
                                                     error ? error.message() : "not a directory"));
   }
-  const Scene scene = loadScene(o.scene);
+  return dirs;
+}
 
-  gl::HeadlessContext context;
+gl::HeadlessContext makeRenderContext() {
   try {
-    context = gl::HeadlessContext::create();
+    return gl::HeadlessContext::create();
   } catch (const gl::ContextError& e) {
     throw CommandError(kExitNoGl, fmt::format("render: no OpenGL 4.5 context: {}", e.what()));
   }
+}
+
+void runRender(const RenderOptions& o) {
+  const glm::ivec2 size = parseSize(o.size);
+  const std::vector<Shading> shadings = parseShadings(o.shader);
+  if (!o.video.empty() && !findProgram("ffmpeg"))
+    throw CommandError(kExitFailure, fmt::format("--video: ffmpeg is not installed (apt-get install ffmpeg); "
+                                                 "leave out --video to write the PNG frames only"));
+  checkOutputDirectory(o.out);
+  if (!o.video.empty()) checkOutputFile(o.video);
+  const Scene scene = loadScene(o.scene);
+
+  gl::HeadlessContext context = makeRenderContext();
   fmt::print(stderr, "render: {}\n", gl::describe(context.info()));
+  if (const int most = gl::Framebuffer::maxSamples(); o.samples > most)
+    throw CommandError(kExitBadInput, fmt::format("--samples: {} is more than this OpenGL allows ({}, "
+                                                  "GL_MAX_SAMPLES on {})",
+                                                  o.samples, most, context.info().renderer));
   std::unique_ptr<Solver> solver = makeRenderSolver(scene, o.solver);
   ClothFeed feed(*solver);
   Renderer renderer(scene, solver->topology(), {.sphere_latitudes = o.latitudes, .sphere_longitudes = o.longitudes});
   gl::Framebuffer target = gl::Framebuffer::createColorDepth(size.x, size.y, o.samples);
+  const std::vector<std::filesystem::path> dirs = makeOutputDirectories(o, shadings);
   Camera camera;
   const float aspect = float(size.x) / float(size.y);
   camera.frame(renderer.sceneBounds(), aspect);
@@ -179,9 +233,10 @@ void addRenderCommand(CLI::App& app) {
   auto opts = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Render a scene headless (no display needed) to PNG frames");
   cmd->add_option("scene", opts->scene, "Scene JSON file")->required();
+  // Bounded so that frame + every cannot overflow an int (and frame_NNNN names stay short).
   cmd->add_option("--frames", opts->frames, "Frames to simulate; frame 0 is the initial state")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--every", opts->every, "Write every K-th frame")->check(CLI::PositiveNumber);
+      ->check(CLI::Range(0, kMaxRenderFrames));
+  cmd->add_option("--every", opts->every, "Write every K-th frame")->check(CLI::Range(1, kMaxRenderFrames));
   cmd->add_option("--out", opts->out, "Directory for frame_NNNN.png")->required();
   cmd->add_option("--shader", opts->shader, "Shading model, a comma-separated list, or all: " + shadingNames());
   cmd->add_option("--size", opts->size, "Image size WIDTHxHEIGHT (default 640x480)");

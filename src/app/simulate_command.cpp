@@ -62,6 +62,7 @@ Scene guardStability(Scene scene, bool auto_substeps) {
 }
 
 void runSimulate(const SimulateOptions& o) {
+  if (!o.out.empty()) checkOutputFile(o.out);  // before the run, not after it
   const Scene scene = guardStability(loadScene(o.scene), o.auto_substeps);
   auto solver = makeSolver(scene, o.solver, o.verbose, o.threads);
   if (o.verbose) fmt::print(stderr, "{}", describePasses(*solver));

@@ -24,7 +24,7 @@ struct StabilityCommandOptions {
 };
 
 void runStabilityCommand(const StabilityCommandOptions& o) {
-  const std::vector<int> steps = parseIntList("--steps", o.steps, 1);
+  const std::vector<int> steps = parseIntList("--steps", o.steps, 1, kMaxStepsPerFrame);
   std::vector<StabilityCase> all = stabilityCases(), chosen;
   if (o.cases.empty()) {
     chosen = all;
@@ -39,6 +39,8 @@ void runStabilityCommand(const StabilityCommandOptions& o) {
   std::error_code ec;
   fs::create_directories(o.out, ec);
   if (ec) throw CommandError(kExitBadInput, fmt::format("--out: {}: {}", o.out, ec.message()));
+  for (const char* name : {"stability.csv", "stability.md"})
+    checkOutputFile(fs::path(o.out) / name);  // before the runs, not after them
   const StabilityReport report = runStability(chosen, steps, [](const std::string& line) {
     fmt::print(stderr, "stability {}\n", line);
     std::fflush(stderr);

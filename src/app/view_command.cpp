@@ -91,7 +91,7 @@ void addViewCommand(CLI::App& app) {
       ->check(CLI::IsMember({"cpu", "cpu64", "gpu"}));
   auto* frames =
       cmd->add_option("--frames", opts->frames, "Simulate N frames, then close (with --screenshot: save the last)")
-          ->check(CLI::PositiveNumber);
+          ->check(kPositive);
   cmd->add_option("--screenshot", opts->screenshot, "PNG of the last frame of a --frames run")->needs(frames);
   cmd->add_option("--size", opts->size, "Window size WIDTHxHEIGHT (default 1280x800)");
   cmd->callback([opts] { runView(*opts); });

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cfloat>
 #include <climits>
 #include <cmath>
 #include <cstring>
@@ -237,10 +238,14 @@ class Node {
     return json_->size();
   }
 
-  double number() const {
+  // The float solvers get every value: one beyond float's range would be infinite there. Only a
+  // plane's normal, normalised in double on load, may be larger (`in_float` false).
+  double number(bool in_float = true) const {
     if (!json_->is_number()) fail(std::string("expected a number, got ") + json_->type_name());
     double v = json_->get<double>();
     if (!std::isfinite(v)) fail("not a finite number");
+    if (in_float && std::fabs(v) > double(FLT_MAX))
+      fail("out of float range (got " + show(v) + ", at most " + show(FLT_MAX) + ")");
     return v;
   }
 
@@ -268,9 +273,9 @@ class Node {
     return json_->get<bool>();
   }
 
-  glm::dvec3 vec3() const {
+  glm::dvec3 vec3(bool in_float = true) const {
     if (!json_->is_array() || json_->size() != 3) fail("expected [x, y, z], got " + show(*json_));
-    return {element(0).number(), element(1).number(), element(2).number()};
+    return {element(0).number(in_float), element(1).number(in_float), element(2).number(in_float)};
   }
 
  private:
@@ -281,9 +286,13 @@ class Node {
   std::string path_;
 };
 
+// Positive values are divided by (thickness, noise_scale, ...) or multiplied into a divisor, so they must
+// stay positive in float: 1e-300 is 0 there, a denormal's reciprocal is infinite.
 double positive(const Node& n) {
   double v = n.number();
   if (!(v > 0.0)) n.fail("must be > 0 (got " + show(v) + ")");
+  if (v < double(FLT_MIN))
+    n.fail("too small: " + show(v) + " is 0 or denormal in float (at least " + show(FLT_MIN) + ")");
   return v;
 }
 
@@ -299,11 +308,15 @@ double between(const Node& n, double lo, double hi) {
   return v;
 }
 
-int integerAtLeast(const Node& n, long long lo) {
+int integerBetween(const Node& n, long long lo, long long hi) {
   long long v = n.integer();
   if (v < lo) n.fail("must be >= " + std::to_string(lo) + " (got " + std::to_string(v) + ")");
-  if (v > INT_MAX) n.fail("must be <= " + std::to_string(INT_MAX) + " (got " + std::to_string(v) + ")");
+  if (v > hi) n.fail("must be <= " + std::to_string(hi) + " (got " + std::to_string(v) + ")");
   return static_cast<int>(v);
+}
+
+int integerAtLeast(const Node& n, long long lo) {
+  return integerBetween(n, lo, INT_MAX);
 }
 
 std::vector<glm::ivec2> readPins(const Node& n, int W, int H) {
@@ -366,7 +379,7 @@ PlaneSpec readPlane(const Node& n) {
   PlaneSpec p;
   p.point = n.require("point").vec3();
   Node normal = n.require("normal");
-  glm::dvec3 v = normal.vec3();
+  glm::dvec3 v = normal.vec3(/*in_float=*/false);
   // Scaled by the largest component first, so that neither 1e-200 nor 1e200 under- or overflows.
   double largest = std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
   if (largest == 0.0) normal.fail("zero length, a plane needs a direction");
@@ -400,10 +413,10 @@ SimParams readSimulation(const Node& n) {
                   "stretch_scheme", "wind"});
   SimParams s;
   if (auto v = n.find("frames_per_sec")) s.frames_per_sec = positive(*v);
-  if (auto v = n.find("steps_per_frame")) s.steps_per_frame = integerAtLeast(*v, 1);
+  if (auto v = n.find("steps_per_frame")) s.steps_per_frame = integerBetween(*v, 1, kMaxStepsPerFrame);
   if (auto v = n.find("gravity")) s.gravity = v->vec3();
   if (auto v = n.find("self_collision")) s.self_collision = v->boolean();
-  if (auto v = n.find("stretch_passes")) s.stretch_passes = integerAtLeast(*v, 0);
+  if (auto v = n.find("stretch_passes")) s.stretch_passes = integerBetween(*v, 0, kMaxStretchPasses);
   if (auto v = n.find("stretch_limit")) s.stretch_limit = atLeast(*v, 1.0);
   if (auto v = n.find("stretch_scheme")) s.stretch_scheme = readStretchScheme(*v);
   if (auto v = n.find("wind")) s.wind = readWind(*v);
@@ -417,6 +430,28 @@ void readColliders(const Node& root, const char* single, const char* list, Read 
     for (std::size_t i = 0, count = v->arraySize(); i < count; ++i)
       out.push_back(read(v->element(i)));
   }
+}
+
+// A value the solvers divide by: it must be a normal float, neither 0 nor infinite there.
+bool normalFloat(double v) {
+  return std::fabs(v) >= double(FLT_MIN) && std::fabs(v) <= double(FLT_MAX);
+}
+
+// Quantities made from several keys, each valid alone, that the solvers divide by or square.
+void checkDerived(const Scene& scene, const Node& root) {
+  const ClothSpec& c = scene.cloth;
+  const Node cloth = root.child("cloth");
+  const double mass = c.width * c.height * c.density / double(c.pointCount());
+  if (!normalFloat(mass))
+    cloth.fail("mass per point width x height x density / points = " + show(mass) + " kg is 0 or infinite in float");
+  const double spacing_x = c.width / (c.num_width_points - 1), spacing_y = c.height / (c.num_height_points - 1);
+  if (!normalFloat(spacing_x) || !normalFloat(spacing_y))
+    cloth.fail("point spacing " + show(spacing_x) + " x " + show(spacing_y) + " m is 0 in float");
+  // Verlet multiplies by dt^2: its square must be a normal float too.
+  const double dt = scene.sim.dt();
+  if (!normalFloat(dt * dt))
+    throw SceneError(scene.path + ": simulation.frames_per_sec: time step 1 / (frames_per_sec x steps_per_frame) = " +
+                     show(dt) + " s: its square is 0 or infinite in float");
 }
 
 }  // namespace
@@ -437,6 +472,7 @@ Scene parseScene(const std::string& json_text, const std::string& name) {
   readColliders(root, "sphere", "spheres", readSphere, scene.spheres);
   readColliders(root, "plane", "planes", readPlane, scene.planes);
   if (auto v = root.find("simulation")) scene.sim = readSimulation(*v);
+  checkDerived(scene, root);
   return scene;
 }
 
@@ -448,10 +484,15 @@ Scene loadScene(const std::filesystem::path& file) {
   if (std::filesystem::is_directory(status)) throw SceneError(name + ": cannot open: is a directory, not a file");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw SceneError(name + ": cannot open: " + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
+  // Read at most one byte past the limit, whatever the file claims its size is: /dev/zero has none.
+  std::string text(std::size_t(kMaxSceneBytes) + 1, '\0');
+  in.read(text.data(), std::streamsize(text.size()));
   if (in.bad()) throw SceneError(name + ": cannot read: " + std::strerror(errno));
-  return parseScene(text.str(), name);
+  text.resize(std::size_t(in.gcount()));
+  if (text.size() > std::size_t(kMaxSceneBytes))
+    throw SceneError(name + ": too large for a scene (more than " + std::to_string(kMaxSceneBytes / (1024 * 1024)) +
+                     " MiB)");
+  return parseScene(text, name);
 }
 
 void applyLiveParams(Scene& scene, const ClothSpec& cloth, const SimParams& sim) {

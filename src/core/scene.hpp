@@ -101,7 +101,16 @@ Scene parseScene(const std::string& json_text, const std::string& name);
 // the topology, which stays as in `scene`: grid size, extent, orientation and pins.
 void applyLiveParams(Scene& scene, const ClothSpec& cloth, const SimParams& sim);
 
-// Largest cloth accepted (points), so a typo cannot ask for terabytes.
-inline constexpr long long kMaxClothPoints = 4096LL * 4096LL;
+// Limits, each a clear error instead of hours of work or gigabytes of memory (scenes/README.md).
+// Largest cloth (points): its topology takes about 2 GB and a few seconds to build on the CPU (24-byte
+// springs and adjacency entries, ~6 springs per point); 4096^2 took 8.5 GB.
+inline constexpr long long kMaxClothPoints = 2048LL * 2048LL;
+// Largest scene file: the shipped scenes are under 2 KB; a pin list of every point of the largest cloth
+// is about 60 MB, which no scene needs.
+inline constexpr long long kMaxSceneBytes = 16LL * 1024 * 1024;
+// Substeps per frame and stretch-limit passes per substep: far beyond any stable or useful setting
+// (the stiffest shipped case needs a few hundred substeps), yet each frame ends.
+inline constexpr int kMaxStepsPerFrame = 10000;
+inline constexpr int kMaxStretchPasses = 100;
 
 }  // namespace drape

@@ -32,8 +32,9 @@ namespace drape {
 inline constexpr double kStabilityLimit = 1.4142135623730951;
 // The limit for a damping percentage: sqrt(1 + keep), keep = 1 - damping/100; from sqrt(2) to 1.
 double stabilityLimit(double damping_percent);
-// autoSubsteps never asks for more than this (a scene needing more is reported, not run for hours).
-inline constexpr int kMaxAutoSubsteps = 100000;
+// autoSubsteps never asks for more than this (a scene needing more is reported, not run for hours):
+// the most a scene file may ask for.
+inline constexpr int kMaxAutoSubsteps = kMaxStepsPerFrame;
 
 struct StabilityCheck {
   double number = 0.0;             // dt sqrt(k_sum / m)

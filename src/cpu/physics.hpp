@@ -129,9 +129,17 @@ T quinticFade(T t) {
   return t * t * t * (t * (t * T(6) - T(15)) + T(10));
 }
 
-// Value noise in [-1, 1]: lattice values from hashCell, quintic interpolation (C2 smooth).
+// Beyond this many wavelengths from the origin valueNoise is 0: its lattice cell would not fit an int
+// (converting it is undefined behaviour), and float has no fraction left there anyway (2^30 has ulp 128).
+inline constexpr double kNoiseLimit = 1073741824.0;  // 2^30
+
+// Value noise in [-1, 1]: lattice values from hashCell, quintic interpolation (C2 smooth). 0 for
+// non-finite points (a cloth blowing up) and for points beyond kNoiseLimit.
 template <class T>
 T valueNoise(vec3<T> p) {
+  // Written so that NaN fails the test too.
+  if (!(std::fabs(p.x) < T(kNoiseLimit) && std::fabs(p.y) < T(kNoiseLimit) && std::fabs(p.z) < T(kNoiseLimit)))
+    return T(0);
   vec3<T> f = glm::floor(p);
   glm::ivec3 i(f);
   vec3<T> t = p - f;

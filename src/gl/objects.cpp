@@ -370,6 +370,13 @@ Framebuffer Framebuffer::createColorDepth(int width, int height, int samples) {
   return framebuffer;
 }
 
+int Framebuffer::maxSamples() {
+  GLint renderbuffer = 1, texture = 1;
+  glGetIntegerv(GL_MAX_SAMPLES, &renderbuffer);
+  glGetIntegerv(GL_MAX_COLOR_TEXTURE_SAMPLES, &texture);
+  return std::max(1, std::min(int(renderbuffer), int(texture)));
+}
+
 void Framebuffer::bind() const {
   glBindFramebuffer(GL_FRAMEBUFFER, id());
   glViewport(0, 0, width_, height_);

@@ -217,6 +217,9 @@ class Framebuffer {
   Framebuffer() = default;
   // samples > 1 makes a multisampled target; readPixelsRGBA resolves it first.
   static Framebuffer createColorDepth(int width, int height, int samples = 1);
+  // The most samples createColorDepth can give in the current context (GL_MAX_SAMPLES for the depth
+  // renderbuffer, GL_MAX_COLOR_TEXTURE_SAMPLES for the colour texture, whichever is smaller).
+  static int maxSamples();
 
   GLuint id() const { return name_.get(); }
   int width() const { return width_; }

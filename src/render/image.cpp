@@ -1,5 +1,7 @@
 #include "render/image.hpp"
 
+#include "core/atomic_file.hpp"
+
 // Static: the implementations stay private to this file, so they cannot clash with the copy of stb
 // inside libstb that Dear ImGui's package links.
 #define STB_IMAGE_STATIC
@@ -24,6 +26,7 @@
 #include <algorithm>
 #include <cstring>
 #include <memory>
+#include <string>
 
 namespace drape {
 
@@ -40,14 +43,27 @@ Image loadImage(const std::filesystem::path& file, int channels) {
   return image;
 }
 
+namespace {
+
+void appendBytes(void* context, void* data, int size) {
+  auto* out = static_cast<std::string*>(context);
+  out->append(static_cast<const char*>(data), std::size_t(size));
+}
+
+}  // namespace
+
 void writePng(const std::filesystem::path& file, const Image& image) {
   stbi_write_png_compression_level = 9;  // frames and README images: smaller files, still fast at these sizes
   if (image.width <= 0 || image.height <= 0 ||
       image.pixels.size() != std::size_t(image.width) * image.height * image.channels)
     throw ImageError(file.string() + ": cannot write an empty or inconsistent image");
-  const int ok = stbi_write_png(file.string().c_str(), image.width, image.height, image.channels, image.pixels.data(),
-                                image.width * image.channels);
-  if (!ok) throw ImageError(file.string() + ": cannot write PNG (missing directory or no permission?)");
+  // stbi_write_png does not check its fwrite calls (a full disk left a truncated PNG and exit 0), so the
+  // PNG is encoded in memory and written through the checked, atomic writer.
+  std::string png;
+  if (!stbi_write_png_to_func(appendBytes, &png, image.width, image.height, image.channels, image.pixels.data(),
+                              image.width * image.channels))
+    throw ImageError(file.string() + ": cannot encode PNG");
+  writeFileAtomically(file, png);
 }
 
 void flipRows(Image& image) {

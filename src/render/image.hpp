@@ -27,7 +27,8 @@ struct Image {
 // "<file>: cannot read image: <reason>" when the file is missing or not an image.
 Image loadImage(const std::filesystem::path& file, int channels);
 
-// Writes a PNG; throws ImageError naming the file when it cannot be written.
+// Writes a PNG whole or not at all (core/atomic_file.hpp): throws OutputError naming the file when it
+// cannot be written, ImageError when the image cannot be encoded.
 void writePng(const std::filesystem::path& file, const Image& image);
 
 // Turns rows bottom-to-top (glReadPixels) into top-to-bottom, in place.

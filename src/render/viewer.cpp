@@ -208,7 +208,7 @@ void Viewer::saveScreenshot(const std::filesystem::path& file) {
     writePng(file, image);
     status_ = "saved " + file.string();
     std::fprintf(stderr, "drape view: %s\n", status_.c_str());
-  } catch (const ImageError& e) {
+  } catch (const std::runtime_error& e) {  // ImageError, or OutputError from the file system
     status_ = e.what();
     std::fprintf(stderr, "drape view: %s\n", e.what());
     if (options_.frames > 0) throw;  // the --frames run exists to write this file
