@@ -433,14 +433,16 @@ TEST_F(GpuSolverCommand, VerboseListsThePassesOfTheScene) {
   if (pinned2.status == 3) GTEST_SKIP() << "no OpenGL 4.5 context: " << pinned2.output;
   ASSERT_EQ(pinned2.status, 0) << pinned2.output;
   EXPECT_NE(pinned2.output.find("GL_RENDERER"), std::string::npos) << pinned2.output;
-  EXPECT_NE(pinned2.output.find("2 dispatches per substep, 60 per frame"), std::string::npos) << pinned2.output;
+  // forces+integrate, then the Gauss-Seidel stretch limit's 12 colours.
+  EXPECT_NE(pinned2.output.find("13 dispatches per substep, 390 per frame"), std::string::npos) << pinned2.output;
+  EXPECT_NE(pinned2.output.find("limit_stretch_colour x12"), std::string::npos) << pinned2.output;
   EXPECT_EQ(pinned2.output.find("collide"), std::string::npos) << "pinned2 has no colliders and no self-collision";
   EXPECT_EQ(pinned2.output.find("grid"), std::string::npos) << pinned2.output;
   const CommandResult self =
       runDrape("", "simulate " + scene_ + "selfCollision.json --solver gpu --frames 1 --verbose");
   ASSERT_EQ(self.status, 0) << self.output;
   EXPECT_NE(self.output.find("self_collide+collide"), std::string::npos) << self.output;
-  EXPECT_NE(self.output.find("4 dispatches per substep, 120 per frame"), std::string::npos) << self.output;
+  EXPECT_NE(self.output.find("15 dispatches per substep, 450 per frame"), std::string::npos) << self.output;
 }
 
 TEST_F(GpuSolverCommand, WithoutAContextTheGpuSolverExitsWith3AndTheCpuStillRuns) {

@@ -116,7 +116,7 @@ TEST(ViewerPanel, StepsPerFrameAndSelfCollisionChangeWhatTheSolverDispatches) {
   PanelSession s(pinned2());
   Viewer& v = *s.viewer;
   const std::vector<std::string> passes = v.solver().passes();
-  ASSERT_EQ(passes.size(), 17u);  // forces+integrate, then the stretch limit's 12 colours
+  ASSERT_EQ(passes.size(), 13u);  // forces+integrate, then the stretch limit's 12 colours
 
   s.click(s.control("self-collision").centre());
   EXPECT_TRUE(v.sim.self_collision);

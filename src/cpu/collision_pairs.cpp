@@ -35,7 +35,7 @@ bool CollisionPairs<T>::stale(const std::vector<vec3>& x, int threads) const {
   const long long n = (long long)x.size();
   bool moved = false;
   // `!(d2 <= limit2)` so that a non-finite position also counts as moved.
-#pragma omp parallel for schedule(static) num_threads(threads) reduction(|| : moved)
+#pragma omp parallel for schedule(static) num_threads(teamFor(threads, n)) reduction(|| : moved)
   for (long long i = 0; i < n; ++i) {
     const vec3 d = x[std::size_t(i)] - anchor_[std::size_t(i)];
     moved = moved || !(glm::dot(d, d) <= limit2);
@@ -53,7 +53,7 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
   // they do not depend on how the points were split between threads.
   found_.resize(std::size_t(threads));
   const long long count = (long long)n;
-#pragma omp parallel num_threads(threads)
+#pragma omp parallel num_threads(teamFor(threads, count))
   {
     std::vector<Pair>& mine = found_[std::size_t(omp_get_thread_num())];
     mine.clear();
@@ -81,7 +81,7 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
       list_[fill_[pair.i]++] = pair.j;
       list_[fill_[pair.j]++] = pair.i;
     }
-#pragma omp parallel for schedule(static) num_threads(threads)
+#pragma omp parallel for schedule(static) num_threads(teamFor(threads, count))
   for (long long p = 0; p < count; ++p)
     std::sort(list_.data() + start_[std::size_t(p)], list_.data() + start_[std::size_t(p) + 1]);
   anchor_ = x;

@@ -19,6 +19,14 @@
 
 namespace drape {
 
+// OpenMP team for a loop of `items` iterations: one thread below kParallelItems, where forking and the
+// closing barrier cost more than the loop saves (a 50x50 cloth's per-point loops take microseconds),
+// and where, on a loaded machine, one descheduled thread would stall every barrier of the substep.
+inline constexpr long long kParallelItems = 4096;
+inline int teamFor(int threads, long long items) {
+  return items >= kParallelItems ? threads : 1;
+}
+
 template <class T>
 class CollisionPairs {
  public:

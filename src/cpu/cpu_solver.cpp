@@ -131,7 +131,7 @@ void CpuSolver<T>::accumulateForces() {
   // force is springForce(b, a), which IEEE arithmetic makes exactly -springForce(a, b): d and -d have
   // the same length, and rounding is symmetric in sign.
   const long long springs = (long long)topo_.springs.size();
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, springs))
   for (long long s = 0; s < springs; ++s) {
     const Spring& sp = topo_.springs[std::size_t(s)];
     const int type = int(sp.type);
@@ -139,7 +139,7 @@ void CpuSolver<T>::accumulateForces() {
       spring_a_[std::size_t(s)] = physics::springForce(x_[sp.a], x_[sp.b], rest_[std::size_t(s)], stiffness_.k[type]);
   }
   const long long n = (long long)x_.size();
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, n))
   for (long long p = 0; p < n; ++p) {
     const std::size_t i = std::size_t(p);
     vec3 f = weight;
@@ -162,7 +162,7 @@ void CpuSolver<T>::integrate() {
   const T dt2 = dt_ * dt_;
   const T inv_mass = T(1) / mass_;
   const long long n = (long long)x_.size();
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, n))
   for (long long p = 0; p < n; ++p) {
     const std::size_t i = std::size_t(p);
     if (topo_.pinned[i]) {
@@ -186,7 +186,7 @@ void CpuSolver<T>::integrate() {
 template <class T>
 void CpuSolver<T>::applyCorrections() {
   const long long n = (long long)x_.size();
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, n))
   for (long long p = 0; p < n; ++p) {
     const std::size_t i = std::size_t(p);
     x_[i] += correction_[i];
@@ -207,7 +207,7 @@ void CpuSolver<T>::selfCollide() {
   const T steps = T(scene_.sim.steps_per_frame);
   // Jacobi: every correction is computed from the positions before the pass, so the result does not
   // depend on the order points are visited (nor, on the GPU, on thread order).
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, n))
   for (long long p = 0; p < n; ++p) {
     const std::size_t i = std::size_t(p);
     vec3 sum(0);
@@ -226,7 +226,7 @@ void CpuSolver<T>::selfCollide() {
 template <class T>
 void CpuSolver<T>::collide() {
   const long long n = (long long)x_.size();
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, n))
   for (long long k = 0; k < n; ++k) {
     const std::size_t i = std::size_t(k);
     if (topo_.pinned[i]) continue;
@@ -270,7 +270,7 @@ void CpuSolver<T>::limitStretchColoured() {
   for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass)
     for (int colour = 0; colour < colouring_.colourCount(); ++colour) {
       const long long first = colouring_.start[std::size_t(colour)], last = colouring_.start[std::size_t(colour) + 1];
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, last - first))
       for (long long k = first; k < last; ++k) {
         const std::uint32_t s = colouring_.springs[std::size_t(k)];
         const Spring& sp = topo_.springs[s];
@@ -303,7 +303,7 @@ void CpuSolver<T>::limitStretchJacobi() {
   for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass) {
     // Provot (1995) per spring, once: the correction of each end. With equal shares the one of end b
     // is exactly minus that of end a (as for springForce); a pinned end gives the other a full share.
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, springs))
     for (long long s = 0; s < springs; ++s) {
       const Spring& sp = topo_.springs[std::size_t(s)];
       if (!enabled[int(sp.type)]) continue;
@@ -316,7 +316,7 @@ void CpuSolver<T>::limitStretchJacobi() {
           share_a == share_b ? -ca : physics::stretchCorrection(x_[sp.b], x_[sp.a], rest, limit, share_b);
     }
     // Gathered per vertex (Jacobi) in adjacency order, so the GPU can do the same with no atomics.
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, n))
     for (long long p = 0; p < n; ++p) {
       const std::size_t i = std::size_t(p);
       vec3 sum(0);
