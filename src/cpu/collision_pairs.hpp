@@ -20,9 +20,11 @@
 namespace drape {
 
 // OpenMP team for a loop of `items` iterations: one thread below kParallelItems, where forking and the
-// closing barrier cost more than the loop saves (a 50x50 cloth's per-point loops take microseconds),
-// and where, on a loaded machine, one descheduled thread would stall every barrier of the substep.
-inline constexpr long long kParallelItems = 4096;
+// closing barrier cost more than the loop saves. A 50x50 cloth's loops take 10-50 us each, a dozen per
+// substep; measured on the 2-core development machine under load, 2 threads on them ran 3.4x slower
+// than one (threads spin at every barrier while their partner is descheduled). From 32768 items a
+// loop is worth a few hundred microseconds, and the threads pay.
+inline constexpr long long kParallelItems = 32768;
 inline int teamFor(int threads, long long items) {
   return items >= kParallelItems ? threads : 1;
 }
