@@ -23,8 +23,10 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
   rest_.reserve(topo_.springs.size());
   for (const Spring& s : topo_.springs)
     rest_.push_back(T(s.rest));
-  spring_a_.resize(topo_.springs.size());
-  spring_b_.resize(topo_.springs.size());
+  // Also per adjacency entry: the gathers read it beside the entry, not through the spring index.
+  rest_adjacent_.reserve(topo_.adjacency.size());
+  for (const Neighbor& nb : topo_.adjacency)
+    rest_adjacent_.push_back(T(nb.rest));
   colouring_ = colourSprings(topo_);
   const std::size_t n = std::size_t(topo_.pointCount());
   f_.resize(n);
@@ -127,25 +129,18 @@ void CpuSolver<T>::accumulateForces() {
   const vec3 weight = vec3(scene_.sim.gravity) * mass_;
   const T time = T(double(substeps_) * scene_.sim.dt());
   const T drag_area = T(wind.drag * cloth.width * cloth.height / double(topo_.pointCount()));
-  // Each spring once, gathered by both ends in their adjacency order (the GPU's order). From end b the
-  // force is springForce(b, a), which IEEE arithmetic makes exactly -springForce(a, b): d and -d have
-  // the same length, and rounding is symmetric in sign.
-  const long long springs = (long long)topo_.springs.size();
-#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, springs))
-  for (long long s = 0; s < springs; ++s) {
-    const Spring& sp = topo_.springs[std::size_t(s)];
-    const int type = int(sp.type);
-    if (enabled[type])
-      spring_a_[std::size_t(s)] = physics::springForce(x_[sp.a], x_[sp.b], rest_[std::size_t(s)], stiffness_.k[type]);
-  }
+  // Per point, over its adjacency in a fixed order (the GPU's). Computing each spring once and gathering
+  // it from both ends gives the same bytes (springForce(b, a) is exactly -springForce(a, b)) but measured
+  // 1.5x slower here: the per-spring pass scatters its reads and writes, while this loop reads one
+  // point's neighbourhood, which is mostly in cache.
   const long long n = (long long)x_.size();
-#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, n))
-  for (long long p = 0; p < n; ++p) {
+  parallelFor(0, n, threads_, [&](long long p) {
     const std::size_t i = std::size_t(p);
     vec3 f = weight;
     for (std::uint32_t e = topo_.offsets[i]; e < topo_.offsets[i + 1]; ++e) {
       const Neighbor& nb = topo_.adjacency[e];
-      if (enabled[int(nb.type)]) f += nb.other > i ? spring_a_[nb.spring] : -spring_a_[nb.spring];
+      const int type = int(nb.type);
+      if (enabled[type]) f += physics::springForce(x_[i], x_[nb.other], rest_adjacent_[e], stiffness_.k[type]);
     }
     if (wind.enabled) {
       vec3 air = physics::windVelocity(x_[i], time, vec3(wind.velocity), T(wind.turbulence), T(wind.noise_scale),
@@ -154,7 +149,7 @@ void CpuSolver<T>::accumulateForces() {
       f += physics::windForce(pointNormal(int(i)), disp / dt_, air, drag_area);
     }
     f_[i] = f;
-  }
+  });
 }
 
 template <class T>
@@ -162,15 +157,14 @@ void CpuSolver<T>::integrate() {
   const T dt2 = dt_ * dt_;
   const T inv_mass = T(1) / mass_;
   const long long n = (long long)x_.size();
-#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, n))
-  for (long long p = 0; p < n; ++p) {
+  parallelFor(0, n, threads_, [&](long long p) {
     const std::size_t i = std::size_t(p);
     if (topo_.pinned[i]) {
       if (form_ == VerletForm::Displacement)
         v_[i] = vec3(0);
       else
         v_[i] = x_[i];
-      continue;
+      return;
     }
     if (form_ == VerletForm::Displacement) {
       v_[i] = physics::integrateVerlet(v_[i], f_[i] * inv_mass, dt2, keep_);
@@ -180,19 +174,18 @@ void CpuSolver<T>::integrate() {
       v_[i] = x_[i];
       x_[i] = next;
     }
-  }
+  });
 }
 
 template <class T>
 void CpuSolver<T>::applyCorrections() {
   const long long n = (long long)x_.size();
-#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, n))
-  for (long long p = 0; p < n; ++p) {
+  parallelFor(0, n, threads_, [&](long long p) {
     const std::size_t i = std::size_t(p);
     x_[i] += correction_[i];
     // x_prev stays where it was: in displacement form that is v += c.
     if (form_ == VerletForm::Displacement) v_[i] += correction_[i];
-  }
+  });
 }
 
 template <class T>
@@ -207,8 +200,7 @@ void CpuSolver<T>::selfCollide() {
   const T steps = T(scene_.sim.steps_per_frame);
   // Jacobi: every correction is computed from the positions before the pass, so the result does not
   // depend on the order points are visited (nor, on the GPU, on thread order).
-#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, n))
-  for (long long p = 0; p < n; ++p) {
+  parallelFor(0, n, threads_, [&](long long p) {
     const std::size_t i = std::size_t(p);
     vec3 sum(0);
     int count = 0;
@@ -219,17 +211,16 @@ void CpuSolver<T>::selfCollide() {
       });
     }
     correction_[i] = count > 0 ? sum / (T(count) * steps) : vec3(0);
-  }
+  });
   applyCorrections();
 }
 
 template <class T>
 void CpuSolver<T>::collide() {
   const long long n = (long long)x_.size();
-#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, n))
-  for (long long k = 0; k < n; ++k) {
+  parallelFor(0, n, threads_, [&](long long k) {
     const std::size_t i = std::size_t(k);
-    if (topo_.pinned[i]) continue;
+    if (topo_.pinned[i]) return;
     vec3 x = x_[i];
     vec3 v = form_ == VerletForm::Displacement ? v_[i] : x_[i] - v_[i];
     vec3 c;
@@ -246,7 +237,7 @@ void CpuSolver<T>::collide() {
       }
     x_[i] = x;
     if (form_ == VerletForm::Displacement) v_[i] = v;
-  }
+  });
 }
 
 template <class T>
@@ -270,11 +261,10 @@ void CpuSolver<T>::limitStretchColoured() {
   for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass)
     for (int colour = 0; colour < colouring_.colourCount(); ++colour) {
       const long long first = colouring_.start[std::size_t(colour)], last = colouring_.start[std::size_t(colour) + 1];
-#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, last - first))
-      for (long long k = first; k < last; ++k) {
+      parallelFor(first, last, threads_, [&](long long k) {
         const std::uint32_t s = colouring_.springs[std::size_t(k)];
         const Spring& sp = topo_.springs[s];
-        if (!enabled[int(sp.type)]) continue;
+        if (!enabled[int(sp.type)]) return;
         const bool pinned_a = topo_.pinned[sp.a] != 0, pinned_b = topo_.pinned[sp.b] != 0;
         const T share_a = physics::stretchShare<T>(pinned_a, pinned_b);
         const T share_b = physics::stretchShare<T>(pinned_b, pinned_a);
@@ -289,7 +279,7 @@ void CpuSolver<T>::limitStretchColoured() {
           x_[sp.b] += cb;
           if (displacement) v_[sp.b] += cb;
         }
-      }
+      });
     }
 }
 
@@ -298,26 +288,10 @@ void CpuSolver<T>::limitStretchJacobi() {
   const ClothSpec& cloth = scene_.cloth;
   const bool enabled[kSpringTypeCount] = {cloth.enable_structural, cloth.enable_shearing, cloth.enable_bending};
   const T limit = T(scene_.sim.stretch_limit);
-  const long long springs = (long long)topo_.springs.size();
   const long long n = (long long)x_.size();
   for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass) {
-    // Provot (1995) per spring, once: the correction of each end. With equal shares the one of end b
-    // is exactly minus that of end a (as for springForce); a pinned end gives the other a full share.
-#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, springs))
-    for (long long s = 0; s < springs; ++s) {
-      const Spring& sp = topo_.springs[std::size_t(s)];
-      if (!enabled[int(sp.type)]) continue;
-      const T share_a = physics::stretchShare<T>(false, topo_.pinned[sp.b] != 0);
-      const T share_b = physics::stretchShare<T>(false, topo_.pinned[sp.a] != 0);
-      const T rest = rest_[std::size_t(s)];
-      const vec3 ca = physics::stretchCorrection(x_[sp.a], x_[sp.b], rest, limit, share_a);
-      spring_a_[std::size_t(s)] = ca;
-      spring_b_[std::size_t(s)] =
-          share_a == share_b ? -ca : physics::stretchCorrection(x_[sp.b], x_[sp.a], rest, limit, share_b);
-    }
-    // Gathered per vertex (Jacobi) in adjacency order, so the GPU can do the same with no atomics.
-#pragma omp parallel for schedule(static) num_threads(teamFor(threads_, n))
-    for (long long p = 0; p < n; ++p) {
+    // Provot (1995) per spring, gathered per vertex (Jacobi) so the GPU can do the same with no atomics.
+    parallelFor(0, n, threads_, [&](long long p) {
       const std::size_t i = std::size_t(p);
       vec3 sum(0);
       int violated = 0;
@@ -325,7 +299,8 @@ void CpuSolver<T>::limitStretchJacobi() {
         for (std::uint32_t e = topo_.offsets[i]; e < topo_.offsets[i + 1]; ++e) {
           const Neighbor& nb = topo_.adjacency[e];
           if (!enabled[int(nb.type)]) continue;
-          const vec3 c = nb.other > i ? spring_a_[nb.spring] : spring_b_[nb.spring];
+          const T share = physics::stretchShare<T>(false, topo_.pinned[nb.other] != 0);
+          const vec3 c = physics::stretchCorrection(x_[i], x_[nb.other], rest_adjacent_[e], limit, share);
           if (c != vec3(0)) {
             sum += c;
             ++violated;
@@ -335,7 +310,7 @@ void CpuSolver<T>::limitStretchJacobi() {
       // Averaged, not summed: the springs of a hanging point mostly pull the same way, and their summed
       // Jacobi corrections overshoot and diverge (measured: strain 9.6 -> 1e52 over 64 passes).
       correction_[i] = violated > 0 ? sum / T(violated) : vec3(0);
-    }
+    });
     applyCorrections();
   }
 }

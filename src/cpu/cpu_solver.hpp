@@ -84,8 +84,8 @@ class CpuSolver final : public Solver {
   int threads_ = 1;
   double pair_margin_ = kDefaultPairMargin;
   std::vector<vec3> x_, v_, f_, correction_;
-  std::vector<T> rest_;                    // per spring, in T
-  std::vector<vec3> spring_a_, spring_b_;  // per spring: force or correction on its end a, on its end b
+  std::vector<T> rest_;           // per spring, in T
+  std::vector<T> rest_adjacent_;  // per adjacency entry, in T
   CollisionPairs<T> pairs_;
   SpringColouring colouring_;
   T mass_ = 0, dt_ = 0, keep_ = 1;
