@@ -5,6 +5,7 @@
 #include "core/colouring.hpp"
 #include "core/scene.hpp"
 #include "cpu/cpu_solver.hpp"
+#include "cpu/parallel.hpp"
 
 #include <gtest/gtest.h>
 
@@ -121,7 +122,7 @@ INSTANTIATE_TEST_SUITE_P(Cloths, CollisionPairsCase,
                                            PairCase{"folded", "selfCollision.json", kDefaultPairMargin, 150, 10},
                                            PairCase{"settling", "selfCollision.json", kDefaultPairMargin, 60, 10},
                                            PairCase{"thin_margin", "selfCollision.json", 0.1, 20, 20}),
-                         [](const auto& info) { return std::string(info.param.name); });
+                         [](const auto& test) { return std::string(test.param.name); });
 
 TEST(CollisionPairs, MarginZeroRebuildsEverySubstep) {
   CollisionPairs<float> pairs;

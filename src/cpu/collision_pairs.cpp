@@ -1,4 +1,5 @@
 #include "cpu/collision_pairs.hpp"
+#include "cpu/parallel.hpp"
 
 #include <omp.h>
 

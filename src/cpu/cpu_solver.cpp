@@ -1,4 +1,5 @@
 #include "cpu/cpu_solver.hpp"
+#include "cpu/parallel.hpp"
 
 #include "core/derived.hpp"
 
