@@ -1,4 +1,6 @@
 // The `drape` command line as a user meets it: runs the real binary as a subprocess.
+#include "shell_quote.hpp"
+
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
@@ -188,16 +190,8 @@ TEST(Cli, ABlowUpExitsWithStatusFourAndWritesNothing) {
 // ---------------------------------------------------------------------------------------------------
 // Hostile names and output paths.
 
-// Single-quoted for /bin/sh, whatever the text holds.
-std::string quote(const std::string& text) {
-  std::string out = "'";
-  for (char c : text)
-    out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
-// A name that runs `touch PWNED` wherever it is pasted into a shell command inside single quotes.
-const std::string kHostile = "x';touch PWNED;'";
+using drape::testing::kHostile;
+using drape::testing::quote;
 
 fs::path freshDir(const std::string& name) {
   const fs::path dir = tempDir() / name;

@@ -2,6 +2,8 @@
 // runs under `xvfb-run` when there is no display.
 #include "render/image.hpp"
 
+#include "shell_quote.hpp"
+
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -156,16 +158,8 @@ TEST_F(RenderCliTest, VideoNeedsFfmpeg) {
   }
 }
 
-// Single-quoted for /bin/sh, whatever the text holds.
-std::string quote(const std::string& text) {
-  std::string out = "'";
-  for (char c : text)
-    out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
-// A name that runs `touch PWNED` wherever it is pasted into a shell command inside single quotes.
-const std::string kHostile = "x';touch PWNED;'";
+using drape::testing::kHostile;
+using drape::testing::quote;
 
 TEST_F(RenderCliTest, FfmpegGetsHostileNamesAsArgumentsNotAsCommands) {
   // A stand-in ffmpeg first on $PATH records its arguments, one per line, and writes the video.

@@ -1,7 +1,6 @@
 #include "app/bench.hpp"
 
 #include "core/stability.hpp"
-#include "cpu/cpu_solver.hpp"
 
 #include <fmt/format.h>
 
@@ -65,8 +64,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
     return run;
   }
   const bool gpu = solver_name == "gpu";
-  if (auto* cpu = dynamic_cast<const CpuSolver<float>*>(solver.get())) run.threads = cpu->threads();
-  if (auto* cpu = dynamic_cast<const CpuSolver<double>*>(solver.get())) run.threads = cpu->threads();
+  run.threads = solver->threads();
   int frame = 0;
   auto sane = [&] {
     const std::string why = checkHealth(*solver);

@@ -45,6 +45,7 @@ class Solver {
 
   virtual std::vector<std::string> passes() const = 0;  // passes dispatched per substep, in order
   virtual int dispatchesPerFrame() const { return 0; }
+  virtual int threads() const { return 0; }  // CPU threads the solver's loops may use; 0 for the GPU
   virtual std::vector<PassTiming> timings() const { return {}; }
   virtual void resetTimings() {}
 };

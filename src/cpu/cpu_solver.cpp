@@ -20,7 +20,7 @@ template <class T>
 CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
     : scene_(std::move(scene)), topo_(buildTopology(scene_.cloth)), form_(options.form) {
   threads_ = options.threads > 0 ? options.threads : std::max(omp_get_num_procs(), 1);
-  pair_margin_ = options.pair_margin >= 0 ? options.pair_margin : kDefaultPairMargin;
+  pair_margin_ = options.pair_margin;
   rest_.reserve(topo_.springs.size());
   for (const Spring& s : topo_.springs)
     rest_.push_back(T(s.rest));

@@ -16,16 +16,15 @@ namespace drape {
 // x_prev itself (CS184's form, kept to measure the round-off it costs).
 enum class VerletForm { Displacement, PreviousPosition };
 
+// Skin of the self-collision candidate list, in units of the range 2*thickness (chosen by measurement:
+// docs/design.md section 6).
+inline constexpr double kDefaultPairMargin = 0.5;
+
 struct CpuSolverOptions {
   VerletForm form = VerletForm::Displacement;
   int threads = 0;  // OpenMP threads for the per-point loops; 0 = every core. Any count gives the same bytes.
-  // Self-collision list skin, as a fraction of the collision range 2*thickness (measured in the bench:
-  // see kDefaultPairMargin); 0 rebuilds the candidate list every substep.
-  double pair_margin = -1.0;  // < 0: kDefaultPairMargin
+  double pair_margin = kDefaultPairMargin;  // list skin / (2*thickness); 0 rebuilds the list every substep
 };
-
-// Skin of the self-collision candidate list, in units of the range 2*thickness.
-inline constexpr double kDefaultPairMargin = 0.5;
 
 template <class T>
 class CpuSolver final : public Solver {
@@ -62,7 +61,7 @@ class CpuSolver final : public Solver {
   const std::vector<vec3>& forces() const { return f_; }
   void setState(const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& v);
   T mass() const { return mass_; }
-  int threads() const { return threads_; }
+  int threads() const override { return threads_; }
   const CollisionPairs<T>& collisionPairs() const { return pairs_; }
 
  private:
