@@ -1,8 +1,12 @@
-// The self-collision hash grid built on the GPU: the same cells and buckets as the CPU grid, a
-// counting sort with ascending indices in every bucket, exactly the brute-force pairs, and the same
-// Jacobi corrections as the CPU pass, on random clouds (negative coordinates, points on cell borders,
-// far from the origin) and for both build paths (one work group, and the multi-dispatch scan).
+// The self-collision lists built on the GPU (glsl/sim/pairs.glsl): a hash grid with the same cells and
+// buckets as the CPU grid, a counting sort with ascending indices in every bucket, exactly the
+// brute-force pairs, candidate lists equal to the CPU's (src/cpu/collision_pairs.hpp) entry for entry,
+// and the same Jacobi corrections as the CPU pass, on random clouds (negative coordinates, points on
+// cell borders, far from the origin), for both build paths (one work group, and the multi-dispatch
+// scans), and with a list buffer too small for the lists (the points that do not fit are served from
+// the grid).
 #include "core/derived.hpp"
+#include "cpu/collision_pairs.hpp"
 #include "cpu/hash_grid.hpp"
 #include "gl_fixture.hpp"
 #include "gpu/gpu_solver.hpp"
@@ -26,6 +30,7 @@ struct CloudCase {
   bool snap;              // coordinates on a half-cell lattice: every other one exactly on a cell border
   std::uint32_t buckets;  // 0: one per point, as the CPU grid
   const char* build;      // expected first grid pass: grid_build (one work group) or grid_scan
+  std::size_t capacity;   // list entries the GPU buffer holds; 0: the solver's estimate
 };
 
 // Test names and CTest listings show the case's name instead of its bytes.
@@ -91,19 +96,21 @@ TEST_P(GpuGridTest, MatchesTheCpuGridAndBruteForce) {
   const std::vector<glm::dvec3> cloud = makeCloud(c);
   const std::vector<glm::dvec3> still(cloud.size(), glm::dvec3(0));
 
-  GpuSolver gpu(scene, {.buckets = c.buckets});
-  ASSERT_EQ(gpu.passes()[1], c.build);
+  GpuSolver gpu(scene, {.buckets = c.buckets, .pair_capacity = c.capacity});
+  ASSERT_EQ(gpu.passes()[3], c.build);
   gpu.uploadState(cloud, still, 0);
   gpu.selfCollide();
   const GpuGrid grid = gpu.readGrid();
+  const GpuPairs lists = gpu.readPairs();
   const std::size_t n = cloud.size();
   const std::uint32_t buckets = c.buckets ? c.buckets : std::uint32_t(derived::hashBucketCount(n));
   ASSERT_EQ(grid.cells.size(), n);
   ASSERT_EQ(grid.start.size(), std::size_t(buckets) + 1);
 
   // Cells and buckets as on the CPU, and a counting sort: start[] the prefix sums of the bucket
-  // sizes, each bucket holding its own points in ascending order.
-  const float cell = 2.0f * float(kThickness);
+  // sizes, each bucket holding its own points in ascending order. The cell edge is the lists' reach.
+  const float range = 2.0f * float(kThickness);
+  const float cell = range + range * float(kDefaultPairMargin);
   std::vector<glm::vec3> points(cloud.begin(), cloud.end());
   std::vector<std::uint32_t> size(buckets, 0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -124,9 +131,33 @@ TEST_P(GpuGridTest, MatchesTheCpuGridAndBruteForce) {
   }
   ASSERT_EQ(grid.start[buckets], n);
 
-  const Pairs expected = bruteForce(points, cell);
+  const Pairs expected = bruteForce(points, range);
   EXPECT_GT(expected.size(), 0u) << "the cloud must contain close pairs for the test to mean anything";
-  EXPECT_EQ(queryGpuGrid(grid, points, cell), expected);
+  EXPECT_EQ(queryGpuGrid(grid, points, range), expected);
+  EXPECT_EQ(queryGpuGrid(grid, points, cell), bruteForce(points, cell));
+
+  // The lists: the CPU's, entry for entry (the pairs within reach, ascending), as far as the buffer
+  // holds them.
+  CollisionPairs<float> cpu_lists;
+  cpu_lists.configure(range, range * float(kDefaultPairMargin));
+  cpu_lists.update(points, 1);
+  ASSERT_EQ(lists.start.size(), n + 1);
+  EXPECT_EQ(lists.builds, 1u);
+  EXPECT_EQ(std::size_t(lists.start[n]), cpu_lists.pairCount());
+  EXPECT_EQ(lists.overflow, lists.start[n] > lists.capacity);
+  if (c.capacity != 0) {
+    EXPECT_EQ(lists.capacity, c.capacity);
+    EXPECT_TRUE(lists.overflow) << "the case must overflow the buffer for the test to mean anything";
+  }
+  std::size_t listed = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (lists.start[i + 1] > lists.capacity) continue;
+    const std::vector<std::uint32_t> gpu_list(lists.list.begin() + lists.start[i],
+                                              lists.list.begin() + lists.start[i + 1]);
+    ASSERT_EQ(gpu_list, std::vector<std::uint32_t>(cpu_lists.begin(i), cpu_lists.end(i))) << "point " << i;
+    ++listed;
+  }
+  EXPECT_GT(listed, 0u);
 
   // The corrections: the same sums in the same order as the CPU pass (bound: tests/gpu_passes_gl_test.cpp).
   CpuSolver<float> cpu(scene);
@@ -136,25 +167,89 @@ TEST_P(GpuGridTest, MatchesTheCpuGridAndBruteForce) {
   const double bound =
       gpu_test::bitIdenticalDevice(gpu.contextInfo()) ? 0.0 : 4.0 * gpu_test::floatUlp(gpu_test::maxAbs(cloud));
   const double dx = gpu_test::maxComponentDifference(gpu.readPositions(), expected_x);
-  std::printf("%-16s %zu points, %u buckets, %zu close pairs, max |dx| %.3g m (bound %.3g m)\n", c.name, n, buckets,
-              expected.size() / 2, dx, bound);
+  std::printf(
+      "%-16s %zu points, %u buckets, %zu close pairs, %u list entries (%zu points listed), max |dx| %.3g m "
+      "(bound %.3g m)\n",
+      c.name, n, buckets, expected.size() / 2, lists.start[n], listed, dx, bound);
   EXPECT_LE(dx, bound);
   EXPECT_GT(gpu_test::changedPoints(cloud, expected_x), 0);
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Clouds, GpuGridTest,
-    ::testing::Values(CloudCase{"positive", 30, 50, 0.0, 0.3, false, 0, "grid_build"},
-                      CloudCase{"negative", 30, 50, -0.3, 0.0, false, 0, "grid_build"},
-                      CloudCase{"straddling_zero", 30, 50, -0.15, 0.15, false, 0, "grid_build"},
-                      CloudCase{"on_cell_borders", 20, 40, -0.1, 0.1, true, 0, "grid_build"},
-                      CloudCase{"far_from_origin", 30, 50, 100.0, 100.3, false, 0, "grid_build"},
+    ::testing::Values(CloudCase{"positive", 30, 50, 0.0, 0.3, false, 0, "grid_build", 0},
+                      CloudCase{"negative", 30, 50, -0.3, 0.0, false, 0, "grid_build", 0},
+                      CloudCase{"straddling_zero", 30, 50, -0.15, 0.15, false, 0, "grid_build", 0},
+                      CloudCase{"on_cell_borders", 20, 40, -0.1, 0.1, true, 0, "grid_build", 0},
+                      CloudCase{"far_from_origin", 30, 50, 100.0, 100.3, false, 0, "grid_build", 0},
                       // 64 buckets for 1500 points: every bucket mixes many cells.
-                      CloudCase{"crowded_buckets", 30, 50, -0.15, 0.15, false, 64, "grid_build"},
+                      CloudCase{"crowded_buckets", 30, 50, -0.15, 0.15, false, 64, "grid_build", 0},
                       // More buckets than one work group scans: the three-dispatch scan.
-                      CloudCase{"multi_block_scan", 30, 50, -0.15, 0.15, false, 1u << 16, "grid_scan"},
-                      CloudCase{"large_cloud", 80, 80, -0.25, 0.25, true, 0, "grid_scan"}),
+                      CloudCase{"multi_block_scan", 30, 50, -0.15, 0.15, false, 1u << 16, "grid_scan", 0},
+                      // 6400 points: the lists' scan takes three dispatches too.
+                      CloudCase{"large_cloud", 80, 80, -0.25, 0.25, true, 0, "grid_scan", 0},
+                      // A list buffer that holds a fraction of the lists.
+                      CloudCase{"lists_overflow", 30, 50, -0.15, 0.15, false, 0, "grid_build", 600}),
     [](const ::testing::TestParamInfo<CloudCase>& param) { return std::string(param.param.name); });
+
+}  // namespace
+}  // namespace drape
+
+namespace drape {
+namespace {
+
+// A falling, folding cloth over many substeps: the lists the GPU keeps always hold every pair in range
+// (brute force over the positions self_collide read), they are rebuilt far less often than every
+// substep, and with a buffer too small at first, the run still equals the CPU's bit for bit while the
+// grid serves the points that did not fit, until readHealth() grows the buffer.
+TEST_F(GlTest, GpuListsStayValidAndOverflowGrowsTheBuffer) {
+  const Scene scene = gpu_test::standardScene("selfCollision.json");
+  GpuSolver gpu(scene, {.pair_capacity = 1000});
+  CpuSolver<float> cpu(scene);
+  const std::size_t n = std::size_t(gpu.topology().pointCount());
+  const float range = 2.0f * float(scene.cloth.thickness);
+  int checks = 0, overflowed = 0;
+  for (int f = 1; f <= 120; ++f) {
+    for (int s = 0; s < scene.sim.steps_per_frame; ++s) {
+      gpu.forcesIntegrate();
+      // Every pair in range of the positions self_collide is about to read must be listed.
+      if (f % 20 == 0 && s == scene.sim.steps_per_frame - 1) {
+        const auto x = gpu.readPositions();
+        gpu.selfCollide();
+        const GpuPairs lists = gpu.readPairs();
+        std::vector<glm::vec3> p(x.begin(), x.end());
+        for (const auto& [i, j] : bruteForce(p, range)) {
+          if (lists.start[i + 1] > lists.capacity) continue;  // served from the grid
+          const auto first = lists.list.begin() + lists.start[i], last = lists.list.begin() + lists.start[i + 1];
+          ASSERT_TRUE(std::binary_search(first, last, j)) << "frame " << f << ": pair " << i << "," << j;
+        }
+        overflowed += lists.overflow;
+        ++checks;
+      } else {
+        gpu.selfCollide();
+      }
+      gpu.limitStretch();
+    }
+    cpu.stepFrame();
+    // Grows the buffer, the first time after 60 frames of folding served from the grid.
+    if (f % 60 == 0) {
+      ASSERT_TRUE(gpu.readHealth().ok()) << "frame " << f;
+    }
+  }
+  const GpuPairs lists = gpu.readPairs();
+  const long long substeps = 120LL * scene.sim.steps_per_frame;
+  EXPECT_GT(lists.capacity, 1000u) << "the buffer must have grown";
+  EXPECT_LE(lists.start[n], lists.capacity);
+  EXPECT_FALSE(lists.overflow);
+  EXPECT_LT(lists.builds, std::uint32_t(substeps / 2)) << "the lists must outlive a substep";
+  EXPECT_EQ(checks, 6);
+  EXPECT_EQ(overflowed, 3) << "frames 20, 40, 60 overflow the first buffer, 80, 100, 120 fit the grown one";
+  const double bound =
+      gpu_test::bitIdenticalDevice(gpu.contextInfo()) ? 0.0 : double(substeps) * 4.0 * gpu_test::floatUlp(1.0);
+  EXPECT_LE(gpu_test::maxComponentDifference(gpu.readPositions(), cpu.readPositions()), bound);
+  std::printf("selfCollision: %u list builds in %lld substeps, %u entries, buffer grown to %u\n", lists.builds,
+              substeps, lists.start[n], lists.capacity);
+}
 
 }  // namespace
 }  // namespace drape

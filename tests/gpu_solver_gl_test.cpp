@@ -43,6 +43,15 @@ Strings operator+(Strings a, const Strings& b) {
   return a;
 }
 
+// Integrate and the self-collision lists' build up to 4096 points: the grid and the scan in one work group.
+const Strings kListBuild = {"forces+integrate+pairs_check",
+                            "pairs_prepare",
+                            "pairs_grid_count",
+                            "grid_build",
+                            "pairs_count",
+                            "pairs_scan",
+                            "pairs_fill"};
+
 TEST_F(GpuSolverTest, PassListsFollowTheScene) {
   // pinned2: no collider, no self-collision: nothing but the two kernels every cloth needs.
   GpuSolver pinned2(standardScene("pinned2.json"));
@@ -52,16 +61,15 @@ TEST_F(GpuSolverTest, PassListsFollowTheScene) {
     EXPECT_EQ(pass.find("collide"), std::string::npos) << pass;
     EXPECT_EQ(pass.find("grid"), std::string::npos) << pass;
   }
-  // selfCollision: the hash grid (one work group for 2500 points), the correction with the floor fused.
+  // selfCollision: the candidate lists' build (one work group for the grid and the scan of 2500 points,
+  // dispatched with zero groups while the lists are fresh), the correction with the floor fused.
   GpuSolver self(standardScene("selfCollision.json"));
-  EXPECT_EQ(self.passes(),
-            (Strings{"forces+integrate+grid_count", "grid_build", "self_collide+collide"} + colourDispatches()));
-  EXPECT_EQ(self.dispatchesPerFrame(), (3 + 12) * 30);
+  EXPECT_EQ(self.passes(), (kListBuild + Strings{"self_collide+collide"} + colourDispatches()));
+  EXPECT_EQ(self.dispatchesPerFrame(), (8 + 12) * 30);
   // The averaged Jacobi stretch pass is one dispatch.
   Scene jacobi = standardScene("selfCollision.json");
   jacobi.sim.stretch_scheme = StretchScheme::Jacobi;
-  EXPECT_EQ(GpuSolver(jacobi).passes(),
-            (Strings{"forces+integrate+grid_count", "grid_build", "self_collide+collide", "limit_stretch"}));
+  EXPECT_EQ(GpuSolver(jacobi).passes(), (kListBuild + Strings{"self_collide+collide", "limit_stretch"}));
   // A collider without self-collision rides on the integrate kernel.
   Scene sphere = standardScene("sphere.json");
   sphere.sim.self_collision = false;
@@ -78,10 +86,11 @@ TEST_F(GpuSolverTest, PassListsFollowTheScene) {
   loose.sim.stretch_scheme = StretchScheme::Jacobi;
   EXPECT_EQ(GpuSolver(loose).passes(),
             (Strings{"forces+integrate", "limit_stretch", "limit_stretch", "limit_stretch"}));
-  // Past 4096 buckets the grid build takes five dispatches.
+  // Past 4096 buckets the grid build takes five dispatches, past 4096 points the lists' scan three.
   EXPECT_EQ(GpuSolver(smallScene(80, true)).passes(),
-            (Strings{"forces+integrate+grid_count", "grid_scan", "grid_scan_blocks", "grid_scan_offsets",
-                     "grid_scatter", "grid_rank", "self_collide"} +
+            (Strings{"forces+integrate+pairs_check", "pairs_prepare", "pairs_grid_count", "grid_scan",
+                     "grid_scan_blocks", "grid_scan_offsets", "grid_scatter", "grid_rank", "pairs_count", "pairs_scan",
+                     "pairs_scan_blocks", "pairs_scan_offsets", "pairs_fill", "self_collide"} +
              colourDispatches()));
 }
 
@@ -312,11 +321,10 @@ TEST_F(GpuSolverTest, LiveParameterChangesMatchTheCpu) {
   sim.self_collision = true;
   gpu.setParams(cloth, sim);
   const Strings passes = gpu.passes();
-  ASSERT_GT(passes.size(), 3u);
-  EXPECT_EQ(Strings(passes.begin(), passes.begin() + 3),
-            (Strings{"forces+integrate+grid_count", "grid_build", "self_collide"}));
+  ASSERT_GT(passes.size(), 8u);
+  EXPECT_EQ(Strings(passes.begin(), passes.begin() + 8), (kListBuild + Strings{"self_collide"}));
   EXPECT_TRUE(
-      std::all_of(passes.begin() + 3, passes.end(), [](const std::string& p) { return p == "limit_stretch_colour"; }));
+      std::all_of(passes.begin() + 8, passes.end(), [](const std::string& p) { return p == "limit_stretch_colour"; }));
   gpu.stepFrame();
   EXPECT_TRUE(allFinite(gpu.readPositions()));
 }
@@ -442,7 +450,7 @@ TEST_F(GpuSolverCommand, VerboseListsThePassesOfTheScene) {
       runDrape("", "simulate " + scene_ + "selfCollision.json --solver gpu --frames 1 --verbose");
   ASSERT_EQ(self.status, 0) << self.output;
   EXPECT_NE(self.output.find("self_collide+collide"), std::string::npos) << self.output;
-  EXPECT_NE(self.output.find("15 dispatches per substep, 450 per frame"), std::string::npos) << self.output;
+  EXPECT_NE(self.output.find("20 dispatches per substep, 600 per frame"), std::string::npos) << self.output;
 }
 
 TEST_F(GpuSolverCommand, WithoutAContextTheGpuSolverExitsWith3AndTheCpuStillRuns) {

@@ -81,8 +81,9 @@ TEST_P(GpuVariantTest, SceneYieldsItsDefinesAndOnlyItsFeaturesCode) {
   // self-collision pass to do it later. collideObjects itself is always defined (empty without
   // colliders), hence the 1.
   const bool colliders = c.spheres + c.planes > 0;
-  EXPECT_EQ(occurrences(text, "countIntoGrid("), c.self_collision ? 2 : 0);  // definition and call
-  EXPECT_EQ(occurrences(text, "gridCounts") > 0, c.self_collision);
+  EXPECT_EQ(occurrences(text, "checkPairTravel("), c.self_collision ? 2 : 0);  // definition and call
+  EXPECT_EQ(occurrences(text, "pairAnchor") > 0, c.self_collision);
+  EXPECT_EQ(occurrences(text, "gridCounts"), 0) << "the lists' grid is built only when they are stale";
   EXPECT_EQ(occurrences(text, "u_time") > 0, c.wind);
   EXPECT_EQ(occurrences(text, "pointNormal(") > 0, c.wind);
   EXPECT_EQ(occurrences(text, "collideObjects("), 1 + (colliders && !c.self_collision ? 1 : 0));

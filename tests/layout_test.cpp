@@ -73,10 +73,14 @@ TEST(Layout, SimParamsIsStd430) {
                 MEMBER(SimParams, bucket_mask, Scalar),
                 MEMBER(SimParams, bucket_count, Scalar),
                 MEMBER(SimParams, scan_blocks, Scalar),
+                MEMBER(SimParams, inv_pair_cell, Scalar),
+                MEMBER(SimParams, pair_reach, Scalar),
+                MEMBER(SimParams, pair_reach2, Scalar),
+                MEMBER(SimParams, pair_margin, Scalar),
                 MEMBER(SimParams, pad0, Scalar),
                 MEMBER(SimParams, pad1, Scalar)},
                sizeof(SimParams));
-  EXPECT_EQ(sizeof(SimParams), 128u);
+  EXPECT_EQ(sizeof(SimParams), 144u);
 }
 
 TEST(Layout, ArrayElementsAreStd430) {
@@ -97,6 +101,17 @@ TEST(Layout, ArrayElementsAreStd430) {
                {MEMBER(Health, flags, Scalar), MEMBER(Health, first_point, Scalar), MEMBER(Health, pad0, Scalar),
                 MEMBER(Health, pad1, Scalar)},
                sizeof(Health));
+  expectStd430(
+      "PairState",
+      {MEMBER(PairState, stale, Scalar), MEMBER(PairState, extent_bits, Scalar), MEMBER(PairState, travel2, Scalar),
+       MEMBER(PairState, total, Scalar), MEMBER(PairState, capacity, Scalar), MEMBER(PairState, overflow, Scalar),
+       MEMBER(PairState, builds, Scalar), MEMBER(PairState, pad0, Scalar)},
+      sizeof(PairState));
+  // Two arrays of kPairDispatchCount (x, y, z) commands; glDispatchComputeIndirect reads 3 tight uints.
+  EXPECT_EQ(sizeof(PairDispatch::live), 3 * kPairDispatchCount * sizeof(uint));
+  EXPECT_EQ(offsetof(PairDispatch, full), sizeof(PairDispatch::live));
+  EXPECT_EQ(sizeof(PairDispatch), 2 * sizeof(PairDispatch::live));
+  EXPECT_EQ(offsetof(PairControl, dispatch), sizeof(PairState)) << "std430: structs of scalars align to 4";
   expectStd430("PickResult",
                {MEMBER(PickResult, best_t_bits, Scalar), MEMBER(PickResult, index, Scalar),
                 MEMBER(PickResult, pad0, Scalar), MEMBER(PickResult, pad1, Scalar)},
@@ -113,11 +128,12 @@ TEST(Layout, PerPointArraysHaveTheStridesTheKernelsAssume) {
 
 TEST(Layout, BindingPointsAreDistinct) {
   const uint bindings[] = {
-      kBindingParams,    kBindingPosIn,      kBindingDispIn,           kBindingPosOut,     kBindingDispOut,
-      kBindingOffsets,   kBindingNeighbors,  kBindingColliders,        kBindingGridPoints, kBindingGridCounts,
-      kBindingGridStart, kBindingGridBlocks, kBindingGridScatter,      kBindingGridSorted, kBindingHealth,
-      kBindingNormals,   kBindingTangents,   kBindingVertexTriOffsets, kBindingVertexTris, kBindingTriangles,
-      kBindingUvs,       kBindingPick,       kBindingColouredSprings};
+      kBindingParams,    kBindingPosIn,      kBindingDispIn,           kBindingPosOut,      kBindingDispOut,
+      kBindingOffsets,   kBindingNeighbors,  kBindingColliders,        kBindingGridPoints,  kBindingGridCounts,
+      kBindingGridStart, kBindingGridBlocks, kBindingGridScatter,      kBindingGridSorted,  kBindingHealth,
+      kBindingNormals,   kBindingTangents,   kBindingVertexTriOffsets, kBindingVertexTris,  kBindingTriangles,
+      kBindingUvs,       kBindingPick,       kBindingColouredSprings,  kBindingPairControl, kBindingPairAnchor,
+      kBindingPairStart, kBindingPairList};
   EXPECT_EQ(kBindingCount, std::size(bindings)) << "kBindingCount is one more than the largest binding point";
   std::vector<bool> used(64, false);
   for (uint b : bindings) {

@@ -28,7 +28,8 @@ DRAPE_CONSTANT(uint, kBindingOffsets, 5u);            // uint per point + 1: CSR
 DRAPE_CONSTANT(uint, kBindingNeighbors, 6u);          // Neighbor per adjacency entry
 DRAPE_CONSTANT(uint, kBindingColliders, 7u);          // Collider: NUM_SPHERES spheres, then NUM_PLANES planes
 DRAPE_CONSTANT(uint, kBindingGridPoints, 8u);         // GridPoint per point
-DRAPE_CONSTANT(uint, kBindingGridCounts, 9u);         // uint per bucket: points counted into it (atomics)
+DRAPE_CONSTANT(uint, kBindingGridCounts, 9u);         // uint per bucket: points counted into it (atomics); the
+                                                      // lists' per-point candidate counts reuse it
 DRAPE_CONSTANT(uint, kBindingGridStart, 10u);         // uint per bucket + 1: exclusive prefix sum of counts
 DRAPE_CONSTANT(uint, kBindingGridBlocks, 11u);        // uint per scan block: block totals, then their prefix
 DRAPE_CONSTANT(uint, kBindingGridScatter, 12u);       // uint per point: indices by bucket, in atomic order
@@ -42,13 +43,24 @@ DRAPE_CONSTANT(uint, kBindingTriangles, 19u);         // uint, 3 per triangle
 DRAPE_CONSTANT(uint, kBindingUvs, 20u);               // vec2 per point: texture coordinates
 DRAPE_CONSTANT(uint, kBindingPick, 21u);              // PickResult
 DRAPE_CONSTANT(uint, kBindingColouredSprings, 22u);   // ColouredSpring, grouped by colour (Gauss-Seidel stretch)
-DRAPE_CONSTANT(uint, kBindingCount, 23u);             // binding points used: one more than the largest
+DRAPE_CONSTANT(uint, kBindingPairControl, 23u);       // PairControl: the self-collision lists' bookkeeping
+DRAPE_CONSTANT(uint, kBindingPairAnchor, 24u);        // vec4 per point: position at the last list build
+DRAPE_CONSTANT(uint, kBindingPairStart, 25u);         // uint per point + 1: where each point's list starts
+DRAPE_CONSTANT(uint, kBindingPairList, 26u);          // uint per candidate: each point's candidates, ascending
+DRAPE_CONSTANT(uint, kBindingCount, 27u);             // binding points used: one more than the largest
 
 // Work-group sizes, shared so C++ computes group counts from the same numbers.
 DRAPE_CONSTANT(uint, kLocalSize, 128u);      // per-point and per-bucket kernels
 DRAPE_CONSTANT(uint, kScanLocalSize, 256u);  // prefix-sum kernels
 DRAPE_CONSTANT(uint, kScanItems, 16u);       // consecutive buckets summed by one scan invocation
 DRAPE_CONSTANT(uint, kScanBlock, 4096u);     // kScanLocalSize * kScanItems buckets per scan work group
+
+// The indirect dispatches of the self-collision list build (PairDispatch, 3 uints each).
+DRAPE_CONSTANT(uint, kPairDispatchPoints, 0u);       // one invocation per point (kLocalSize groups, 2D if large)
+DRAPE_CONSTANT(uint, kPairDispatchOne, 1u);          // one work group
+DRAPE_CONSTANT(uint, kPairDispatchGridBlocks, 2u);   // one work group per kScanBlock buckets
+DRAPE_CONSTANT(uint, kPairDispatchPointBlocks, 3u);  // one work group per kScanBlock points
+DRAPE_CONSTANT(uint, kPairDispatchCount, 4u);
 
 // Health flags (issue 5's blow-up guard): set by the integrate kernel, read back on request.
 DRAPE_CONSTANT(uint, kHealthNonFinite, 1u);    // a position or displacement became NaN or infinite
@@ -79,6 +91,10 @@ struct SimParams {
   uint bucket_mask;       // hash-grid buckets - 1 (buckets are a power of two)
   uint bucket_count;      // hash-grid buckets
   uint scan_blocks;       // ceil(bucket_count / kScanBlock)
+  float inv_pair_cell;    // 1/m, 1 / the list build's cell edge (pair_reach), rounded on the host
+  float pair_reach;       // m, 2 * thickness + the list's margin: the build lists pairs closer than this
+  float pair_reach2;      // m^2, pair_reach * pair_reach
+  float pair_margin;      // m, the list's margin (skin)
   uint pad0;              // std430 rounds the struct to 16 bytes; C++ must see the same size
   uint pad1;
 };
@@ -110,7 +126,35 @@ struct Collider {
   vec4 b;
 };
 
-// A point's hash-grid cell and bucket, written by the integrate kernel.
+// Self-collision candidate lists (src/cpu/collision_pairs.hpp on the CPU): built from the anchor
+// positions, and valid while no point has moved sqrt(travel2) from its anchor.
+struct PairState {
+  uint stale;        // nonzero: some point moved too far since the last build (or no list yet)
+  uint extent_bits;  // the build's largest |coordinate|, as float bits (they order like the floats)
+  float travel2;     // m^2, squared safe travel of the last build; negative: no valid list
+  uint total;        // entries the last build needed (pairStart[point_count])
+  uint capacity;     // entries the list buffer holds (host); a point whose list does not fit is served
+                     // from the grid instead (slower, same result)
+  uint overflow;     // sticky: some build needed more than `capacity`
+  uint builds;       // list builds so far
+  uint pad0;
+};
+
+// Indirect dispatch arguments (x, y, z groups) of the list build: `live` is what the build passes
+// dispatch, `full` the sizes the host computed; the prepare kernel copies full to live when the list
+// is stale and zeroes live otherwise, so a fresh list costs no read-back.
+struct PairDispatch {
+  uint live[12];  // kPairDispatchCount * 3
+  uint full[12];
+};
+
+// One buffer for both, also bound as GL_DISPATCH_INDIRECT_BUFFER: a storage block fewer per kernel.
+struct PairControl {
+  PairState state;
+  PairDispatch dispatch;
+};
+
+// A point's hash-grid cell and bucket, written by the grid count.
 struct GridPoint {
   int cell_x;
   int cell_y;

@@ -1,5 +1,7 @@
-// Buffers, scene variant defaults and indexing shared by the simulation kernels. Declaring a block a
-// kernel does not use costs nothing: only blocks a shader touches are active.
+// Buffers, scene variant defaults and indexing shared by the simulation kernels. Mesa counts every
+// declared storage block against GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS (16 on llvmpipe), used or not,
+// so a kernel that needs none of the springs, colliders or health flags defines SIM_NO_SPRINGS,
+// SIM_NO_COLLIDERS or SIM_NO_HEALTH before including this file.
 #pragma once
 
 #include "shared/layout.h"
@@ -42,18 +44,24 @@ layout(std430, binding = kBindingPosOut) writeonly buffer PosOutBuffer {
 layout(std430, binding = kBindingDispOut) writeonly buffer DispOutBuffer {
   vec4 dispOut[];
 };
+#ifndef SIM_NO_SPRINGS
 layout(std430, binding = kBindingOffsets) readonly buffer OffsetsBuffer {
   uint offsets[];
 };
 layout(std430, binding = kBindingNeighbors) readonly buffer NeighborsBuffer {
   Neighbor neighbors[];
 };
+#endif
+#ifndef SIM_NO_COLLIDERS
 layout(std430, binding = kBindingColliders) readonly buffer CollidersBuffer {
   Collider colliders[];
 };
+#endif
+#ifndef SIM_NO_HEALTH
 layout(std430, binding = kBindingHealth) buffer HealthBuffer {
   Health health;
 };
+#endif
 
 // 1D index over a 2D dispatch: more than 65535 work groups along x is not guaranteed, so large
 // cloths spread their groups over y as well (the solver computes the split). Per-point kernels use
@@ -73,6 +81,7 @@ uint neighborType(Neighbor nb) {
   return nb.index_type >> kNeighborIndexBits;
 }
 
+#ifndef SIM_NO_HEALTH
 // Blow-up detection for the stability guard (issue 5): a few compares per point, an atomic only when
 // something is already wrong. The host reads the flags when it chooses (GpuSolver::readHealth).
 void checkHealth(uint i, vec3 x, vec3 v) {
@@ -87,3 +96,4 @@ void checkHealth(uint i, vec3 x, vec3 v) {
     atomicMin(health.first_point, i);
   }
 }
+#endif

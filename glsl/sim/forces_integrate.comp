@@ -1,13 +1,13 @@
 // Forces and Verlet integration of one point in one kernel (docs/design.md section 2, steps 1 and 2),
 // followed by what else only needs the point's own new state: its collisions when no self-collision
-// pass sits in between, else its hash-grid count for that pass. Mirrors CpuSolver::accumulateForces,
-// integrate (and collide). Reads *In and writes *Out: the force gather reads the neighbours' positions
-// while other invocations move theirs, so integrating in place would race.
+// pass sits in between, else the check whether it moved too far for the self-collision lists. Mirrors
+// CpuSolver::accumulateForces, integrate (and collide). Reads *In and writes *Out: the force gather reads the
+// neighbours' positions while other invocations move theirs, so integrating in place would race.
 #include "common.glsl"
 #include "physics.glsl"
 #include "collide.glsl"
 #if SELF_COLLISION
-#include "grid.glsl"
+#include "pair_travel.glsl"
 #endif
 
 layout(local_size_x = kLocalSize) in;
@@ -55,7 +55,7 @@ void main() {
 #endif
   }
 #if SELF_COLLISION
-  countIntoGrid(i, x);
+  checkPairTravel(i, x);
 #endif
   checkHealth(i, x, v);
   posOut[i] = vec4(x, 1.0);

@@ -1,6 +1,7 @@
-// Self-collision hash grid on the GPU: the same cells, buckets and per-bucket order as
-// src/cpu/hash_grid.hpp, built by a counting sort every substep:
-//   count   (fused into integrate) each point's cell and bucket; atomicAdd gives its arrival slot
+// The hash grid the self-collision lists are built from (pairs.glsl): the same cells, buckets and
+// per-bucket order as src/cpu/hash_grid.hpp (cell edge pair_reach), built by a counting sort whenever
+// the lists are rebuilt:
+//   count   (pairs_grid_count.comp) each point's cell and bucket; atomicAdd gives its arrival slot
 //   scan    exclusive prefix sum of the bucket counts -> gridStart
 //   scatter each point to gridStart[bucket] + arrival: grouped by bucket, in thread-timing order
 //   rank    each point counts the smaller indices in its bucket and moves to that slot, so every bucket
@@ -60,7 +61,7 @@ ivec3 gridCell(uint i) {
 
 // The scan that follows reads and zeroes gridCounts, so counting starts from zero every substep.
 void countIntoGrid(uint i, vec3 x) {
-  ivec3 c = cellOf(x, params.inv_cell_size);
+  ivec3 c = cellOf(x, params.inv_pair_cell);
   uint bucket = hashCell(c) & params.bucket_mask;
   uint arrival = atomicAdd(gridCounts[bucket], 1u);
   gridPoints[i] = GridPoint(c.x, c.y, c.z, bucket, arrival);

@@ -4,6 +4,10 @@
 // before the next phase reads them. Every invocation runs the same number of rounds (the excess ones
 // idle): with a loop whose trip count differs between invocations before the barrier, Mesa 22.3's
 // llvmpipe lost some of the following phase's writes (tests/gpu_grid_gl_test.cpp caught it).
+// Needs no springs, colliders or health flags (common.glsl: a storage block fewer each).
+#define SIM_NO_SPRINGS
+#define SIM_NO_COLLIDERS
+#define SIM_NO_HEALTH
 #define GRID_MEMORY coherent
 #include "grid_scan.glsl"
 

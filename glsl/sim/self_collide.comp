@@ -1,12 +1,103 @@
-// Self-collision (docs/design.md section 2, step 3), then the point's sphere and plane collisions, which only
-// need its own corrected state. Mirrors CpuSolver::selfCollide (and collide). Jacobi: every point reads
-// the positions from before the pass (*In) and writes *Out, so no invocation sees another's result.
+// Self-collision (docs/design.md section 2, step 3), then the point's sphere and plane collisions, which
+// only need its own corrected state. Mirrors CpuSolver::selfCollide (and collide). Jacobi: every point
+// reads the positions from before the pass (*In) and writes *Out, so no invocation sees another's result.
+//
+// The candidates come from the point's list (pairs.glsl); the terms are summed in the order of a 27-cell
+// query of a grid of cell edge 2 * thickness, ascending index within a cell (forEachOrderedPair in
+// src/cpu/collision_pairs.hpp), so the sum is the CPU's whenever the list was built.
+// Needs no springs or health flags (common.glsl: a storage block fewer each).
+#define SIM_NO_SPRINGS
+#define SIM_NO_HEALTH
 #include "common.glsl"
 #include "physics.glsl"
 #include "collide.glsl"
-#include "grid.glsl"
+#include "pairs.glsl"
 
 layout(local_size_x = kLocalSize) in;
+
+ivec3 orderCell(vec3 p) {
+  return cellOf(p, params.inv_cell_size);
+}
+
+// The point's own list: one sweep marks the cell orders present, then each order's terms in list
+// (ascending) order.
+void sumListed(uint i, vec3 x, inout vec3 sum, inout int count) {
+  precise vec3 acc = sum;
+  uint first = pairStart[i], last = pairStart[i + 1u];
+  ivec3 cell_i = orderCell(x);
+  uint present = 0u;
+  for (uint s = first; s < last; ++s) {
+    vec3 xj = posIn[pairList[s]].xyz;
+    if (selfCollisionCorrection(x, xj, params.thickness) == vec3(0.0)) continue;
+    int order = cellOrder(cell_i, orderCell(xj));
+    if (order >= 0) present |= 1u << uint(order);
+  }
+  while (present != 0u) {
+    int order = findLSB(present);
+    present &= present - 1u;
+    for (uint s = first; s < last; ++s) {
+      vec3 xj = posIn[pairList[s]].xyz;
+      vec3 c = selfCollisionCorrection(x, xj, params.thickness);
+      if (c != vec3(0.0) && cellOrder(cell_i, orderCell(xj)) == order) {
+        acc += c;
+        ++count;
+      }
+    }
+  }
+  sum = acc;
+}
+
+// A point whose list did not fit the buffer is served from the 27 grid cells around its anchor, which
+// hold every candidate of its list: the same terms in the same order, found by repeated scans. Slow,
+// but only until the host grows the buffer (GpuSolver::readHealth).
+//
+// With `order` < 0: the mask of cell orders that have a nonzero term, and no index. Otherwise: the
+// smallest candidate index >= `from` whose term is nonzero and whose cell order is `order`, or
+// 0xffffffff if none.
+uint scanGrid(uint i, vec3 x, ivec3 cell_i, int order, uint from, out uint present) {
+  ivec3 cell = gridCell(i);
+  uint best = 0xffffffffu;
+  present = 0u;
+  for (int dz = -1; dz <= 1; ++dz) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        ivec3 n = cell + ivec3(dx, dy, dz);
+        uint bucket = hashCell(n) & params.bucket_mask;
+        uint last = gridStart[bucket + 1u];
+        for (uint s = gridStart[bucket]; s < last; ++s) {
+          uint j = gridSorted[s];
+          if (j == i || j < from || j >= best || gridCell(j) != n) continue;
+          vec3 xj = posIn[j].xyz;
+          if (selfCollisionCorrection(x, xj, params.thickness) == vec3(0.0)) continue;
+          int o = cellOrder(cell_i, orderCell(xj));
+          if (order < 0) {
+            if (o >= 0) present |= 1u << uint(o);
+          } else if (o == order) {
+            best = j;
+          }
+        }
+      }
+    }
+  }
+  return best;
+}
+
+void sumFromGrid(uint i, vec3 x, inout vec3 sum, inout int count) {
+  precise vec3 acc = sum;
+  ivec3 cell_i = orderCell(x);
+  uint present, unused;
+  scanGrid(i, x, cell_i, -1, 0u, present);
+  while (present != 0u) {
+    int order = findLSB(present);
+    present &= present - 1u;
+    for (uint j = scanGrid(i, x, cell_i, order, 0u, unused); j != 0xffffffffu;
+         j = scanGrid(i, x, cell_i, order, j + 1u, unused)) {
+      acc += selfCollisionCorrection(x, posIn[j].xyz, params.thickness);
+      ++count;
+    }
+  }
+  sum = acc;
+}
 
 void main() {
   uint i = globalIndex();
@@ -17,25 +108,10 @@ void main() {
   precise vec3 sum = vec3(0.0);
   int count = 0;
   if (pin == 0.0) {
-    ivec3 cell = gridCell(i);
-    // HashGrid::forEachCandidate's order: 27 cells in z, y, x order, ascending index within a cell.
-    for (int dz = -1; dz <= 1; ++dz) {
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
-          ivec3 n = cell + ivec3(dx, dy, dz);
-          uint bucket = hashCell(n) & params.bucket_mask;
-          uint last = gridStart[bucket + 1u];
-          for (uint s = gridStart[bucket]; s < last; ++s) {
-            uint j = gridSorted[s];
-            if (j == i || gridCell(j) != n) continue;  // a bucket can hold other cells' points
-            vec3 c = selfCollisionCorrection(x, posIn[j].xyz, params.thickness);
-            if (c != vec3(0.0)) {
-              sum += c;
-              ++count;
-            }
-          }
-        }
-      }
+    if (pairStart[i + 1u] <= pairState.capacity) {
+      sumListed(i, x, sum, count);
+    } else {
+      sumFromGrid(i, x, sum, count);
     }
   }
   precise vec3 correction = count > 0 ? sum / (float(count) * params.steps_per_frame) : vec3(0.0);

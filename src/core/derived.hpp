@@ -34,3 +34,9 @@ inline std::uint64_t hashBucketCount(std::uint64_t points) {
 }
 
 }  // namespace drape::derived
+
+namespace drape {
+// Skin of the self-collision candidate lists, in units of the range 2*thickness (chosen by measurement:
+// docs/design.md section 6). Both solvers' default.
+inline constexpr double kDefaultPairMargin = 0.5;
+}  // namespace drape

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "core/colouring.hpp"
+#include "core/derived.hpp"
 #include "core/solver.hpp"
 #include "cpu/collision_pairs.hpp"
 #include "cpu/physics.hpp"
@@ -15,10 +16,6 @@ namespace drape {
 // How Verlet keeps the previous position: the displacement v = x - x_prev (default, precise) or
 // x_prev itself (CS184's form, kept to measure the round-off it costs).
 enum class VerletForm { Displacement, PreviousPosition };
-
-// Skin of the self-collision candidate list, in units of the range 2*thickness (chosen by measurement:
-// docs/design.md section 6).
-inline constexpr double kDefaultPairMargin = 0.5;
 
 struct CpuSolverOptions {
   VerletForm form = VerletForm::Displacement;

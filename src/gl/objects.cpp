@@ -188,6 +188,12 @@ void Program::dispatch(glm::uvec3 groups) const {
   checkDebugErrors();
 }
 
+void Program::dispatchIndirect(std::size_t offset) const {
+  glUseProgram(id());
+  glDispatchComputeIndirect(GLintptr(offset));
+  checkDebugErrors();
+}
+
 glm::uvec3 Program::localSize() const {
   if (!compute_) throw GlError("program " + label_ + " is not a compute program: it has no local size");
   return local_size_;

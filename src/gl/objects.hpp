@@ -132,7 +132,10 @@ class Program {
 
   void use() const;
   void dispatch(glm::uvec3 groups) const;  // use() + glDispatchCompute
-  glm::uvec3 localSize() const;            // GL_COMPUTE_WORK_GROUP_SIZE; throws GlError if not compute
+  // use() + glDispatchComputeIndirect: the group counts are read, on the GPU, from the buffer bound to
+  // GL_DISPATCH_INDIRECT_BUFFER at `offset` bytes.
+  void dispatchIndirect(std::size_t offset) const;
+  glm::uvec3 localSize() const;  // GL_COMPUTE_WORK_GROUP_SIZE; throws GlError if not compute
   // Work groups along x that cover `invocations` threads with this program's local size.
   glm::uvec3 groupsFor(std::uint32_t invocations) const;
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstddef>
 #include <cstdio>
 #include <string>
 
@@ -96,6 +97,7 @@ void GpuSolver::checkLimits() const {
       {"coloured springs", springs * sizeof(gpu::ColouredSpring)},
       {"hash-grid points", scene_.sim.self_collision ? n * sizeof(gpu::GridPoint) : 0},
       {"hash-grid buckets", scene_.sim.self_collision ? (buckets + 1) * sizeof(std::uint32_t) : 0},
+      {"self-collision anchors", scene_.sim.self_collision ? n * sizeof(glm::vec4) : 0},
   };
   for (const Need& need : needs)
     if (need.bytes > limit)
@@ -130,8 +132,30 @@ std::uint32_t GpuSolver::scanBlocks() const {
   return (bucketCount() + gpu::kScanBlock - 1) / gpu::kScanBlock;
 }
 
+std::uint32_t GpuSolver::pointScanBlocks() const {
+  return std::uint32_t((std::uint64_t(topo_.pointCount()) + gpu::kScanBlock - 1) / gpu::kScanBlock);
+}
+
 bool GpuSolver::gridInOneGroup() const {
   return scanBlocks() == 1;
+}
+
+// List entries to allocate before any build has counted them: the points within reach in a flat sheet
+// of the cloth's spacing (pi r^2 / spacing^2), four times over for folds, at least 32 per point, and no
+// more than one buffer may hold. A build that needs more still gives the right answer (self_collide
+// serves the points that did not fit from the grid), and the next readHealth() grows the buffer.
+std::uint64_t GpuSolver::pairCapacityEstimate() const {
+  const ClothSpec& c = scene_.cloth;
+  const std::uint64_t n = std::uint64_t(topo_.pointCount());
+  const double spacing = std::max(
+      1e-9, std::min(c.width / std::max(1, c.num_width_points - 1), c.height / std::max(1, c.num_height_points - 1)));
+  const double reach = 2.0 * c.thickness * (1.0 + options_.pair_margin);
+  const double per_point = std::min(1e6, 4.0 * 3.14159265358979 * (reach / spacing) * (reach / spacing));
+  GLint64 block = 0;
+  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+  const std::uint64_t limit = options_.max_buffer_bytes ? options_.max_buffer_bytes : std::uint64_t(block);
+  const std::uint64_t wanted = n * std::max<std::uint64_t>(32, std::uint64_t(per_point));
+  return std::max<std::uint64_t>(1, std::min({wanted, limit / sizeof(std::uint32_t), std::uint64_t(0xffffffffu)}));
 }
 
 void GpuSolver::allocate() {
@@ -179,13 +203,53 @@ void GpuSolver::allocateGrid() {
   const std::size_t n = std::size_t(topo_.pointCount());
   const std::size_t buckets = bucketCount();
   grid_points_ = gl::Buffer::create(n * sizeof(gpu::GridPoint), nullptr, 0);
-  // Counted into with atomics, then zeroed by the scan that reads them: zero once here.
-  grid_counts_ = gl::Buffer::create(buckets * sizeof(std::uint32_t), nullptr, 0);
+  // Counted into with atomics, then zeroed by the scan that reads them: zero once here. The lists'
+  // per-point counts use it too.
+  grid_counts_ = gl::Buffer::create(std::max(buckets, n) * sizeof(std::uint32_t), nullptr, 0);
   grid_counts_.clear();
   grid_start_ = gl::Buffer::create((buckets + 1) * sizeof(std::uint32_t), nullptr, 0);
-  grid_blocks_ = gl::Buffer::create(scanBlocks() * sizeof(std::uint32_t), nullptr, 0);
+  // Shared by the bucket scan and the lists' point scan.
+  grid_blocks_ = gl::Buffer::create(std::max(scanBlocks(), pointScanBlocks()) * sizeof(std::uint32_t), nullptr, 0);
   grid_scatter_ = gl::Buffer::create(n * sizeof(std::uint32_t), nullptr, 0);
   grid_sorted_ = gl::Buffer::create(n * sizeof(std::uint32_t), nullptr, 0);
+
+  pair_control_ = gl::Buffer::create(sizeof(gpu::PairControl), nullptr, kUpdatable);
+  pair_control_.clear();
+  pair_anchor_ = gl::Buffer::create(n * sizeof(glm::vec4), nullptr, 0);
+  pair_start_ = gl::Buffer::create((n + 1) * sizeof(std::uint32_t), nullptr, 0);
+  allocatePairList(options_.pair_capacity ? options_.pair_capacity : pairCapacityEstimate());
+
+  // The build's dispatch sizes; the prepare kernel copies them into `live` when the lists are stale.
+  gpu::PairDispatch dispatch{};
+  auto set = [&](std::uint32_t command, glm::uvec3 groups) {
+    for (int k = 0; k < 3; ++k) {
+      dispatch.full[3 * command + std::uint32_t(k)] = groups[k];
+      dispatch.live[3 * command + std::uint32_t(k)] = groups[k];
+    }
+  };
+  set(gpu::kPairDispatchPoints, groupsFor(n, gpu::kLocalSize));
+  set(gpu::kPairDispatchOne, {1, 1, 1});
+  set(gpu::kPairDispatchGridBlocks, {scanBlocks(), 1, 1});
+  set(gpu::kPairDispatchPointBlocks, {pointScanBlocks(), 1, 1});
+  pair_control_.upload(offsetof(gpu::PairControl, dispatch), sizeof dispatch, &dispatch);
+  invalidatePairs();
+}
+
+void GpuSolver::allocatePairList(std::uint64_t capacity) {
+  pair_list_ = gl::Buffer::create(capacity * sizeof(std::uint32_t), nullptr, 0);
+  pair_capacity_ = capacity;
+}
+
+// The next substep rebuilds the lists: after a change of thickness or margin, or a new list buffer.
+// Writes stale, travel2 and capacity; the build count and the overflow flag stay.
+void GpuSolver::invalidatePairs() {
+  if (pair_control_.id() == 0) return;
+  const std::uint32_t stale = 1, capacity = std::uint32_t(pair_capacity_);
+  const float no_travel = -1.0f;
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  pair_control_.upload(offsetof(gpu::PairState, stale), sizeof stale, &stale);
+  pair_control_.upload(offsetof(gpu::PairState, travel2), sizeof no_travel, &no_travel);
+  pair_control_.upload(offsetof(gpu::PairState, capacity), sizeof capacity, &capacity);
 }
 
 // The same float operations as CpuSolver<float>::refreshDerived and its passes, so the kernels start
@@ -207,7 +271,15 @@ void GpuSolver::uploadParams() {
   p.dt2 = dt * dt;
   p.keep = float(1.0 - c.damping / 100.0);
   p.thickness = thickness;
-  p.inv_cell_size = 1.0f / (2.0f * thickness);  // as HashGrid<float>::build rounds it
+  p.inv_cell_size = 1.0f / (2.0f * thickness);  // as CpuSolver<float>::selfCollide rounds it
+  // As CpuSolver<float>::selfCollide and CollisionPairs<float>::build compute them.
+  const float range = 2.0f * thickness;
+  const float margin = range * float(options_.pair_margin);
+  const float reach = range + margin;
+  p.inv_pair_cell = 1.0f / reach;
+  p.pair_reach = reach;
+  p.pair_reach2 = reach * reach;
+  p.pair_margin = margin;
   p.steps_per_frame = float(sim.steps_per_frame);
   p.stretch_limit = float(sim.stretch_limit);
   p.drag_area = float(wind.drag * c.width * c.height / double(n));
@@ -269,7 +341,18 @@ void GpuSolver::compilePrograms() {
   programs_.limit_stretch = gl::compileCompute("sim/limit_stretch.comp", defines_);
   programs_.limit_stretch_coloured = gl::compileCompute("sim/limit_stretch_coloured.comp", defines_);
   if (scene_.sim.self_collision) {
-    programs_.grid_count = gl::compileCompute("sim/grid_count.comp", defines_);
+    programs_.pairs_check = gl::compileCompute("sim/pairs_check.comp", defines_);
+    programs_.pairs_prepare = gl::compileCompute("sim/pairs_prepare.comp", defines_);
+    programs_.pairs_grid_count = gl::compileCompute("sim/pairs_grid_count.comp", defines_);
+    programs_.pairs_count = gl::compileCompute("sim/pairs_count.comp", defines_);
+    programs_.pairs_fill = gl::compileCompute("sim/pairs_fill.comp", defines_);
+    const bool one_block = pointScanBlocks() == 1;
+    for (int stage = 0; stage < (one_block ? 1 : 3); ++stage) {
+      gl::Defines d = defines_;
+      d.emplace_back("SCAN_STAGE", std::to_string(one_block ? 3 : stage));
+      d.emplace_back("PAIR_SCAN", "1");
+      programs_.pairs_scan[stage] = gl::compileCompute("sim/grid_scan.comp", d);
+    }
     if (gridInOneGroup()) {
       programs_.grid_build = gl::compileCompute("sim/grid_build.comp", defines_);
     } else {
@@ -294,10 +377,10 @@ void GpuSolver::setParams(const ClothSpec& cloth, const SimParams& sim) {
     enabled_springs_[t] = enabled;
   }
   checkLimits();
-  if (grid_points_.id() != 0) discardGridCount();  // self-collision may be turned off before a scan
   if (springs_changed) uploadAdjacency();
   if (scene_.sim.self_collision && grid_points_.id() == 0) allocateGrid();
   uploadParams();
+  invalidatePairs();  // thickness may have changed, and with it the lists' reach
   if (sceneDefines() != defines_) compilePrograms();
 }
 

@@ -3,13 +3,19 @@
 // consistent with CpuSolver<float> (tests/gpu_*_gl_test.cpp). Needs a current GL 4.5 context.
 //
 // One substep is this list of dispatches (a pass with nothing to do is not dispatched):
-//   forces+integrate[+collide | +grid_count]   per point: gather springs (+ wind), Verlet, then the
-//                                               point's collisions, or its hash-grid count when a
-//                                               self-collision pass comes next
-//   grid_build                                  hash-grid counting sort (prefix sum, scatter, rank) in one
-//                                               work group, up to 4096 buckets; beyond that 5 dispatches:
-//                                               grid_scan grid_scan_blocks grid_scan_offsets grid_scatter grid_rank
-//   self_collide[+collide]                      Jacobi self-collision, then the point's collisions
+//   forces+integrate[+collide | +pairs_check]  per point: gather springs (+ wind), Verlet, then the
+//                                               point's collisions, or, when a self-collision pass comes
+//                                               next, whether it moved too far for the candidate lists
+//   pairs_prepare                               one invocation: switches the list build below on or off
+//   pairs_grid_count ... pairs_fill             the candidate lists' build (glsl/sim/pairs.glsl), indirect
+//                                               dispatches of zero work groups unless the lists are stale:
+//                                               hash-grid count, grid_build (one work group up to 4096
+//                                               buckets, else grid_scan grid_scan_blocks grid_scan_offsets
+//                                               grid_scatter grid_rank), pairs_count, pairs_scan (or
+//                                               pairs_scan pairs_scan_blocks pairs_scan_offsets beyond
+//                                               4096 points), pairs_fill
+//   self_collide[+collide]                      Jacobi self-collision over the lists, then the point's
+//                                               collisions
 //   limit_stretch_colour                        Gauss-Seidel stretch scheme: one dispatch per spring colour
 //                                               and stretch pass, each moving both ends of its springs in place
 //   limit_stretch                               Jacobi stretch scheme: once per stretch pass
@@ -18,6 +24,7 @@
 #pragma once
 
 #include "core/colouring.hpp"
+#include "core/derived.hpp"
 #include "core/solver.hpp"
 #include "gl/context.hpp"
 #include "gl/objects.hpp"
@@ -35,6 +42,8 @@ struct GpuSolverOptions {
   bool timing = false;               // time every pass (GL timer queries; else glFinish + wall clock, which stalls)
   double sane_bound = 1e5;           // m; a point beyond this on any axis is reported by readHealth()
   std::size_t max_buffer_bytes = 0;  // largest buffer allowed; 0: GL_MAX_SHADER_STORAGE_BLOCK_SIZE
+  double pair_margin = kDefaultPairMargin;  // self-collision list skin / (2*thickness), as CpuSolverOptions
+  std::size_t pair_capacity = 0;            // list entries the buffer holds at first; 0: estimated from the cloth
 };
 
 // The scene needs more than the GPU allows (buffer size, work groups, memory). Thrown before any
@@ -52,7 +61,17 @@ struct GpuHealth {
   bool ok() const { return !non_finite && !out_of_bounds; }
 };
 
-// The hash grid as the GPU built it, read back for tests.
+// The self-collision candidate lists as the GPU built them, read back for tests and the bench.
+struct GpuPairs {
+  std::vector<std::uint32_t> start;  // point count + 1: point i's candidates are list[start[i] .. start[i+1])
+  std::vector<std::uint32_t> list;   // ascending within each point (as far as `capacity` holds them)
+  std::uint32_t capacity = 0;        // entries the buffer holds
+  std::uint32_t builds = 0;          // list builds so far
+  bool overflow = false;             // some build needed more than the capacity
+  float travel2 = 0;                 // m^2, the last build's squared safe travel
+};
+
+// The hash grid as the GPU built it (from the anchor positions of the last list build), read back for tests.
 struct GpuGrid {
   std::vector<glm::ivec3> cells;       // per point
   std::vector<std::uint32_t> buckets;  // per point: hashCell(cell) & (bucket count - 1)
@@ -95,7 +114,8 @@ class GpuSolver final : public Solver {
   // Replaces the state (positions, displacements) and the substep count (wind depends on time), as
   // CpuSolver::setState; pin flags stay.
   void uploadState(const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& v, long long substeps);
-  GpuGrid readGrid();  // after selfCollide(): the grid it used
+  GpuGrid readGrid();    // after selfCollide(): the grid of the last list build
+  GpuPairs readPairs();  // after selfCollide(): the lists it used
 
   // For the renderer. The state lives in two buffers that passes alternate between, so ask for the
   // current one every frame. vec4 per point (std430): xyz position, w = 1.
@@ -124,13 +144,20 @@ class GpuSolver final : public Solver {
  private:
   enum PassId {
     kForcesIntegrate,
-    kGridCount,
+    kPairsCheck,
+    kPairsPrepare,
+    kPairsGridCount,
     kGridBuild,
     kGridScan,
     kGridScanBlocks,
     kGridScanOffsets,
     kGridScatter,
     kGridRank,
+    kPairsCount,
+    kPairsScan,
+    kPairsScanBlocks,
+    kPairsScanOffsets,
+    kPairsFill,
     kSelfCollide,
     kLimitStretch,
     kLimitStretchColoured,
@@ -143,7 +170,9 @@ class GpuSolver final : public Solver {
     gl::Buffer displacement;  // vec4 per point, w = pin flag
   };
   struct Programs {
-    gl::Program forces_integrate, grid_count, grid_build, grid_scan[3], grid_scatter, grid_rank, self_collide;
+    gl::Program forces_integrate, self_collide;
+    gl::Program pairs_check, pairs_prepare, pairs_grid_count, pairs_count, pairs_scan[3], pairs_fill;
+    gl::Program grid_build, grid_scan[3], grid_scatter, grid_rank;
     gl::Program limit_stretch, limit_stretch_coloured;
     gl::Program normals, pick[2];  // compiled on first use
   };
@@ -162,17 +191,25 @@ class GpuSolver final : public Solver {
   std::string passName(PassId pass) const;
   std::uint32_t bucketCount() const;
   std::uint32_t scanBlocks() const;
+  std::uint32_t pointScanBlocks() const;
   bool gridInOneGroup() const;
+  std::uint64_t pairCapacityEstimate() const;
+  void allocatePairList(std::uint64_t capacity);
+  void invalidatePairs();
+  void growPairList();
 
   void bindShared() const;
   void bindState(int in, int out) const;
   glm::uvec3 groupsFor(std::uint64_t invocations, std::uint32_t local_size) const;
   // Runs one dispatch (timed when timing is on) followed by the storage barrier the next pass needs.
   void dispatch(PassId pass, const gl::Program& program, glm::uvec3 groups);
+  // The same with the group counts of PairDispatch command `command`, written on the GPU.
+  void dispatchIndirect(PassId pass, const gl::Program& program, std::uint32_t command);
+  template <class F>
+  void timed(PassId pass, F&& run);
   void dispatchPingPong(PassId pass, const gl::Program& program);
   void resolveQueries() const;
   void writePoint(std::uint32_t index, const glm::vec4* position, const glm::vec4* displacement);
-  void discardGridCount();
 
   // Declared first so it is destroyed last, after every GL object below.
   gl::HeadlessContext owned_context_;
@@ -181,7 +218,7 @@ class GpuSolver final : public Solver {
   GpuSolverOptions options_;
   Topology topo_;
   long long substeps_ = 0;
-  bool grid_counted_ = false;  // forcesIntegrate counted the current positions into the grid
+  bool pairs_checked_ = false;  // forcesIntegrate checked the current positions' travel
   int held_ = -1;
   std::uint32_t max_groups_x_ = 65535;
 
@@ -192,6 +229,8 @@ class GpuSolver final : public Solver {
   gl::Buffer coloured_springs_;              // ColouredSpring, enabled springs in colour order
   std::vector<std::uint32_t> colour_start_;  // colour c is coloured_springs_[colour_start_[c] .. [c+1])
   gl::Buffer grid_points_, grid_counts_, grid_start_, grid_blocks_, grid_scatter_, grid_sorted_;
+  gl::Buffer pair_control_, pair_anchor_, pair_start_, pair_list_;
+  std::uint64_t pair_capacity_ = 0;
   gl::Buffer normals_, tangents_, vertex_tri_offsets_, vertex_tris_, triangles_, uvs_, pick_;
   Programs programs_;
   gl::Defines defines_;

@@ -2,7 +2,9 @@
 #include "gpu/gpu_solver.hpp"
 #include "gpu/layout.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cstddef>
 
 namespace drape {
 
@@ -18,27 +20,41 @@ void GpuSolver::forcesIntegrate() {
   if (scene_.sim.wind.enabled)
     programs_.forces_integrate.setUniform("u_time", float(double(substeps_) * scene_.sim.dt()));
   dispatchPingPong(kForcesIntegrate, programs_.forces_integrate);
-  grid_counted_ = scene_.sim.self_collision;
+  pairs_checked_ = scene_.sim.self_collision;
 }
 
+// The candidate lists are rebuilt on the GPU's own decision (pairs_prepare writes the build's indirect
+// dispatch sizes), so no read-back stalls the substep; when the lists are fresh, the build's dispatches
+// run zero work groups.
 void GpuSolver::selfCollide() {
   if (!scene_.sim.self_collision) return;
   bindShared();
-  const glm::uvec3 per_point = groupsFor(std::uint64_t(topo_.pointCount()), gpu::kLocalSize);
   bindState(current_, 1 - current_);
-  if (!grid_counted_) dispatch(kGridCount, programs_.grid_count, per_point);
+  if (!pairs_checked_)
+    dispatch(kPairsCheck, programs_.pairs_check, groupsFor(std::uint64_t(topo_.pointCount()), gpu::kLocalSize));
+  dispatch(kPairsPrepare, programs_.pairs_prepare, {1, 1, 1});
+  glMemoryBarrier(GL_COMMAND_BARRIER_BIT);  // the indirect arguments it wrote
+  dispatchIndirect(kPairsGridCount, programs_.pairs_grid_count, gpu::kPairDispatchPoints);
   if (gridInOneGroup()) {
-    dispatch(kGridBuild, programs_.grid_build, {1, 1, 1});
+    dispatchIndirect(kGridBuild, programs_.grid_build, gpu::kPairDispatchOne);
   } else {
-    const std::uint32_t blocks = scanBlocks();
-    dispatch(kGridScan, programs_.grid_scan[0], {blocks, 1, 1});
-    dispatch(kGridScanBlocks, programs_.grid_scan[1], {1, 1, 1});
-    dispatch(kGridScanOffsets, programs_.grid_scan[2], {blocks, 1, 1});
-    dispatch(kGridScatter, programs_.grid_scatter, per_point);
-    dispatch(kGridRank, programs_.grid_rank, per_point);
+    dispatchIndirect(kGridScan, programs_.grid_scan[0], gpu::kPairDispatchGridBlocks);
+    dispatchIndirect(kGridScanBlocks, programs_.grid_scan[1], gpu::kPairDispatchOne);
+    dispatchIndirect(kGridScanOffsets, programs_.grid_scan[2], gpu::kPairDispatchGridBlocks);
+    dispatchIndirect(kGridScatter, programs_.grid_scatter, gpu::kPairDispatchPoints);
+    dispatchIndirect(kGridRank, programs_.grid_rank, gpu::kPairDispatchPoints);
   }
+  dispatchIndirect(kPairsCount, programs_.pairs_count, gpu::kPairDispatchPoints);
+  if (pointScanBlocks() == 1) {
+    dispatchIndirect(kPairsScan, programs_.pairs_scan[0], gpu::kPairDispatchOne);
+  } else {
+    dispatchIndirect(kPairsScan, programs_.pairs_scan[0], gpu::kPairDispatchPointBlocks);
+    dispatchIndirect(kPairsScanBlocks, programs_.pairs_scan[1], gpu::kPairDispatchOne);
+    dispatchIndirect(kPairsScanOffsets, programs_.pairs_scan[2], gpu::kPairDispatchPointBlocks);
+  }
+  dispatchIndirect(kPairsFill, programs_.pairs_fill, gpu::kPairDispatchPoints);
   dispatchPingPong(kSelfCollide, programs_.self_collide);
-  grid_counted_ = false;
+  pairs_checked_ = false;
 }
 
 void GpuSolver::limitStretch() {
@@ -67,12 +83,21 @@ void GpuSolver::limitStretch() {
 std::vector<std::string> GpuSolver::passes() const {
   std::vector<std::string> out{passName(kForcesIntegrate)};
   if (scene_.sim.self_collision) {
+    out.push_back(passName(kPairsPrepare));
+    out.push_back(passName(kPairsGridCount));
     if (gridInOneGroup()) {
       out.push_back(passName(kGridBuild));
     } else {
       for (PassId p : {kGridScan, kGridScanBlocks, kGridScanOffsets, kGridScatter, kGridRank})
         out.push_back(passName(p));
     }
+    out.push_back(passName(kPairsCount));
+    out.push_back(passName(kPairsScan));
+    if (pointScanBlocks() > 1) {
+      out.push_back(passName(kPairsScanBlocks));
+      out.push_back(passName(kPairsScanOffsets));
+    }
+    out.push_back(passName(kPairsFill));
     out.push_back(passName(kSelfCollide));
   }
   for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass) {
@@ -94,11 +119,25 @@ std::string GpuSolver::passName(PassId pass) const {
   const bool colliders = !scene_.spheres.empty() || !scene_.planes.empty();
   switch (pass) {
     case kForcesIntegrate:
-      return std::string("forces+integrate") + (scene_.sim.self_collision ? "+grid_count"
+      return std::string("forces+integrate") + (scene_.sim.self_collision ? "+pairs_check"
                                                 : colliders               ? "+collide"
                                                                           : "");
-    case kGridCount:
-      return "grid_count";
+    case kPairsCheck:
+      return "pairs_check";
+    case kPairsPrepare:
+      return "pairs_prepare";
+    case kPairsGridCount:
+      return "pairs_grid_count";
+    case kPairsCount:
+      return "pairs_count";
+    case kPairsScan:
+      return "pairs_scan";
+    case kPairsScanBlocks:
+      return "pairs_scan_blocks";
+    case kPairsScanOffsets:
+      return "pairs_scan_offsets";
+    case kPairsFill:
+      return "pairs_fill";
     case kGridBuild:
       return "grid_build";
     case kGridScan:
@@ -142,6 +181,10 @@ void GpuSolver::bindShared() const {
     grid_blocks_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingGridBlocks);
     grid_scatter_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingGridScatter);
     grid_sorted_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingGridSorted);
+    pair_control_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingPairControl);
+    pair_anchor_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingPairAnchor);
+    pair_start_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingPairStart);
+    pair_list_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingPairList);
   }
 }
 
@@ -162,10 +205,22 @@ glm::uvec3 GpuSolver::groupsFor(std::uint64_t invocations, std::uint32_t local_s
 }
 
 void GpuSolver::dispatch(PassId pass, const gl::Program& program, glm::uvec3 groups) {
+  timed(pass, [&] { program.dispatch(groups); });
+}
+
+void GpuSolver::dispatchIndirect(PassId pass, const gl::Program& program, std::uint32_t command) {
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, pair_control_.id());
+  const std::size_t offset =
+      offsetof(gpu::PairControl, dispatch) + offsetof(gpu::PairDispatch, live) + 3 * command * sizeof(std::uint32_t);
+  timed(pass, [&] { program.dispatchIndirect(offset); });
+}
+
+template <class F>
+void GpuSolver::timed(PassId pass, F&& run) {
   PassTiming& timing = timings_[pass];
   ++timing.calls;
   if (!options_.timing) {
-    program.dispatch(groups);
+    run();
   } else if (timer_queries_) {
     gl::Query query;
     if (spare_queries_.empty()) {
@@ -175,7 +230,7 @@ void GpuSolver::dispatch(PassId pass, const gl::Program& program, glm::uvec3 gro
       spare_queries_.pop_back();
     }
     query.begin();
-    program.dispatch(groups);
+    run();
     query.end();
     pending_.push_back({pass, std::move(query)});
     if (pending_.size() >= 1024) resolveQueries();  // bounded memory; results are ready long before
@@ -183,7 +238,7 @@ void GpuSolver::dispatch(PassId pass, const gl::Program& program, glm::uvec3 gro
     // No GPU timer (llvmpipe): wall clock around the dispatch, with the pipeline drained on both sides.
     glFinish();
     const auto start = std::chrono::steady_clock::now();
-    program.dispatch(groups);
+    run();
     glFinish();
     timing.ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   }
@@ -238,7 +293,7 @@ void GpuSolver::reset() {
   state_[0].displacement.upload(v);
   substeps_ = 0;
   held_ = -1;
-  discardGridCount();
+  pairs_checked_ = false;
   clearHealth();
 }
 
@@ -256,13 +311,7 @@ void GpuSolver::uploadState(const std::vector<glm::dvec3>& x, const std::vector<
   state_[current_].position.upload(px);
   state_[current_].displacement.upload(pv);
   substeps_ = substeps;
-  discardGridCount();
-}
-
-// Counts of positions that were replaced before a scan consumed them would add to the next count.
-void GpuSolver::discardGridCount() {
-  if (grid_counted_) grid_counts_.clear();
-  grid_counted_ = false;
+  pairs_checked_ = false;
 }
 
 std::vector<glm::dvec3> GpuSolver::readPositions() {
@@ -299,8 +348,42 @@ GpuGrid GpuSolver::readGrid() {
   return grid;
 }
 
+GpuPairs GpuSolver::readPairs() {
+  GpuPairs pairs;
+  if (pair_control_.id() == 0) return pairs;
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  const gpu::PairState state = pair_control_.download<gpu::PairState>(1)[0];
+  pairs.capacity = state.capacity;
+  pairs.builds = state.builds;
+  pairs.overflow = state.overflow != 0;
+  pairs.travel2 = state.travel2;
+  pairs.start = pair_start_.download<std::uint32_t>(std::size_t(topo_.pointCount()) + 1);
+  pairs.list = pair_list_.download<std::uint32_t>(std::min<std::size_t>(pairs.start.back(), state.capacity));
+  return pairs;
+}
+
+// Called where the host already waits for the GPU (readHealth): when a list build needed more entries
+// than the buffer holds, a buffer 1.5x that size replaces it and the lists are rebuilt. Until then the
+// points that did not fit were served from the grid, with the same result.
+void GpuSolver::growPairList() {
+  if (pair_control_.id() == 0) return;
+  const gpu::PairState state = pair_control_.download<gpu::PairState>(1)[0];
+  if (state.overflow == 0) return;
+  GLint64 block = 0;
+  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+  const std::uint64_t limit =
+      (options_.max_buffer_bytes ? options_.max_buffer_bytes : std::uint64_t(block)) / sizeof(std::uint32_t);
+  const std::uint64_t wanted = std::min(std::uint64_t(state.total) + state.total / 2, limit);
+  const std::uint32_t clear = 0;
+  pair_control_.upload(offsetof(gpu::PairState, overflow), sizeof clear, &clear);
+  if (wanted <= pair_capacity_) return;  // as large as allowed: the grid keeps serving the rest
+  allocatePairList(wanted);
+  invalidatePairs();
+}
+
 GpuHealth GpuSolver::readHealth() {
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  growPairList();
   const gpu::Health h = health_.download<gpu::Health>(1)[0];
   GpuHealth out;
   out.non_finite = (h.flags & gpu::kHealthNonFinite) != 0;
@@ -319,9 +402,11 @@ std::size_t GpuSolver::gpuMemoryBytes() const {
   std::size_t total = 0;
   for (const StateBuffers& s : state_)
     total += s.position.size() + s.displacement.size();
-  for (const gl::Buffer* b : {&params_, &offsets_, &neighbors_, &colliders_, &health_, &grid_points_, &grid_counts_,
-                              &grid_start_, &grid_blocks_, &grid_scatter_, &grid_sorted_, &normals_, &tangents_,
-                              &vertex_tri_offsets_, &vertex_tris_, &triangles_, &uvs_, &pick_})
+  for (const gl::Buffer* b :
+       {&params_,      &offsets_,    &neighbors_,   &colliders_,    &health_,      &grid_points_,
+        &grid_counts_, &grid_start_, &grid_blocks_, &grid_scatter_, &grid_sorted_, &pair_control_,
+        &pair_anchor_, &pair_start_, &pair_list_,   &normals_,      &tangents_,    &vertex_tri_offsets_,
+        &vertex_tris_, &triangles_,  &uvs_,         &pick_})
     total += b->size();
   return total;
 }

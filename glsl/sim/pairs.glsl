@@ -1,0 +1,59 @@
+// Self-collision candidate lists on the GPU: the algorithm of src/cpu/collision_pairs.hpp (docs/design.md
+// section 2, step 3). When some point has moved more than the safe travel from where it was at the last
+// build (checkPairTravel, fused into integrate), the list is rebuilt from the current positions:
+//   pairs_prepare     one invocation: turns the build's indirect dispatches on (or off: nothing to do)
+//   pairs_grid_count  anchors the positions and counts them into the hash grid (grid.glsl), cell edge
+//                     pair_reach, so the 27 cells around a point hold every point within pair_reach
+//   grid_build        the grid's counting sort (or its five-dispatch form for many buckets)
+//   pairs_count       each point counts its candidates: points closer than pair_reach
+//   pairs_scan        prefix sum of the counts: where each point's list starts
+//   pairs_fill        each point writes its candidates and sorts them ascending
+// No read-back decides anything: the prepare kernel writes the indirect dispatch arguments. The counts
+// go to gridCounts (free again once the grid's scan has read them).
+#pragma once
+
+#include "grid.glsl"
+#include "pair_travel.glsl"
+
+layout(std430, binding = kBindingPairStart) buffer PairStartBuffer {
+  uint pairStart[];
+};
+layout(std430, binding = kBindingPairList) buffer PairListBuffer {
+  uint pairList[];
+};
+
+// The candidates of point i, the points within pair_reach of its anchor, in grid order (27 cells in
+// z, y, x order, ascending within a cell). Counts them; with `write`, also stores them from
+// pairList[first] on, as far as the buffer's capacity allows.
+uint gatherCandidates(uint i, bool write, uint first) {
+  vec3 a = pairAnchor[i].xyz;
+  ivec3 cell = gridCell(i);
+  uint found = 0u;
+  for (int dz = -1; dz <= 1; ++dz) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        ivec3 n = cell + ivec3(dx, dy, dz);
+        uint bucket = hashCell(n) & params.bucket_mask;
+        uint last = gridStart[bucket + 1u];
+        for (uint s = gridStart[bucket]; s < last; ++s) {
+          uint j = gridSorted[s];
+          if (j == i || gridCell(j) != n) continue;  // a bucket can hold other cells' points
+          precise vec3 d = a - pairAnchor[j].xyz;
+          if (dot3(d, d) >= params.pair_reach2) continue;
+          if (write && first + found < pairState.capacity) pairList[first + found] = j;
+          ++found;
+        }
+      }
+    }
+  }
+  return found;
+}
+
+// Where j lies around i in the 27-cell query of a grid of cell edge 2 * thickness (0..26, z then y then
+// x), or -1 outside it: the order in which a point's self-collision sum visits its terms
+// (cellOrder in src/cpu/collision_pairs.hpp).
+int cellOrder(ivec3 cell_i, ivec3 cell_j) {
+  ivec3 d = cell_j - cell_i;
+  if (any(lessThan(d, ivec3(-1))) || any(greaterThan(d, ivec3(1)))) return -1;
+  return (d.z + 1) * 9 + (d.y + 1) * 3 + (d.x + 1);
+}
