@@ -8,6 +8,8 @@ layout(std430, binding = kBindingPairControl) buffer PairControlBuffer {
   PairState pairState;
   PairDispatch pairDispatch;
 };
+// self_collide.comp, which reads no anchor, defines PAIR_NO_ANCHOR: one storage block fewer.
+#ifndef PAIR_NO_ANCHOR
 layout(std430, binding = kBindingPairAnchor) buffer PairAnchorBuffer {
   vec4 pairAnchor[];
 };
@@ -18,3 +20,4 @@ void checkPairTravel(uint i, vec3 x) {
   precise vec3 d = x - pairAnchor[i].xyz;
   if (!(dot3(d, d) <= pairState.travel2)) pairState.stale = 1u;
 }
+#endif

@@ -22,6 +22,7 @@ layout(std430, binding = kBindingPairList) buffer PairListBuffer {
   uint pairList[];
 };
 
+#ifndef PAIR_NO_ANCHOR
 // The candidates of point i, the points within pair_reach of its anchor, in grid order (27 cells in
 // z, y, x order, ascending within a cell). Counts them; with `write`, also stores them from
 // pairList[first] on, as far as the buffer's capacity allows.
@@ -48,6 +49,7 @@ uint gatherCandidates(uint i, bool write, uint first) {
   }
   return found;
 }
+#endif
 
 // Where j lies around i in the 27-cell query of a grid of cell edge 2 * thickness (0..26, z then y then
 // x), or -1 outside it: the order in which a point's self-collision sum visits its terms

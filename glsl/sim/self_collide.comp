@@ -5,9 +5,10 @@
 // The candidates come from the point's list (pairs.glsl); the terms are summed in the order of a 27-cell
 // query of a grid of cell edge 2 * thickness, ascending index within a cell (forEachOrderedPair in
 // src/cpu/collision_pairs.hpp), so the sum is the CPU's whenever the list was built.
-// Needs no springs or health flags (common.glsl: a storage block fewer each).
+// Needs no springs, health flags or anchors (common.glsl, pair_travel.glsl: a storage block fewer each).
 #define SIM_NO_SPRINGS
 #define SIM_NO_HEALTH
+#define PAIR_NO_ANCHOR
 #include "common.glsl"
 #include "physics.glsl"
 #include "collide.glsl"
