@@ -3,6 +3,7 @@
 #include "app/bench.hpp"
 #include "app/accuracy.hpp"
 #include "app/commands.hpp"
+#include "app/jobs.hpp"
 #include "app/stability_cases.hpp"
 #include "core/derived.hpp"
 #include "core/stability.hpp"
@@ -15,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <tuple>
 
 namespace drape {
 namespace {
@@ -197,6 +199,43 @@ TEST(Accuracy, ReferenceConfigurationHasZeroErrorAndRowsAreComplete) {
   fs::remove(scene);
 }
 
+// Runs side by side (--jobs) change nothing but the time: every figure but the timings equals the
+// one-at-a-time sweep's, in the same order.
+TEST(Accuracy, RunsSideBySideGiveTheSameReportAsOneAtATime) {
+  const fs::path scene = writeTinyScene();
+  AccuracyOptions o;
+  o.scene = scene.string();
+  o.reference_factor = 2;
+  o.steps = {2, 4, 8};
+  o.solvers = {"cpu", "cpu64", "cpu-xprev"};
+  o.stretch_passes = {1, 4};
+  o.times = {0.05, 0.1};
+  o.jobs = 1;
+  const AccuracyReport serial = runAccuracy(o);
+  o.jobs = 3;
+  const AccuracyReport parallel = runAccuracy(o);
+  EXPECT_EQ(serial.jobs, 1);
+  EXPECT_EQ(parallel.jobs, 3);
+  EXPECT_EQ(parallel.threads_per_run, threadsPerJob(3));
+  ASSERT_EQ(serial.runs.size(), 18u);
+  ASSERT_EQ(parallel.runs.size(), serial.runs.size());
+  for (std::size_t k = 0; k < serial.runs.size(); ++k) {
+    const AccuracyRun &a = serial.runs[k], &b = parallel.runs[k];
+    EXPECT_EQ(std::tie(a.solver, a.steps_per_frame, a.stretch_passes),
+              std::tie(b.solver, b.steps_per_frame, b.stretch_passes));
+    ASSERT_EQ(a.samples.size(), b.samples.size());
+    for (std::size_t i = 0; i < a.samples.size(); ++i) {
+      EXPECT_EQ(a.samples[i].rms_error, b.samples[i].rms_error) << a.solver << " " << a.steps_per_frame;
+      EXPECT_EQ(a.samples[i].max_strain, b.samples[i].max_strain);
+      EXPECT_EQ(a.samples[i].vs_double, b.samples[i].vs_double);
+    }
+  }
+  ASSERT_EQ(serial.references.size(), parallel.references.size());
+  for (std::size_t k = 0; k < serial.references.size(); ++k)
+    EXPECT_EQ(serial.references[k].samples.back().rms_error, parallel.references[k].samples.back().rms_error);
+  fs::remove(scene);
+}
+
 TEST(Accuracy, MarkdownShowsPenetrationOnlyWhereSomethingPenetrated) {
   AccuracyReport r;
   r.scene = "scenes/sphere.json";
@@ -253,6 +292,27 @@ TEST(StabilityCases, AnUnstableRunReportsItsFrame) {
     EXPECT_GE(plain.first_bad_frame, 1);
     EXPECT_EQ(plain.frames_run, plain.first_bad_frame);
     EXPECT_FALSE(plain.what.empty());
+  }
+}
+
+TEST(StabilityCases, RunsSideBySideGiveTheSameResultsInTheSameOrder) {
+  std::vector<StabilityCase> cases;
+  for (const StabilityCase& c : stabilityCases())
+    if (c.name == "ks-1e2" || c.name == "ks-1e6" || c.name == "jittered") cases.push_back(c);
+  ASSERT_EQ(cases.size(), 3u);
+  for (StabilityCase& c : cases)
+    c.frames = std::min(c.frames, 30);
+  const StabilityReport serial = runStability(cases, {1, 30}, {}, 1);
+  const StabilityReport parallel = runStability(cases, {1, 30}, {}, 2);
+  EXPECT_EQ(parallel.jobs, 2);
+  ASSERT_EQ(serial.results.size(), parallel.results.size());
+  EXPECT_GT(serial.results.size(), 6u) << "ks-1e6 at 1 and 30 substeps also runs with the guard";
+  for (std::size_t k = 0; k < serial.results.size(); ++k) {
+    const StabilityResult &a = serial.results[k], &b = parallel.results[k];
+    EXPECT_EQ(std::tie(a.case_name, a.steps_asked, a.guarded, a.stable, a.first_bad_frame),
+              std::tie(b.case_name, b.steps_asked, b.guarded, b.stable, b.first_bad_frame));
+    EXPECT_EQ(a.max_strain, b.max_strain) << a.case_name;
+    EXPECT_EQ(a.energy_end, b.energy_end) << a.case_name;
   }
 }
 

@@ -1,4 +1,5 @@
 #include "app/accuracy.hpp"
+#include "app/jobs.hpp"
 
 #include "app/commands.hpp"
 
@@ -9,13 +10,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <map>
 #include <mutex>
-#include <thread>
 
 namespace drape {
 
@@ -141,33 +140,16 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
   for (int passes : o.stretch_passes)
     for (int factor : {o.reference_factor, 2 * o.reference_factor})
       jobs.push_back({passes, factor * scene.sim.steps_per_frame, nullptr, {}, 0.0});
-  std::atomic<std::size_t> next{0};
-  std::mutex failure_mutex;
-  std::exception_ptr failure;
-  auto worker = [&] {
-    for (std::size_t j; (j = next++) < jobs.size();) {
-      try {
-        const auto t0 = Clock::now();
-        jobs[j].solver = std::make_unique<CpuSolver<double>>(configure(scene, jobs[j].steps, jobs[j].passes));
-        jobs[j].trajectory = runTrajectory(*jobs[j].solver, frames);
-        jobs[j].wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(failure_mutex);
-        failure = std::current_exception();
-      }
-    }
-  };
-  {
-    const std::size_t threads = std::min<std::size_t>(jobs.size(), std::max(1u, std::thread::hardware_concurrency()));
-    say(fmt::format("{} reference runs (cpu64, x{} and x{} substeps), {} at a time", jobs.size(), o.reference_factor,
-                    2 * o.reference_factor, threads));
-    std::vector<std::thread> pool;
-    for (std::size_t t = 0; t < threads; ++t)
-      pool.emplace_back(worker);
-    for (std::thread& t : pool)
-      t.join();
-  }
-  if (failure) std::rethrow_exception(failure);
+  const int reference_jobs = jobsFor(o.jobs, jobs.size());
+  say(fmt::format("{} reference runs (cpu64, x{} and x{} substeps), {} at a time", jobs.size(), o.reference_factor,
+                  2 * o.reference_factor, reference_jobs));
+  forEachJob(jobs.size(), reference_jobs, [&](std::size_t j) {
+    const auto t0 = Clock::now();
+    jobs[j].solver = std::make_unique<CpuSolver<double>>(configure(scene, jobs[j].steps, jobs[j].passes),
+                                                         CpuSolverOptions{.threads = threadsPerJob(reference_jobs)});
+    jobs[j].trajectory = runTrajectory(*jobs[j].solver, frames);
+    jobs[j].wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  });
 
   SolverFactory factory;
   std::map<int, std::vector<Positions>> references;
@@ -195,43 +177,73 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
     report.references.push_back(std::move(check));
   }
 
-  std::vector<std::vector<Positions>> states;  // per run, its positions at the sample frames
+  // The timed runs: CPU runs side by side, each on its share of the cores (their times are then those
+  // of that many threads, which the report states); GPU runs one at a time afterwards, on the one
+  // context the factory holds.
+  struct SweepJob {
+    AccuracyRun run;
+    std::vector<Positions> states;  // positions at the sample frames
+  };
+  std::vector<SweepJob> sweep;
   for (int passes : o.stretch_passes)
     for (const std::string& name : o.solvers)
       for (int steps : o.steps) {
-        AccuracyRun run;
-        run.solver = name;
-        run.steps_per_frame = steps;
-        run.stretch_passes = passes;
-        const Scene s = configure(scene, steps, passes);
-        std::unique_ptr<Solver> solver;
-        try {
-          solver = factory.make(s, name);
-        } catch (const SkippedRun& e) {
-          run.skipped = e.what();
-        }
-        if (solver) {
-          Trajectory traj = runTrajectory(*solver, frames);
-          run.unstable = traj.unstable;
-          run.unstable_frame = traj.unstable_frame;
-          run.ms_per_sim_s = traj.step_ms / (traj.frames_run / s.sim.frames_per_sec);
-          const std::vector<Positions>& ref = references[passes];
-          for (std::size_t i = 0; i < std::min(traj.at.size(), ref.size()); ++i)
-            run.samples.push_back(compare(s, solver->topology(), frames[i], traj.at[i], ref[i]));
-          states.resize(report.runs.size() + 1);
-          states.back() = std::move(traj.at);
-        }
-        std::string line = fmt::format("{} {} substeps, {} stretch passes: ", name, steps, passes);
-        if (!run.skipped.empty())
-          line += "skipped (" + run.skipped + ")";
-        else if (!run.unstable.empty())
-          line += fmt::format("unstable at frame {} ({})", run.unstable_frame, run.unstable);
-        else if (!run.samples.empty())
-          line += fmt::format("error {:.3g} (RMS / size) at t = {:.3g} s, {:.0f} ms per simulated s",
-                              run.samples.back().rms_error, run.samples.back().t, run.ms_per_sim_s);
-        say(line);
-        report.runs.push_back(std::move(run));
+        SweepJob job;
+        job.run.solver = name;
+        job.run.steps_per_frame = steps;
+        job.run.stretch_passes = passes;
+        sweep.push_back(std::move(job));
       }
+  std::vector<std::size_t> cpu_jobs, gpu_jobs;
+  for (std::size_t j = 0; j < sweep.size(); ++j)
+    (sweep[j].run.solver == "gpu" ? gpu_jobs : cpu_jobs).push_back(j);
+  report.jobs = jobsFor(o.jobs, cpu_jobs.size());
+  report.threads_per_run = threadsPerJob(report.jobs);
+  std::mutex say_mutex;
+  auto runOne = [&](SweepJob& job, SolverFactory& maker) {
+    AccuracyRun& run = job.run;
+    const Scene s = configure(scene, run.steps_per_frame, run.stretch_passes);
+    std::unique_ptr<Solver> solver;
+    try {
+      solver = maker.make(s, run.solver, false, report.threads_per_run);
+    } catch (const SkippedRun& e) {
+      run.skipped = e.what();
+    }
+    if (solver) {
+      Trajectory traj = runTrajectory(*solver, frames);
+      run.unstable = traj.unstable;
+      run.unstable_frame = traj.unstable_frame;
+      run.ms_per_sim_s = traj.step_ms / (traj.frames_run / s.sim.frames_per_sec);
+      const std::vector<Positions>& ref = references.at(run.stretch_passes);
+      for (std::size_t i = 0; i < std::min(traj.at.size(), ref.size()); ++i)
+        run.samples.push_back(compare(s, solver->topology(), frames[i], traj.at[i], ref[i]));
+      job.states = std::move(traj.at);
+    }
+    std::string line =
+        fmt::format("{} {} substeps, {} stretch passes: ", run.solver, run.steps_per_frame, run.stretch_passes);
+    if (!run.skipped.empty())
+      line += "skipped (" + run.skipped + ")";
+    else if (!run.unstable.empty())
+      line += fmt::format("unstable at frame {} ({})", run.unstable_frame, run.unstable);
+    else if (!run.samples.empty())
+      line += fmt::format("error {:.3g} (RMS / size) at t = {:.3g} s, {:.0f} ms per simulated s",
+                          run.samples.back().rms_error, run.samples.back().t, run.ms_per_sim_s);
+    std::lock_guard<std::mutex> lock(say_mutex);
+    say(line);
+  };
+  say(fmt::format("{} CPU runs, {} at a time ({} solver thread{} each), then {} GPU runs", cpu_jobs.size(), report.jobs,
+                  report.threads_per_run, report.threads_per_run == 1 ? "" : "s", gpu_jobs.size()));
+  forEachJob(cpu_jobs.size(), report.jobs, [&](std::size_t k) {
+    SolverFactory cpu_factory;  // makes CPU solvers only: no context is touched off the main thread
+    runOne(sweep[cpu_jobs[k]], cpu_factory);
+  });
+  for (std::size_t j : gpu_jobs)
+    runOne(sweep[j], factory);
+  std::vector<std::vector<Positions>> states;  // per run, its positions at the sample frames
+  for (SweepJob& job : sweep) {
+    report.runs.push_back(std::move(job.run));
+    states.push_back(std::move(job.states));
+  }
   states.resize(report.runs.size());
   compareWithDouble(report, states, clothSize(scene.cloth));
   if (const GlInfo* gl = factory.glInfo()) report.gl = *gl;
@@ -313,6 +325,10 @@ std::string accuracyMarkdown(const AccuracyReport& r) {
                                      r.gl->software ? " (software rasteriser: its times are not GPU times)" : "")
                        : "",
                   r.wall_s);
+  md += fmt::format(
+      "CPU runs ran {} at a time with {} solver thread{} each, so their times are {}-thread times; GPU runs ran one "
+      "at a time.\n\n",
+      r.jobs, r.threads_per_run, r.threads_per_run == 1 ? "" : "s", r.threads_per_run);
   md += fmt::format(
       "Reference: CPU double with {}x the scene's substeps, per stretch-pass count; checked against {}x. Damping and "
       "collision friction are fractions per substep in the model, so every configuration has them rescaled to the "

@@ -24,6 +24,7 @@ struct AccuracyOptions {
   std::vector<int> stretch_passes = {1, 2, 4};
   std::vector<double> times = {0.5, 1.0, 2.0};  // s; rounded to whole frames
   int reference_factor = 16;                    // reference substeps = this x the scene's
+  int jobs = 0;  // CPU runs side by side, each on its share of the cores (0: one per core); GPU runs one at a time
 };
 
 // One configuration's state at one sample time, against the reference with the same stretch passes.
@@ -64,6 +65,8 @@ struct AccuracyReport {
   MachineInfo machine;
   std::optional<GlInfo> gl;
   AccuracyOptions options;
+  int jobs = 1;             // CPU runs side by side
+  int threads_per_run = 0;  // each CPU run's solver threads
   std::vector<ReferenceCheck> references;
   std::vector<AccuracyRun> runs;
 };

@@ -25,6 +25,7 @@ struct AccuracyCommandOptions {
   std::string passes = "1,2,4";
   std::string times = "0.5,1,2";
   int reference_factor = 16;
+  int jobs = 0;
   bool quick = false;
   bool no_plot = false;
 };
@@ -65,6 +66,7 @@ void runAccuracyCommand(const AccuracyCommandOptions& c) {
       c.quick ? std::vector<int>{scene.sim.stretch_passes} : parseIntList("--passes", c.passes, 0, kMaxStretchPasses);
   o.times = parseDoubleList("--times", c.quick ? "0.5,1" : c.times, kMaxSampleTime);
   o.reference_factor = c.quick ? 8 : c.reference_factor;
+  o.jobs = c.jobs;
   const std::string stem = fs::path(c.scene).stem().string();
   const fs::path dir = c.out.empty() ? fs::path("out") / "accuracy" / stem : fs::path(c.out);
   std::error_code ec;
@@ -103,6 +105,10 @@ void addAccuracyCommand(CLI::App& app) {
   cmd->add_flag("--quick", c->quick,
                 "Minutes instead of an hour on a 2-core machine with self-collision: substeps 5,10,30,120, the "
                 "scene's stretch passes, t = 0.5, 1 s, reference x8 checked against x16");
+  cmd->add_option("--jobs", c->jobs,
+                  "CPU runs side by side, each on its share of the cores (0: one per core); GPU runs one at a time")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
   cmd->add_flag("--no-plot", c->no_plot, "Write the CSV and markdown only");
   cmd->callback([c] { runAccuracyCommand(*c); });
 }

@@ -1,4 +1,5 @@
 #include "app/stability_cases.hpp"
+#include "app/jobs.hpp"
 
 #include "core/derived.hpp"
 #include "core/hash.hpp"
@@ -11,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 
 namespace drape {
 
@@ -145,7 +147,7 @@ void startState(const StabilityCase& c, std::vector<glm::dvec3>& x, std::vector<
   }
 }
 
-StabilityResult runStabilityCase(const StabilityCase& c, int steps, bool guard) {
+StabilityResult runStabilityCase(const StabilityCase& c, int steps, bool guard, int threads) {
   const auto t0 = std::chrono::steady_clock::now();
   StabilityCase run = c;
   run.scene.sim.steps_per_frame = steps;
@@ -169,7 +171,7 @@ StabilityResult runStabilityCase(const StabilityCase& c, int steps, bool guard) 
 
   std::vector<glm::dvec3> x0, v0;
   startState(run, x0, v0);
-  CpuSolver<float> solver(run.scene);
+  CpuSolver<float> solver(run.scene, CpuSolverOptions{.threads = threads});
   solver.setState(x0, v0);
   const Topology& topo = solver.topology();
   const double mass = derived::pointMass(run.scene.cloth), dt = run.scene.sim.dt();
@@ -226,21 +228,33 @@ std::string describe(const StabilityResult& r) {
 }  // namespace
 
 StabilityReport runStability(const std::vector<StabilityCase>& cases, const std::vector<int>& steps,
-                             const std::function<void(const std::string&)>& progress) {
+                             const std::function<void(const std::string&)>& progress, int jobs) {
   StabilityReport report;
   report.steps = steps;
   const auto t0 = std::chrono::steady_clock::now();
+  struct Job {
+    const StabilityCase* c;
+    int steps;
+    bool guard;
+  };
+  std::vector<Job> jobs_list;
   for (const StabilityCase& c : cases)
     for (int s : steps) {
-      report.results.push_back(runStabilityCase(c, s, false));
-      if (progress) progress(describe(report.results.back()));
+      jobs_list.push_back({&c, s, false});
       Scene probe = c.scene;
       probe.sim.steps_per_frame = s;
-      if (autoSubsteps(probe) > s) {
-        report.results.push_back(runStabilityCase(c, s, true));
-        if (progress) progress(describe(report.results.back()));
-      }
+      if (autoSubsteps(probe) > s) jobs_list.push_back({&c, s, true});
     }
+  report.jobs = jobsFor(jobs, jobs_list.size());
+  report.threads_per_run = threadsPerJob(report.jobs);
+  report.results.resize(jobs_list.size());
+  std::mutex progress_mutex;
+  forEachJob(jobs_list.size(), report.jobs, [&](std::size_t j) {
+    const Job& job = jobs_list[j];
+    report.results[j] = runStabilityCase(*job.c, job.steps, job.guard, report.threads_per_run);
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    if (progress) progress(describe(report.results[j]));
+  });
   report.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report;
 }
@@ -291,14 +305,15 @@ std::string markdownRow(const StabilityResult& r, const StabilityResult* guarded
 std::string stabilityMarkdown(const StabilityReport& report, const std::vector<StabilityCase>& cases) {
   std::string md = fmt::format(
       "CPU float solver, 1 m cloth of 50 x 50 points (10 x 10 for the soak), 90 frames/s, 180 frames (2 s) per case "
-      "unless stated; {:.0f} s in all. Unstable: a non-finite coordinate, a spring beyond 11x its rest length, or a "
+      "unless stated; {:.0f} s in all ({} runs at a time, {} solver thread{} each). Unstable: a non-finite coordinate, "
+      "a spring beyond 11x its rest length, or a "
       "point more than 100 cloth sizes from its start. Guard: dt*sqrt(k_sum/m) < sqrt(1 + keep), keep = 1 - "
       "damping/100 "
       "(sqrt(2) = {:.4g} undamped, 1 at 100 % damping); with the guard the substeps "
       "are raised to the smallest count inside it, with damping and friction rescaled to the same loss per second (as "
       "`drape simulate --auto-substeps` does). Energy: kinetic + gravitational + spring, change from start to end "
       "relative to the largest of them.\n\n",
-      report.wall_s, kStabilityLimit);
+      report.wall_s, report.jobs, report.threads_per_run, report.threads_per_run == 1 ? "" : "s", kStabilityLimit);
   md += "| case | substeps | dt·sqrt(k/m) / limit | stable | first bad frame | max strain | KE end / max | energy |";
   md += " with guard |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const StabilityResult& r : report.results)

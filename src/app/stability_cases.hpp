@@ -56,10 +56,13 @@ struct StabilityResult {
 // Positions the case starts from (also the blow-up check's "start"), and displacements per substep.
 void startState(const StabilityCase& c, std::vector<glm::dvec3>& x, std::vector<glm::dvec3>& v);
 
-StabilityResult runStabilityCase(const StabilityCase& c, int steps_per_frame, bool guard);
+// threads: the CPU solver's threads (0 = every core); the result does not depend on it.
+StabilityResult runStabilityCase(const StabilityCase& c, int steps_per_frame, bool guard, int threads = 0);
 
 struct StabilityReport {
   std::vector<int> steps;
+  int jobs = 1;             // runs side by side
+  int threads_per_run = 0;  // each run's CPU solver threads
   std::vector<StabilityResult> results;
   double wall_s = 0;
 };
@@ -69,9 +72,11 @@ struct StabilityReport {
 const StabilityResult* findResult(const StabilityReport& report, const std::string& case_name, int steps_asked,
                                   bool guarded);
 
-// Runs every case at each substep count, and again with the guard wherever it raises the count.
+// Runs every case at each substep count, and again with the guard wherever it raises the count; `jobs`
+// runs side by side (0 = one per core, src/app/jobs.hpp), each on its share of the cores. Progress
+// lines come in the order runs finish; the report keeps the order above.
 StabilityReport runStability(const std::vector<StabilityCase>& cases, const std::vector<int>& steps,
-                             const std::function<void(const std::string&)>& progress = {});
+                             const std::function<void(const std::string&)>& progress = {}, int jobs = 0);
 
 std::string stabilityCsv(const StabilityReport& report);
 std::string stabilityMarkdown(const StabilityReport& report, const std::vector<StabilityCase>& cases);

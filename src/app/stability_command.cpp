@@ -21,6 +21,7 @@ struct StabilityCommandOptions {
   std::string out = "out/stability";
   std::string steps = "1,5,30,120";
   std::string cases;  // empty: all
+  int jobs = 0;       // runs side by side; 0: one per core
 };
 
 void runStabilityCommand(const StabilityCommandOptions& o) {
@@ -41,10 +42,13 @@ void runStabilityCommand(const StabilityCommandOptions& o) {
   if (ec) throw CommandError(kExitBadInput, fmt::format("--out: {}: {}", o.out, ec.message()));
   for (const char* name : {"stability.csv", "stability.md"})
     checkOutputFile(fs::path(o.out) / name);  // before the runs, not after them
-  const StabilityReport report = runStability(chosen, steps, [](const std::string& line) {
-    fmt::print(stderr, "stability {}\n", line);
-    std::fflush(stderr);
-  });
+  const StabilityReport report = runStability(
+      chosen, steps,
+      [](const std::string& line) {
+        fmt::print(stderr, "stability {}\n", line);
+        std::fflush(stderr);
+      },
+      o.jobs);
   const fs::path dir(o.out);
   writeFileAtomically((dir / "stability.csv").string(), stabilityCsv(report));
   const std::string md = stabilityMarkdown(report, chosen);
@@ -62,6 +66,9 @@ void addStabilityCommand(CLI::App& app) {
   cmd->add_option("--out", o->out, "Output directory")->capture_default_str();
   cmd->add_option("--steps", o->steps, "Comma-separated substeps per frame")->capture_default_str();
   cmd->add_option("--cases", o->cases, "Comma-separated case names (default: all)");
+  cmd->add_option("--jobs", o->jobs, "Runs side by side, each on its share of the cores (0: one per core)")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
   cmd->callback([o] { runStabilityCommand(*o); });
 }
 
