@@ -8,6 +8,7 @@
 #include "core/derived.hpp"
 #include "core/stability.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -136,6 +137,51 @@ TEST(Bench, TinyRunHasEveryFigure) {
   }
   const std::string md = benchMarkdown(report);
   EXPECT_EQ(std::count(md.begin(), md.end(), '\n'), 2 + 1 + 2 + 4);  // two lines, blank, header, rule, runs
+}
+
+// A bench JSON reads back as the runs it holds, and the before/after table pairs each run with the
+// baseline's run of the same scene, size and solver, pass by pass, with the ratio of the frame times.
+TEST(Bench, BaselineComparisonPairsRunsAndPasses) {
+  BenchOptions o;
+  o.scenes = {scenePath("pinned4.json")};
+  o.sizes = {6};
+  o.solvers = {"cpu"};
+  o.threads = {1, 2};
+  o.frames = 2;
+  o.warmup = 0;
+  o.repeats = 1;
+  const BenchReport report = runBench(o);
+  const std::vector<BenchRun> read = benchRunsFromJson(benchJson(report));
+  ASSERT_EQ(read.size(), 2u);
+  EXPECT_EQ(read[1].threads, 2);
+  EXPECT_EQ(read[0].frame_ms.median, report.runs[0].frame_ms.median);
+  ASSERT_EQ(read[0].passes.size(), report.runs[0].passes.size());
+  EXPECT_EQ(read[0].passes[2].name, "limit_stretch");
+
+  // A baseline from an older binary: one thread (no "threads" key), twice as slow, a pass since renamed.
+  nlohmann::json old = benchJson(report);
+  old["runs"].erase(1);
+  old["runs"][0].erase("threads");
+  old["runs"][0]["frame_ms"]["median"] = 2 * report.runs[0].frame_ms.median;
+  old["runs"][0]["passes"][0]["name"] = "old_forces";
+  const std::string md = benchComparisonMarkdown(report, benchRunsFromJson(old), "old.json");
+  EXPECT_NE(md.find("old.json"), std::string::npos);
+  for (const char* solver : {"cpu ×1", "cpu ×2"}) {
+    EXPECT_NE(md.find(fmt::format("| pinned4 | 6 | {} | **frame** |", solver)), std::string::npos) << md;
+    EXPECT_NE(md.find(fmt::format("| pinned4 | 6 | {} | old_forces |", solver)), std::string::npos) << md;
+    EXPECT_NE(md.find(fmt::format("| pinned4 | 6 | {} | forces |", solver)), std::string::npos) << md;
+  }
+  EXPECT_NE(md.find("| **0.50** |"), std::string::npos) << "the ×1 run against a baseline twice as slow:\n" << md;
+
+  nlohmann::json bad = old;
+  bad["runs"][0].erase("size");
+  try {
+    benchRunsFromJson(bad);
+    FAIL() << "a run without its size must not read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "runs[0].size: missing or of the wrong type");
+  }
+  EXPECT_THROW(benchRunsFromJson(nlohmann::json::object()), std::runtime_error);
 }
 
 TEST(Bench, UnknownSolverIsBadInput) {

@@ -337,6 +337,10 @@ TEST(Limits, SubstepsPassesAndSizesOnTheCommandLineAreBounded) {
       {"accuracy " + file.string() + " --steps 99999999999", "--steps"},
       {"accuracy " + file.string() + " --passes 1000", "--passes: 1000 is above the maximum 100"},
       {"bench --sizes 4096", "--sizes: 4096 is above the maximum 2048"},
+      {"bench --solver cpu --sizes 4 --baseline /nonexistent/old.json",
+       "--baseline: /nonexistent/old.json: cannot be read"},
+      {"bench --solver cpu --sizes 4 --baseline " + file.string(),
+       "--baseline: " + file.string() + ": \"runs\": missing"},
   };
   for (const auto& [args, message] : cases) {
     const Result r = run(args);

@@ -282,4 +282,100 @@ std::string benchMarkdown(const BenchReport& r) {
   return md;
 }
 
+std::vector<BenchRun> benchRunsFromJson(const nlohmann::json& j) {
+  if (!j.is_object() || !j.contains("runs") || !j["runs"].is_array())
+    throw std::runtime_error("\"runs\": missing, or not an array (not a drape bench --json file)");
+  std::vector<BenchRun> runs;
+  for (std::size_t k = 0; k < j["runs"].size(); ++k) {
+    const nlohmann::json& o = j["runs"][k];
+    auto need = [&](const char* key, bool (nlohmann::json::*is)() const noexcept) -> const nlohmann::json& {
+      if (!o.is_object() || !o.contains(key) || !(o[key].*is)())
+        throw std::runtime_error(fmt::format("runs[{}].{}: missing or of the wrong type", k, key));
+      return o[key];
+    };
+    BenchRun run;
+    run.scene = need("scene", &nlohmann::json::is_string).get<std::string>();
+    run.solver = need("solver", &nlohmann::json::is_string).get<std::string>();
+    run.size = need("size", &nlohmann::json::is_number_integer).get<int>();
+    run.threads = o.contains("threads") ? need("threads", &nlohmann::json::is_number_integer).get<int>() : 0;
+    if (o.contains("skipped") && o["skipped"].is_string()) run.skipped = o["skipped"].get<std::string>();
+    if (o.contains("frame_ms") && o["frame_ms"].is_object()) {
+      const nlohmann::json& f = o["frame_ms"];
+      if (!f.contains("median") || !f["median"].is_number())
+        throw std::runtime_error(fmt::format("runs[{}].frame_ms.median: missing or not a number", k));
+      run.frame_ms.median = f["median"].get<double>();
+      run.frame_ms.samples = f.contains("samples") && f["samples"].is_number_integer() ? f["samples"].get<int>() : 1;
+    }
+    if (o.contains("passes")) {
+      if (!o["passes"].is_array()) throw std::runtime_error(fmt::format("runs[{}].passes: not an array", k));
+      for (const nlohmann::json& p : o["passes"]) {
+        if (!p.is_object() || !p.contains("name") || !p["name"].is_string() || !p.contains("ms_per_frame") ||
+            !p["ms_per_frame"].is_number())
+          throw std::runtime_error(fmt::format("runs[{}].passes: an entry without name and ms_per_frame", k));
+        run.passes.push_back({p["name"].get<std::string>(), p["ms_per_frame"].get<double>(),
+                              p.contains("calls_per_frame") && p["calls_per_frame"].is_number()
+                                  ? p["calls_per_frame"].get<double>()
+                                  : 0.0});
+      }
+    }
+    runs.push_back(std::move(run));
+  }
+  return runs;
+}
+
+namespace {
+
+const BenchRun* matchingRun(const std::vector<BenchRun>& runs, const BenchRun& run) {
+  const std::string stem = std::filesystem::path(run.scene).stem().string();
+  const BenchRun* any = nullptr;
+  for (const BenchRun& b : runs) {
+    if (std::filesystem::path(b.scene).stem().string() != stem || b.size != run.size || b.solver != run.solver ||
+        !b.skipped.empty() || b.frame_ms.samples == 0)
+      continue;
+    if (b.threads == run.threads) return &b;
+    if (b.threads == 0 && !any) any = &b;
+  }
+  return any;
+}
+
+std::string ratioCell(double before, double after) {
+  return before > 0 ? fmt::format("{:.2f}", after / before) : "–";
+}
+
+}  // namespace
+
+std::string benchComparisonMarkdown(const BenchReport& after, const std::vector<BenchRun>& before,
+                                    const std::string& before_label) {
+  std::string md = fmt::format(
+      "Before ({}) and after (this run), ms per frame: medians over repeats for the frame, means over the timed "
+      "frames for the passes. A pass missing on one side is \"–\".\n\n",
+      before_label);
+  md += "| scene | N×N | solver | pass | before | after | after / before |\n|---|---|---|---|---|---|---|\n";
+  for (const BenchRun& run : after.runs) {
+    if (!run.skipped.empty() || run.frame_ms.samples == 0) continue;
+    const BenchRun* old = matchingRun(before, run);
+    if (!old) continue;
+    const std::string scene = std::filesystem::path(run.scene).stem().string();
+    const std::string solver = run.threads > 0 ? fmt::format("{} ×{}", run.solver, run.threads) : run.solver;
+    md += fmt::format("| {} | {} | {} | **frame** | {:.2f} | {:.2f} | **{}** |\n", scene, run.size, solver,
+                      old->frame_ms.median, run.frame_ms.median, ratioCell(old->frame_ms.median, run.frame_ms.median));
+    std::vector<std::string> names;
+    for (const BenchPass& p : old->passes)
+      names.push_back(p.name);
+    for (const BenchPass& p : run.passes)
+      if (std::find(names.begin(), names.end(), p.name) == names.end()) names.push_back(p.name);
+    for (const std::string& name : names) {
+      double b = -1, a = -1;
+      for (const BenchPass& p : old->passes)
+        if (p.name == name) b = p.ms_per_frame;
+      for (const BenchPass& p : run.passes)
+        if (p.name == name) a = p.ms_per_frame;
+      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", scene, run.size, solver, name,
+                        b >= 0 ? fmt::format("{:.2f}", b) : "–", a >= 0 ? fmt::format("{:.2f}", a) : "–",
+                        b >= 0 && a >= 0 ? ratioCell(b, a) : "–");
+    }
+  }
+  return md;
+}
+
 }  // namespace drape

@@ -69,6 +69,16 @@ BenchRun benchOne(SolverFactory& factory, const Scene& scene, const std::string&
 
 nlohmann::json benchJson(const BenchReport& report);
 std::string benchMarkdown(const BenchReport& report);
+
+// The runs of a `drape bench --json` file (this binary's or an earlier one's): scene, solver, threads,
+// size, frame times and passes. Throws std::runtime_error naming the run and key that is missing or
+// of the wrong type.
+std::vector<BenchRun> benchRunsFromJson(const nlohmann::json& j);
+// Before and after, per pass and per frame: every run of `after` against the run of `before` with the
+// same scene (file name), size and solver, the same thread count where `before` has it (an earlier
+// binary without --threads ran one thread). `before_label` names the baseline in the text.
+std::string benchComparisonMarkdown(const BenchReport& after, const std::vector<BenchRun>& before,
+                                    const std::string& before_label);
 std::string describeRun(const BenchRun& run);  // the progress line
 
 }  // namespace drape

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 namespace drape {
 
@@ -29,7 +30,21 @@ struct BenchCommandOptions {
   double budget_s = 10;
   std::string json;
   std::string markdown;
+  std::string baseline;
 };
+
+// An earlier `drape bench --json` to compare with; read before the runs so a bad file costs nothing.
+std::vector<BenchRun> readBaseline(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw CommandError(kExitBadInput, fmt::format("--baseline: {}: cannot be read", path));
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded()) throw CommandError(kExitBadInput, fmt::format("--baseline: {}: not valid JSON", path));
+  try {
+    return benchRunsFromJson(j);
+  } catch (const std::runtime_error& e) {
+    throw CommandError(kExitBadInput, fmt::format("--baseline: {}: {}", path, e.what()));
+  }
+}
 
 // Without a context every GPU run would be skipped and the command would look like a success: fail
 // before any work instead (status 3), as --solver gpu does everywhere else.
@@ -61,6 +76,7 @@ void runBenchCommand(const BenchCommandOptions& c) {
   // Output paths are checked before the runs, which may take minutes, not after them.
   if (!c.json.empty()) checkOutputFile(c.json);
   if (!c.markdown.empty()) checkOutputFile(c.markdown);
+  const std::vector<BenchRun> baseline = c.baseline.empty() ? std::vector<BenchRun>{} : readBaseline(c.baseline);
   requireGlIfAsked(o.solvers);
   const BenchReport report = runBench(o, [](const std::string& line) {
     fmt::print(stderr, "bench {}\n", line);
@@ -68,7 +84,10 @@ void runBenchCommand(const BenchCommandOptions& c) {
   });
   const std::string json = benchJson(report).dump(2) + "\n";
   if (!c.json.empty()) writeFileAtomically(c.json, json);
-  if (!c.markdown.empty()) writeFileAtomically(c.markdown, benchMarkdown(report));
+  if (!c.markdown.empty())
+    writeFileAtomically(c.markdown,
+                        benchMarkdown(report) +
+                            (c.baseline.empty() ? "" : "\n" + benchComparisonMarkdown(report, baseline, c.baseline)));
   if (c.json.empty()) fmt::print("{}", json);
   fmt::print(stderr, "bench: {} runs in {:.1f} s\n", report.runs.size(), report.wall_s);
 }
@@ -94,6 +113,9 @@ void addBenchCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--json", c->json, "Write the results as JSON here (default: stdout)");
   cmd->add_option("--markdown", c->markdown, "Write a markdown table of the results here");
+  cmd->add_option(
+      "--baseline", c->baseline,
+      "An earlier bench --json (e.g. of an older binary): the markdown adds per-pass times before and after");
   cmd->callback([c] { runBenchCommand(*c); });
 }
 
