@@ -210,10 +210,11 @@ TEST(ChildProcesses, ThePlotGetsHostileNamesAsArgumentsNotAsCommands) {
   const fs::path dir = freshDir("inject_plot");
   const fs::path scene_file = dir / (kHostile + ".json"), out = dir / ("o" + kHostile);
   std::ofstream(scene_file) << kTinyScene;
-  // Stands in for python: answers the matplotlib probe, records the plot's arguments one per line.
+  // Stands in for python: answers the matplotlib probe, records the plot's arguments one per line, and
+  // draws a "picture" where it is told to.
   const fs::path python = dir / "python";
   std::ofstream(python) << "#!/bin/sh\n[ \"$1\" = -c ] && exit 0\nfor a in \"$@\"; do printf '%s\\n' \"$a\"; done > "
-                        << quote((dir / "args").string()) << "\n";
+                        << quote((dir / "args").string()) << "\nprintf picture > \"$4\"\n";
   fs::permissions(python, fs::perms::owner_all);
   const Result r = run("accuracy " + quote(scene_file.string()) + " --out " + quote(out.string()) + kTinyAccuracy,
                        "cd " + quote(dir.string()) + " && DRAPE_PYTHON=" + quote(python.string()));
@@ -222,6 +223,11 @@ TEST(ChildProcesses, ThePlotGetsHostileNamesAsArgumentsNotAsCommands) {
   const std::string args = slurp(dir / "args");
   EXPECT_NE(args.find("\n--title=" + kHostile + "\n"), std::string::npos) << args;
   EXPECT_NE(args.find("\n" + (out / "accuracy.csv").string() + "\n"), std::string::npos) << args;
+  // The picture went to a scratch file of drape's, then to accuracy.png through the atomic writer.
+  EXPECT_EQ(args.find("\n" + (out / "accuracy.png").string() + "\n"), std::string::npos) << args;
+  EXPECT_EQ(slurp(out / "accuracy.png"), "picture");
+  for (const fs::directory_entry& e : fs::directory_iterator(out))
+    EXPECT_EQ(e.path().filename().string().find(".accuracy."), std::string::npos) << "left behind: " << e.path();
 }
 
 TEST(ChildProcesses, TheRealPlotWritesItsPictureForAHostileName) {
