@@ -1,5 +1,6 @@
 // The GPU solver's own contract: which passes a scene dispatches, timing, limits and errors, the
 // renderer's buffers (normals, tangents), picking and dragging, live parameter changes, blow-up flags.
+#include "cpu/cpu_solver.hpp"
 #include "gl/shader_source.hpp"
 #include "gl_fixture.hpp"
 #include "gpu/gpu_solver.hpp"
@@ -13,6 +14,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <random>
 
@@ -47,7 +49,8 @@ TEST_F(GpuSolverTest, PassListsFollowTheScene) {
   // pinned2: no collider, no self-collision: nothing but the two kernels every cloth needs.
   GpuSolver pinned2(standardScene("pinned2.json"));
   EXPECT_EQ(pinned2.passes(), Strings{"forces+integrate"} + colourDispatches());
-  EXPECT_EQ(pinned2.dispatchesPerFrame(), (1 + 12) * 30);
+  EXPECT_EQ(pinned2.framePasses(), Strings{"health"});
+  EXPECT_EQ(pinned2.dispatchesPerFrame(), (1 + 12) * 30 + 1);
   for (const std::string& pass : pinned2.passes()) {
     EXPECT_EQ(pass.find("collide"), std::string::npos) << pass;
     EXPECT_EQ(pass.find("grid"), std::string::npos) << pass;
@@ -56,7 +59,7 @@ TEST_F(GpuSolverTest, PassListsFollowTheScene) {
   GpuSolver self(standardScene("selfCollision.json"));
   EXPECT_EQ(self.passes(),
             (Strings{"forces+integrate+grid_count", "grid_build", "self_collide+collide"} + colourDispatches()));
-  EXPECT_EQ(self.dispatchesPerFrame(), (3 + 12) * 30);
+  EXPECT_EQ(self.dispatchesPerFrame(), (3 + 12) * 30 + 1);
   // The averaged Jacobi stretch pass is one dispatch.
   Scene jacobi = standardScene("selfCollision.json");
   jacobi.sim.stretch_scheme = StretchScheme::Jacobi;
@@ -74,7 +77,7 @@ TEST_F(GpuSolverTest, PassListsFollowTheScene) {
   loose.sim.steps_per_frame = 10;
   GpuSolver three(loose);
   EXPECT_EQ(three.passes(), Strings{"forces+integrate"} + colourDispatches(3));
-  EXPECT_EQ(three.dispatchesPerFrame(), (1 + 3 * 12) * 10);
+  EXPECT_EQ(three.dispatchesPerFrame(), (1 + 3 * 12) * 10 + 1);
   loose.sim.stretch_scheme = StretchScheme::Jacobi;
   EXPECT_EQ(GpuSolver(loose).passes(),
             (Strings{"forces+integrate", "limit_stretch", "limit_stretch", "limit_stretch"}));
@@ -94,10 +97,11 @@ TEST_F(GpuSolverTest, TimingsNameEveryDispatchedPass) {
   std::map<std::string, int> per_substep;
   for (const std::string& pass : gpu.passes())
     if (per_substep[pass]++ == 0) distinct.push_back(pass);
+  distinct.push_back("health");  // once per frame, after the last substep
   Strings names;
   for (const PassTiming& t : timings) {
     names.push_back(t.name);
-    EXPECT_EQ(t.calls, 30 * per_substep[t.name]) << t.name;
+    EXPECT_EQ(t.calls, t.name == "health" ? 1 : 30 * per_substep[t.name]) << t.name;
     EXPECT_GE(t.ms, 0.0) << t.name;
   }
   EXPECT_EQ(names, distinct);
@@ -145,7 +149,7 @@ TEST_F(GpuSolverTest, ClothAtRestWithoutGravityStaysAtRest) {
   for (int f = 0; f < 30; ++f)
     gpu.stepFrame();
   EXPECT_LT(maxDeviation(gpu.readPositions(), gpu.topology().initial_positions), 1e-6);
-  EXPECT_TRUE(gpu.readHealth().ok());
+  EXPECT_TRUE(gpu.health().ok());
 }
 
 TEST_F(GpuSolverTest, StateRoundTripsExactly) {
@@ -327,16 +331,137 @@ TEST_F(GpuSolverTest, ABlowUpIsFlagged) {
   scene.sim.steps_per_frame = 1;
   scene.sim.stretch_passes = 0;
   scene.cloth.pinned = {{0, 0}};
-  GpuSolver gpu(scene, {.sane_bound = 1e3});
+  GpuSolver gpu(scene, {.health = {.sane_bound = 1e3}});
   gpu.stepFrame();
-  EXPECT_TRUE(gpu.readHealth().ok());
-  for (int f = 0; f < 200 && gpu.readHealth().ok(); ++f)
+  EXPECT_TRUE(gpu.health().ok());
+  for (int f = 0; f < 200 && gpu.health().ok(); ++f)
     gpu.stepFrame();
-  const GpuHealth health = gpu.readHealth();
+  const Health health = gpu.health();
   EXPECT_FALSE(health.ok());
   EXPECT_GE(health.first_point, 0);
+  // Cleared flags are raised again by the next check: the state itself is still blown up.
   gpu.clearHealth();
-  EXPECT_TRUE(gpu.readHealth().ok());
+  EXPECT_FALSE(gpu.health().ok());
+  gpu.reset();
+  EXPECT_TRUE(gpu.health().ok());
+}
+
+// A 3 x 2 cloth whose row 0 is a chain A - B - C along x: A and C pinned 12.5 rest lengths apart, B free
+// and 10.5 rest lengths from A (strain 9.5, below the blow-up strain 10), so no spring is a blow-up
+// before the stretch pass. The rows are 100 m apart and row 1 is pinned, so the vertical and diagonal
+// springs hold B with a strain below 0.002 and never reach the 10% limit. The stretch pass then corrects
+// A-B and B-C one after the other (they share B, so they have different colours): whichever it
+// corrects first, the second moves B to 1.1 rest lengths of its other end, and the first spring ends at
+// 12.5 - 1.1 = 11.4 rest lengths, strain 10.4: the frame's last pass made the blow-up.
+struct ChainCase {
+  Scene scene;
+  std::vector<glm::dvec3> x, v;
+};
+
+ChainCase lastPassOverstretches() {
+  ChainCase c;
+  c.scene.path = "chain";
+  c.scene.cloth.width = 1.0;  // rest length along x: 0.5 m
+  c.scene.cloth.height = 100.0;
+  c.scene.cloth.num_width_points = 3;
+  c.scene.cloth.num_height_points = 2;
+  c.scene.cloth.ks = 1.0;  // B moves ~1e-5 m in the integration: nothing next to the stretch pass
+  c.scene.cloth.pinned = {{0, 0}, {2, 0}, {0, 1}, {1, 1}, {2, 1}};
+  c.scene.sim.gravity = glm::dvec3(0);
+  c.scene.sim.self_collision = false;
+  c.scene.sim.steps_per_frame = 1;
+  c.scene.sim.stretch_passes = 1;
+  const double r = 0.5;
+  c.x = {{0, 0, 0}, {10.5 * r, 0, 0}, {12.5 * r, 0, 0}, {0, 0, 100}, {3, 0, 100}, {12.5 * r, 0, 100}};
+  c.v.assign(c.x.size(), glm::dvec3(0));
+  return c;
+}
+
+TEST_F(GpuSolverTest, ABlowUpMadeByTheFramesLastPassIsReportedInThatFrame) {
+  const ChainCase c = lastPassOverstretches();
+  ASSERT_TRUE(scanHealth(buildTopology(c.scene.cloth), c.scene.cloth, c.x, c.v).ok()) << "bad before the frame";
+  // The state before the stretch pass, checked on the GPU: still sane.
+  GpuSolver before(c.scene);
+  before.uploadState(c.x, c.v, 0);
+  before.forcesIntegrate();
+  EXPECT_TRUE(before.health().ok()) << before.health().describe();
+
+  GpuSolver gpu(c.scene);
+  gpu.uploadState(c.x, c.v, 0);
+  gpu.stepFrame();
+  CpuSolver<float> cpu(c.scene);
+  cpu.setState(c.x, c.v);
+  cpu.stepFrame();
+  const Health g = gpu.health(), h = cpu.health();
+  EXPECT_EQ(g.flags, Health::kOverstretched) << g.describe();
+  EXPECT_EQ(g.flags, h.flags) << "GPU: " << g.describe() << "; CPU: " << h.describe();
+  EXPECT_EQ(g.first_point, h.first_point);
+  EXPECT_LE(g.first_point, 1) << "an end of A-B or B-C";
+  // What the GPU flagged is what the state it holds shows.
+  const Health scanned = scanHealth(gpu.topology(), c.scene.cloth, gpu.readPositions(), gpu.readDisplacements());
+  EXPECT_EQ(scanned.flags, g.flags);
+  EXPECT_EQ(scanned.first_point, g.first_point);
+}
+
+// Every spring at `factor` times its rest length, every point pinned so that no pass moves any.
+std::pair<Health, Health> stretchedBy(double factor) {
+  Scene scene = smallScene(6);
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 6; ++x)
+      scene.cloth.pinned.push_back({x, y});
+  scene.sim.steps_per_frame = 2;
+  GpuSolver gpu(scene);
+  CpuSolver<float> cpu(scene);
+  std::vector<glm::dvec3> x = gpu.topology().initial_positions;
+  for (glm::dvec3& p : x)
+    p *= factor;  // the grid starts at the origin's corner: every distance scales
+  const std::vector<glm::dvec3> v(x.size(), glm::dvec3(0));
+  gpu.uploadState(x, v, 0);
+  cpu.setState(x, v);
+  gpu.stepFrame();
+  cpu.stepFrame();
+  return {gpu.health(), cpu.health()};
+}
+
+TEST_F(GpuSolverTest, AClothStretchedElevenFoldIsReportedByBothSolvers) {
+  const auto [gpu12, cpu12] = stretchedBy(12.0);  // strain 11
+  EXPECT_EQ(gpu12.flags, Health::kOverstretched) << gpu12.describe();
+  EXPECT_EQ(cpu12.flags, Health::kOverstretched) << cpu12.describe();
+  EXPECT_EQ(gpu12.first_point, 0);
+  EXPECT_EQ(cpu12.first_point, 0);
+  const auto [gpu10, cpu10] = stretchedBy(10.5);  // strain 9.5: stretched, not a blow-up
+  EXPECT_TRUE(gpu10.ok()) << gpu10.describe();
+  EXPECT_TRUE(cpu10.ok()) << cpu10.describe();
+}
+
+TEST_F(GpuSolverTest, TheHealthPassWritesNoPointAndRaisesEachFlag) {
+  GpuSolver gpu(standardScene("selfCollision.json"));
+  for (int f = 0; f < 3; ++f)
+    gpu.stepFrame();
+  const std::vector<glm::dvec3> x = gpu.readPositions(), v = gpu.readDisplacements();
+  gpu.checkHealth();
+  gpu.checkHealth();
+  EXPECT_EQ(gpu.readPositions(), x);
+  EXPECT_EQ(gpu.readDisplacements(), v);
+  EXPECT_TRUE(gpu.health().ok());
+  // One bad point of each kind flags what the CPU scan flags, with the same first point (a runaway
+  // point also overstretches its springs, and so flags neighbours with smaller indices).
+  const std::size_t i = 1234;
+  for (const auto& [position, displacement] :
+       {std::pair{glm::dvec3(std::nan(""), 0, 0), glm::dvec3(0)},
+        std::pair{x[i], glm::dvec3(0, std::numeric_limits<double>::infinity(), 0)},
+        std::pair{glm::dvec3(0, 0, -2e5), glm::dvec3(0)}}) {
+    std::vector<glm::dvec3> bad_x = x, bad_v = v;
+    bad_x[i] = position;
+    bad_v[i] = displacement;
+    gpu.uploadState(bad_x, bad_v, gpu.substeps());
+    gpu.clearHealth();
+    const Health g = gpu.health();
+    const Health c = scanHealth(gpu.topology(), gpu.scene().cloth, bad_x, bad_v);
+    EXPECT_EQ(g.flags, c.flags) << g.describe() << " / " << c.describe();
+    EXPECT_NE(g.flags & (Health::kNonFinite | Health::kOutOfBounds), 0u) << g.describe();
+    EXPECT_EQ(g.first_point, c.first_point);
+  }
 }
 
 TEST_F(GpuSolverTest, ClothBeyondTheBufferLimitFailsBeforeAnything) {
@@ -434,7 +559,7 @@ TEST_F(GpuSolverCommand, VerboseListsThePassesOfTheScene) {
   ASSERT_EQ(pinned2.status, 0) << pinned2.output;
   EXPECT_NE(pinned2.output.find("GL_RENDERER"), std::string::npos) << pinned2.output;
   // forces+integrate, then the Gauss-Seidel stretch limit's 12 colours.
-  EXPECT_NE(pinned2.output.find("13 dispatches per substep, 390 per frame"), std::string::npos) << pinned2.output;
+  EXPECT_NE(pinned2.output.find("13 dispatches per substep, 391 per frame"), std::string::npos) << pinned2.output;
   EXPECT_NE(pinned2.output.find("limit_stretch_colour x12"), std::string::npos) << pinned2.output;
   EXPECT_EQ(pinned2.output.find("collide"), std::string::npos) << "pinned2 has no colliders and no self-collision";
   EXPECT_EQ(pinned2.output.find("grid"), std::string::npos) << pinned2.output;
@@ -442,7 +567,7 @@ TEST_F(GpuSolverCommand, VerboseListsThePassesOfTheScene) {
       runDrape("", "simulate " + scene_ + "selfCollision.json --solver gpu --frames 1 --verbose");
   ASSERT_EQ(self.status, 0) << self.output;
   EXPECT_NE(self.output.find("self_collide+collide"), std::string::npos) << self.output;
-  EXPECT_NE(self.output.find("15 dispatches per substep, 450 per frame"), std::string::npos) << self.output;
+  EXPECT_NE(self.output.find("15 dispatches per substep, 451 per frame"), std::string::npos) << self.output;
 }
 
 TEST_F(GpuSolverCommand, WithoutAContextTheGpuSolverExitsWith3AndTheCpuStillRuns) {

@@ -73,8 +73,8 @@ TEST(Layout, SimParamsIsStd430) {
                 MEMBER(SimParams, bucket_mask, Scalar),
                 MEMBER(SimParams, bucket_count, Scalar),
                 MEMBER(SimParams, scan_blocks, Scalar),
-                MEMBER(SimParams, pad0, Scalar),
-                MEMBER(SimParams, pad1, Scalar)},
+                MEMBER(SimParams, blow_up_stretch, Scalar),
+                MEMBER(SimParams, pad0, Scalar)},
                sizeof(SimParams));
   EXPECT_EQ(sizeof(SimParams), 128u);
 }

@@ -50,9 +50,11 @@ DRAPE_CONSTANT(uint, kScanLocalSize, 256u);  // prefix-sum kernels
 DRAPE_CONSTANT(uint, kScanItems, 16u);       // consecutive buckets summed by one scan invocation
 DRAPE_CONSTANT(uint, kScanBlock, 4096u);     // kScanLocalSize * kScanItems buckets per scan work group
 
-// Health flags (issue 5's blow-up guard): set by the integrate kernel, read back on request.
-DRAPE_CONSTANT(uint, kHealthNonFinite, 1u);    // a position or displacement became NaN or infinite
-DRAPE_CONSTANT(uint, kHealthOutOfBounds, 2u);  // a point left the sane box |x| <= SimParams.sane_bound
+// Health flags (the blow-up check, src/core/health.hpp): raised by health.comp after a frame's last pass,
+// read back on request. The same bits as drape::Health.
+DRAPE_CONSTANT(uint, kHealthNonFinite, 1u);      // a position or displacement became NaN or infinite
+DRAPE_CONSTANT(uint, kHealthOutOfBounds, 2u);    // a point left the sane box |x| <= SimParams.sane_bound
+DRAPE_CONSTANT(uint, kHealthOverstretched, 4u);  // a spring longer than SimParams.blow_up_stretch x rest
 
 // Everything a kernel needs that is not per point. Values are derived on the host with exactly the
 // float operations the CPU reference uses (weight = gravity * mass, dt2 = dt * dt, ...), so both
@@ -79,8 +81,8 @@ struct SimParams {
   uint bucket_mask;       // hash-grid buckets - 1 (buckets are a power of two)
   uint bucket_count;      // hash-grid buckets
   uint scan_blocks;       // ceil(bucket_count / kScanBlock)
+  float blow_up_stretch;  // a spring longer than this times its rest length is reported as a blow-up
   uint pad0;              // std430 rounds the struct to 16 bytes; C++ must see the same size
-  uint pad1;
 };
 
 // One adjacency entry: the spring from this point to another, in the CPU's order (ascending spring

@@ -40,7 +40,7 @@ Trajectory runTrajectory(Solver& solver, const std::vector<int>& sample_frames) 
   for (int f = 1; f <= sample_frames.back(); ++f) {
     const auto t0 = Clock::now();
     solver.stepFrame();
-    finishWork(solver);
+    solver.finish();
     out.step_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     out.frames_run = f;
     Positions x = solver.readPositions();

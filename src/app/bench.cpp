@@ -32,11 +32,11 @@ std::vector<BenchPass> timeGpuPasses(SolverFactory& factory, const Scene& scene,
   std::unique_ptr<Solver> solver = factory.make(scene, "gpu", true);
   for (int f = 0; f < std::min(warmup, 1); ++f)
     solver->stepFrame();
-  finishWork(*solver);
+  solver->finish();
   solver->resetTimings();
   for (int f = 0; f < frames; ++f)
     solver->stepFrame();
-  finishWork(*solver);
+  solver->finish();
   return passesPerFrame(*solver, frames);
 }
 
@@ -67,7 +67,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
   run.threads = solver->threads();
   int frame = 0;
   auto sane = [&] {
-    const std::string why = checkHealth(*solver);
+    const std::string why = solver->health().describe();
     if (!why.empty()) run.blew_up = fmt::format("frame {}: {}", frame, why);
     return why.empty();
   };
@@ -78,7 +78,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
   for (int f = 0; f < o.warmup; ++f) {
     const auto start = Clock::now();
     solver->stepFrame();
-    finishWork(*solver);
+    solver->finish();
     last_warmup_ms = msSince(start);
     ++frame;
     if (!gpu && !sane()) return run;
@@ -97,7 +97,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
     for (int f = 0; f < frames; ++f) {
       const auto start = Clock::now();
       solver->stepFrame();
-      if (gpu && f + 1 == frames) finishWork(*solver);
+      if (gpu && f + 1 == frames) solver->finish();
       ms += msSince(start);
       ++frame;
       if (!gpu && !sane()) break;
@@ -111,7 +111,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
   if (run.frame_ms.samples > 0 && run.frame_ms.median > 0)
     run.vertex_substeps_per_s = double(run.points) * run.steps_per_frame / (run.frame_ms.median * 1e-3);
   run.dispatches_per_frame = solver->dispatchesPerFrame();
-  run.gpu_memory_bytes = gpuMemoryBytes(*solver);
+  run.gpu_memory_bytes = solver->deviceMemoryBytes();
   if (!gpu) {
     if (timed_frames > 0) run.passes = passesPerFrame(*solver, timed_frames);
     run.pass_timing = fmt::format("wall clock per pass, {} thread{}", run.threads, run.threads == 1 ? "" : "s");

@@ -58,15 +58,6 @@ std::unique_ptr<Solver> SolverFactory::make(const Scene& scene, const std::strin
   return solver;
 }
 
-void finishWork(Solver& solver) {
-  if (auto* gpu = dynamic_cast<GpuSolver*>(&solver)) gpu->readHealth();
-}
-
-long long gpuMemoryBytes(const Solver& solver) {
-  const auto* gpu = dynamic_cast<const GpuSolver*>(&solver);
-  return gpu ? (long long)gpu->gpuMemoryBytes() : -1;
-}
-
 Scene resampleCloth(const Scene& scene, int n) {
   Scene out = scene;
   ClothSpec& c = out.cloth;

@@ -1,11 +1,10 @@
 // What `drape bench`, `drape accuracy` and `drape stability` share: making the solvers they compare
 // (with one headless GL context for every GPU solver), resampling a scene's cloth, the machine's
-// description, order statistics of timings, and the per-frame health check.
+// description, order statistics of timings.
 #pragma once
 
 #include "core/scene.hpp"
 #include "core/solver.hpp"
-#include "gpu/health.hpp"
 
 #include <limits>
 #include <memory>
@@ -59,13 +58,6 @@ class SolverFactory {
   std::string gpu_unavailable_;  // why no context could be made, once tried
   GlInfo gl_info_;
 };
-
-// Blocks until the solver finished all work it was given: a GPU solver reads back its few bytes of
-// health flags, a CPU solver has nothing pending. Call it before stopping a clock.
-void finishWork(Solver& solver);
-
-// Bytes of buffers a GPU solver allocated; -1 for other solvers.
-long long gpuMemoryBytes(const Solver& solver);
 
 // The scene with its cloth resampled to n x n points: width, height and density (kg/m^2, so the
 // total mass) stay, pins keep their relative grid place (corners stay corners), and thickness is

@@ -69,8 +69,8 @@ void runSimulate(const SimulateOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   for (int f = 0; f < o.frames; ++f) {
     solver->stepFrame();
-    // Cheap: a few bytes from the GPU, a scan of the positions on the CPU. A garbage run stops here.
-    if (const std::string why = checkHealth(*solver); !why.empty())
+    // Cheap: a few bytes from the GPU, a scan of the state on the CPU. A garbage run stops here.
+    if (const std::string why = solver->health().describe(); !why.empty())
       throw CommandError(kExitBlowUp, fmt::format("{}: blew up at frame {}: {}", scene.path, f + 1, why));
   }
   const Positions x = solver->readPositions();  // also waits for the GPU before the clock stops

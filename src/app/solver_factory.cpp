@@ -39,22 +39,31 @@ std::unique_ptr<Solver> makeSolver(const Scene& scene, const std::string& name, 
 }
 
 std::string describePasses(const Solver& solver) {
-  const std::vector<std::string> passes = solver.passes();
+  const std::vector<std::string> passes = solver.passes(), frame_passes = solver.framePasses();
   const int substeps = solver.scene().sim.steps_per_frame;
   std::string out;
   if (solver.dispatchesPerFrame() > 0) {
-    out = fmt::format("{}: {} dispatches per substep, {} per frame ({} substeps)\n", solver.name(), passes.size(),
+    out = fmt::format("{}: {} dispatches per substep, {} per frame ({} substeps", solver.name(), passes.size(),
                       solver.dispatchesPerFrame(), substeps);
+    out += frame_passes.empty() ? ")\n" : fmt::format(", then {} once per frame)\n", frame_passes.size());
   } else {
     out = fmt::format("{}: {} passes per substep, {} substeps per frame\n", solver.name(), passes.size(), substeps);
   }
   // A pass dispatched several times in a row (the stretch limit's colours) is one line with its count.
-  for (std::size_t i = 0, line = 1; i < passes.size(); ++line) {
-    std::size_t run = 1;
-    while (i + run < passes.size() && passes[i + run] == passes[i])
-      ++run;
-    out += run == 1 ? fmt::format("  {}. {}\n", line, passes[i]) : fmt::format("  {}. {} x{}\n", line, passes[i], run);
-    i += run;
+  std::size_t line = 1;
+  const auto list = [&out, &line](const std::vector<std::string>& names) {
+    for (std::size_t i = 0; i < names.size(); ++line) {
+      std::size_t run = 1;
+      while (i + run < names.size() && names[i + run] == names[i])
+        ++run;
+      out += run == 1 ? fmt::format("  {}. {}\n", line, names[i]) : fmt::format("  {}. {} x{}\n", line, names[i], run);
+      i += run;
+    }
+  };
+  list(passes);
+  if (!frame_passes.empty()) {
+    out += "  then once per frame, after the last substep:\n";
+    list(frame_passes);
   }
   return out;
 }

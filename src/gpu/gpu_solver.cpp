@@ -213,7 +213,8 @@ void GpuSolver::uploadParams() {
   p.drag_area = float(wind.drag * c.width * c.height / double(n));
   p.noise_scale = float(wind.noise_scale);
   p.noise_speed = float(wind.noise_speed);
-  p.sane_bound = float(options_.sane_bound);
+  p.sane_bound = float(options_.health.sane_bound);
+  p.blow_up_stretch = float(1.0 + options_.health.max_strain);
   p.point_count = std::uint32_t(n);
   p.grid_width = std::uint32_t(c.num_width_points);
   p.grid_height = std::uint32_t(c.num_height_points);
@@ -268,6 +269,7 @@ void GpuSolver::compilePrograms() {
   programs_.forces_integrate = gl::compileCompute("sim/forces_integrate.comp", defines_);
   programs_.limit_stretch = gl::compileCompute("sim/limit_stretch.comp", defines_);
   programs_.limit_stretch_coloured = gl::compileCompute("sim/limit_stretch_coloured.comp", defines_);
+  programs_.health = gl::compileCompute("sim/health.comp", defines_);
   if (scene_.sim.self_collision) {
     programs_.grid_count = gl::compileCompute("sim/grid_count.comp", defines_);
     if (gridInOneGroup()) {
@@ -299,6 +301,7 @@ void GpuSolver::setParams(const ClothSpec& cloth, const SimParams& sim) {
   if (scene_.sim.self_collision && grid_points_.id() == 0) allocateGrid();
   uploadParams();
   if (sceneDefines() != defines_) compilePrograms();
+  health_checked_ = false;  // the spring types checked may have changed
 }
 
 }  // namespace drape
