@@ -17,6 +17,8 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <regex>
+#include <sstream>
 
 namespace drape {
 namespace {
@@ -580,6 +582,145 @@ TEST_F(GpuSolverCommand, WithoutAContextTheGpuSolverExitsWith3AndTheCpuStillRuns
   EXPECT_NE(gpu.output.find("no OpenGL 4.5"), std::string::npos) << "and what is missing: " << gpu.output;
   const CommandResult cpu = runDrape(no_egl, "simulate " + scene_ + "pinned2.json --solver cpu --frames 1");
   EXPECT_EQ(cpu.status, 0) << cpu.output;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The dispatches really issued (counted where they reach GL), the solver's pass list and the --verbose
+// listing, for every bundled scene.
+
+// Worked out from the scene files: every bundled scene is CS184's 50 x 50 cloth with all three spring
+// types (a 12-colour stretch limit; 2500 points, 4096 hash buckets: the grid is built in one work
+// group) at 30 substeps per frame. Without self-collision a substep is forces+integrate and 12 colours
+// (13 dispatches); with it, grid_build and self_collide as well (15). Then one health check per frame.
+const std::map<std::string, int> kBundledDispatchesPerFrame = {
+    {"pinned2.json", 13 * 30 + 1}, {"pinned4.json", 13 * 30 + 1},  // "self_collision": false
+    {"wind.json", 13 * 30 + 1},                                    // "self_collision": false
+    {"plane.json", 15 * 30 + 1},   {"selfCollision.json", 15 * 30 + 1},
+    {"sphere.json", 15 * 30 + 1},  {"two_spheres.json", 15 * 30 + 1},
+};
+
+Strings bundledScenes() {
+  Strings names;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(DRAPE_SOURCE_DIR) + "/scenes"))
+    if (entry.path().extension() == ".json") names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// The kernel file each pass name runs; the test's own table, so that a pass listed under the wrong
+// kernel, or a kernel dispatched without being listed, shows.
+std::string kernelOf(const std::string& pass) {
+  const std::pair<const char*, const char*> table[] = {
+      {"forces+integrate", "forces_integrate.comp"},
+      {"grid_count", "grid_count.comp"},
+      {"grid_build", "grid_build.comp"},
+      {"grid_scan", "grid_scan.comp"},  // grid_scan, grid_scan_blocks, grid_scan_offsets: one file, 3 stages
+      {"grid_scatter", "grid_scatter.comp"},
+      {"grid_rank", "grid_rank.comp"},
+      {"self_collide", "self_collide.comp"},
+      {"limit_stretch_colour", "limit_stretch_coloured.comp"},
+      {"limit_stretch", "limit_stretch.comp"},
+      {"health", "health.comp"},
+  };
+  for (const auto& [prefix, file] : table)
+    if (pass.rfind(prefix, 0) == 0) return file;
+  return "unknown pass " + pass;
+}
+
+std::string fileOf(const std::string& label) {
+  const std::size_t slash = label.find_last_of('/');
+  return slash == std::string::npos ? label : label.substr(slash + 1);
+}
+
+// What a frame should dispatch according to passes() and framePasses(), as kernel files.
+Strings plannedKernels(const GpuSolver& gpu) {
+  Strings out;
+  for (int s = 0; s < gpu.scene().sim.steps_per_frame; ++s)
+    for (const std::string& pass : gpu.passes())
+      out.push_back(kernelOf(pass));
+  for (const std::string& pass : gpu.framePasses())
+    out.push_back(kernelOf(pass));
+  return out;
+}
+
+Strings recordFrame(GpuSolver& gpu) {
+  gl::DispatchRecorder recorder;
+  gpu.stepFrame();
+  Strings out;
+  for (const gl::DispatchRecorder::Dispatch& d : recorder.dispatches())
+    out.push_back(fileOf(d.program));
+  return out;
+}
+
+TEST_F(GpuSolverTest, EveryBundledSceneDispatchesExactlyItsPassList) {
+  const Strings scenes = bundledScenes();
+  ASSERT_EQ(scenes.size(), kBundledDispatchesPerFrame.size()) << "a scene was added or removed: update the table";
+  for (const std::string& name : scenes) {
+    SCOPED_TRACE(name);
+    ASSERT_EQ(kBundledDispatchesPerFrame.count(name), 1u) << "no count worked out for " << name;
+    const int expected = kBundledDispatchesPerFrame.at(name);
+    GpuSolver gpu(standardScene(name));
+    EXPECT_EQ(gpu.dispatchesPerFrame(), expected);
+    const Strings planned = plannedKernels(gpu);
+    EXPECT_EQ(int(planned.size()), expected);
+    for (int frame = 0; frame < 2; ++frame) {  // the first frame is no exception
+      const Strings real = recordFrame(gpu);
+      EXPECT_EQ(int(real.size()), expected) << "frame " << frame;
+      EXPECT_EQ(real, planned) << "frame " << frame;
+    }
+  }
+  // Variants no bundled scene has: the five-dispatch grid build, the Jacobi stretch scheme, three passes.
+  Scene jacobi = standardScene("selfCollision.json");
+  jacobi.sim.stretch_scheme = StretchScheme::Jacobi;
+  jacobi.sim.stretch_passes = 3;
+  for (const Scene& scene : {smallScene(80, true), jacobi}) {
+    GpuSolver gpu(scene);
+    const Strings real = recordFrame(gpu);
+    EXPECT_EQ(int(real.size()), gpu.dispatchesPerFrame());
+    EXPECT_EQ(real, plannedKernels(gpu));
+  }
+}
+
+// The --verbose listing's lines "  N. PASS" or "  N. PASS xK", split at the per-frame heading.
+struct VerboseListing {
+  int per_substep = -1, per_frame = -1;
+  Strings substep, frame;
+};
+
+VerboseListing parseVerbose(const std::string& output) {
+  VerboseListing out;
+  std::smatch m;
+  if (std::regex_search(output, m, std::regex("gpu: (\\d+) dispatches per substep, (\\d+) per frame"))) {
+    out.per_substep = std::stoi(m[1]);
+    out.per_frame = std::stoi(m[2]);
+  }
+  Strings* into = &out.substep;
+  std::istringstream lines(output);
+  std::string line;
+  const std::regex entry("  \\d+\\. (\\S+)(?: x(\\d+))?");
+  while (std::getline(lines, line)) {
+    if (line.rfind("  then once per frame", 0) == 0) into = &out.frame;
+    if (!std::regex_match(line, m, entry)) continue;
+    const int count = m[2].matched ? std::stoi(m[2]) : 1;
+    into->insert(into->end(), std::size_t(count), m[1].str());
+  }
+  return out;
+}
+
+TEST_F(GpuSolverTest, TheVerboseListingOfEveryBundledSceneIsWhatItDispatches) {
+  if (!std::filesystem::exists(DRAPE_BINARY)) GTEST_SKIP() << DRAPE_BINARY << " is not built";
+  for (const std::string& name : bundledScenes()) {
+    SCOPED_TRACE(name);
+    const CommandResult r = runDrape(
+        "", "simulate " + std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name + " --solver gpu --frames 1 --verbose");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const VerboseListing listed = parseVerbose(r.output);
+    GpuSolver gpu(standardScene(name));
+    EXPECT_EQ(listed.substep, gpu.passes()) << r.output;
+    EXPECT_EQ(listed.frame, gpu.framePasses()) << r.output;
+    EXPECT_EQ(listed.per_substep, int(gpu.passes().size())) << r.output;
+    EXPECT_EQ(listed.per_frame, int(recordFrame(gpu).size())) << r.output;
+  }
 }
 
 }  // namespace
