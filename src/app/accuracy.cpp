@@ -169,7 +169,7 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
   }
   if (failure) std::rethrow_exception(failure);
 
-  SolverFactory factory;
+  SolverFactory factory({.skip_unavailable = true});
   std::map<int, std::vector<Positions>> references;
   for (std::size_t j = 0; j < jobs.size(); j += 2) {
     const ReferenceJob& ref = jobs[j];

@@ -29,7 +29,7 @@ std::vector<BenchPass> passesPerFrame(const Solver& solver, int frames) {
 // pipeline (glFinish where timer queries do not work), which must not leak into the frame times.
 // One warm-up frame is enough here: the programs are already compiled and cached by the first solver.
 std::vector<BenchPass> timeGpuPasses(SolverFactory& factory, const Scene& scene, int warmup, int frames) {
-  std::unique_ptr<Solver> solver = factory.make(scene, "gpu", true);
+  std::unique_ptr<Solver> solver = factory.make(scene, "gpu", {.pass_timing = true});
   for (int f = 0; f < std::min(warmup, 1); ++f)
     solver->stepFrame();
   solver->finish();
@@ -58,7 +58,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
 
   std::unique_ptr<Solver> solver;
   try {
-    solver = factory.make(scene, solver_name, false, threads);
+    solver = factory.make(scene, solver_name, {.threads = threads});
   } catch (const SkippedRun& e) {
     run.skipped = e.what();
     return run;
@@ -148,7 +148,7 @@ BenchReport runBench(const BenchOptions& o, const std::function<void(const std::
   std::vector<Scene> scenes;
   for (const std::string& path : o.scenes)
     scenes.push_back(loadScene(path));  // all bad input fails first
-  SolverFactory factory;
+  SolverFactory factory({.skip_unavailable = true});
   std::size_t total = 0;
   for (const std::string& solver : o.solvers)
     total += o.scenes.size() * o.sizes.size() * (solver == "gpu" ? 1 : o.threads.size());

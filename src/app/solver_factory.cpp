@@ -3,39 +3,81 @@
 #include "app/commands.hpp"
 #include "cpu/cpu_solver.hpp"
 #include "gl/context.hpp"
+#include "gl/objects.hpp"
 #include "gpu/gpu_solver.hpp"
 
 #include <fmt/format.h>
 
 namespace drape {
 
-namespace {
-
-std::unique_ptr<Solver> makeGpuSolver(const Scene& scene, bool verbose) {
-  gl::HeadlessContext context;
-  try {
-    context = gl::HeadlessContext::create();
-  } catch (const gl::ContextError& e) {
-    throw CommandError(kExitNoGl, fmt::format("gpu solver: {}", e.what()));
-  }
-  if (verbose)
-    fmt::print(stderr, "gpu solver: GL_RENDERER {} | GL_VERSION {} ({})\n", context.info().renderer,
-               context.info().version, context.info().platform);
-  try {
-    // The solver owns the context, so the context lives exactly as long as the solver's GL objects.
-    return std::make_unique<GpuSolver>(scene, GpuSolverOptions{}, std::move(context));
-  } catch (const GpuLimitError& e) {
-    throw CommandError(kExitBadInput, fmt::format("{}: {}", scene.path, e.what()));
-  }
+const std::vector<SolverKind>& solverKinds() {
+  static const std::vector<SolverKind> kinds = {
+      {"cpu", "CPU reference in float, the GPU's arithmetic", false},
+      {"cpu64", "CPU reference in double", false},
+      {"gpu", "OpenGL 4.5 compute shaders", false},
+      {"cpu-xprev", "CPU float with CS184's x_prev form of Verlet (its round-off, measured)", true},
+  };
+  return kinds;
 }
 
-}  // namespace
+std::vector<std::string> solverNames(bool with_measurement_only) {
+  std::vector<std::string> names;
+  for (const SolverKind& kind : solverKinds())
+    if (with_measurement_only || !kind.measurement_only) names.push_back(kind.name);
+  return names;
+}
 
-std::unique_ptr<Solver> makeSolver(const Scene& scene, const std::string& name, bool verbose, int threads) {
-  if (name == "cpu") return std::make_unique<CpuSolver<float>>(scene, CpuSolverOptions{.threads = threads});
-  if (name == "cpu64") return std::make_unique<CpuSolver<double>>(scene, CpuSolverOptions{.threads = threads});
-  if (name == "gpu") return makeGpuSolver(scene, verbose);
-  throw CommandError(kExitBadInput, fmt::format("--solver: unknown solver '{}' (cpu, cpu64, gpu)", name));
+SolverFactory::SolverFactory(SolverFactoryOptions options) : options_(options) {}
+
+SolverFactory::~SolverFactory() = default;
+
+std::unique_ptr<Solver> SolverFactory::make(const Scene& scene, const std::string& name, SolverRequest request) {
+  const CpuSolverOptions cpu{.threads = request.threads};
+  if (name == "cpu") return std::make_unique<CpuSolver<float>>(scene, cpu);
+  if (name == "cpu64") return std::make_unique<CpuSolver<double>>(scene, cpu);
+  if (name == "cpu-xprev")
+    return std::make_unique<CpuSolver<float>>(
+        scene, CpuSolverOptions{.form = VerletForm::PreviousPosition, .threads = request.threads});
+  if (name == "gpu") return makeGpu(scene, request);
+  throw CommandError(kExitBadInput,
+                     fmt::format("--solver: unknown solver '{}' ({})", name, fmt::join(solverNames(true), ", ")));
+}
+
+void SolverFactory::unavailable(int status, const std::string& why) {
+  if (options_.skip_unavailable) throw SkippedRun(why);
+  throw CommandError(status, why);
+}
+
+std::unique_ptr<Solver> SolverFactory::makeGpu(const Scene& scene, const SolverRequest& request) {
+  if (!options_.use_current_context) {
+    if (!no_context_.empty()) unavailable(kExitNoGl, no_context_);
+    if (!context_) {
+      try {
+        context_ = std::make_unique<gl::HeadlessContext>(gl::HeadlessContext::create());
+      } catch (const gl::ContextError& e) {
+        no_context_ = fmt::format("gpu solver: no OpenGL 4.5 context: {}", e.what());
+        unavailable(kExitNoGl, no_context_);
+      }
+      if (options_.verbose)
+        fmt::print(stderr, "gpu solver: GL_RENDERER {} | GL_VERSION {} ({})\n", context_->info().renderer,
+                   context_->info().version, context_->info().platform);
+    }
+    context_->makeCurrent();
+  }
+  GpuSolverOptions options;
+  options.timing = request.pass_timing;
+  std::unique_ptr<GpuSolver> solver;
+  try {
+    solver = std::make_unique<GpuSolver>(scene, options);
+  } catch (const GpuLimitError& e) {
+    unavailable(kExitBadInput, fmt::format("{}: {}", scene.path, e.what()));
+  }
+  if (gl_info_.renderer.empty()) {
+    const gl::ContextInfo& info = context_ ? context_->info() : solver->contextInfo();
+    gl_info_ = {info.vendor,   info.renderer, info.version,          info.glsl_version,
+                info.platform, info.software, gl::timerQueriesWork()};
+  }
+  return solver;
 }
 
 std::string describePasses(const Solver& solver) {

@@ -59,8 +59,8 @@ struct GpuGrid {
 class GpuSolver final : public Solver {
  public:
   // Uses the current context. `context`, when not empty, is owned by the solver and outlives its GL
-  // objects (makeSolver uses this for `--solver gpu`). Throws GpuLimitError before allocating anything
-  // when the scene does not fit, gl::ShaderError when a kernel does not compile.
+  // objects. Throws GpuLimitError before allocating anything when the scene does not fit,
+  // gl::ShaderError when a kernel does not compile.
   explicit GpuSolver(Scene scene, GpuSolverOptions options = {}, gl::HeadlessContext context = {});
   ~GpuSolver() override;
   GpuSolver(const GpuSolver&) = delete;
