@@ -70,24 +70,6 @@ TEST(Summarize, OrderStatistics) {
   EXPECT_EQ(summarize({}).samples, 0);
 }
 
-TEST(Lists, ParseAndReject) {
-  EXPECT_EQ(parseIntList("--sizes", "32, 64,128", 2), (std::vector<int>{32, 64, 128}));
-  EXPECT_THROW(parseIntList("--sizes", "32,x", 2), CommandError);
-  EXPECT_THROW(parseIntList("--sizes", "1", 2), CommandError);
-  EXPECT_THROW(parseIntList("--sizes", "", 2), CommandError);
-  EXPECT_THROW(parseIntList("--sizes", "32,,64", 2), CommandError);
-  EXPECT_EQ(parseDoubleList("--times", "0.5,2"), (std::vector<double>{0.5, 2.0}));
-  EXPECT_THROW(parseDoubleList("--times", "-1"), CommandError);
-  EXPECT_EQ(parseNameList("--solver", "cpu,cpu64", kMeasuredSolvers), (std::vector<std::string>{"cpu", "cpu64"}));
-  EXPECT_THROW(parseNameList("--solver", "cpu,cuda", kMeasuredSolvers), CommandError);
-  try {
-    parseNameList("--solver", "cuda", kMeasuredSolvers);
-  } catch (const CommandError& e) {
-    EXPECT_EQ(e.status(), kExitBadInput);
-    EXPECT_NE(std::string(e.what()).find("--solver"), std::string::npos);
-  }
-}
-
 TEST(Bench, TinyRunHasEveryFigure) {
   BenchOptions o;
   o.scenes = {scenePath("pinned4.json")};

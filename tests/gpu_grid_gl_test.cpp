@@ -201,7 +201,7 @@ namespace {
 // A falling, folding cloth over many substeps: the lists the GPU keeps always hold every pair in range
 // (brute force over the positions self_collide read), they are rebuilt far less often than every
 // substep, and with a buffer too small at first, the run still equals the CPU's bit for bit while the
-// grid serves the points that did not fit, until readHealth() grows the buffer.
+// grid serves the points that did not fit, until health() grows the buffer.
 TEST_F(GlTest, GpuListsStayValidAndOverflowGrowsTheBuffer) {
   const Scene scene = gpu_test::standardScene("selfCollision.json");
   GpuSolver gpu(scene, {.pair_capacity = 1000});
@@ -233,7 +233,7 @@ TEST_F(GlTest, GpuListsStayValidAndOverflowGrowsTheBuffer) {
     cpu.stepFrame();
     // Grows the buffer, the first time after 60 frames of folding served from the grid.
     if (f % 60 == 0) {
-      ASSERT_TRUE(gpu.readHealth().ok()) << "frame " << f;
+      ASSERT_TRUE(gpu.health().ok()) << "frame " << f;
     }
   }
   const GpuPairs lists = gpu.readPairs();

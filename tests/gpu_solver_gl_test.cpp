@@ -1,5 +1,6 @@
 // The GPU solver's own contract: which passes a scene dispatches, timing, limits and errors, the
 // renderer's buffers (normals, tangents), picking and dragging, live parameter changes, blow-up flags.
+#include "cpu/cpu_solver.hpp"
 #include "gl/shader_source.hpp"
 #include "gl_fixture.hpp"
 #include "gpu/gpu_solver.hpp"
@@ -13,8 +14,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <random>
+#include <regex>
+#include <sstream>
 
 namespace drape {
 namespace {
@@ -56,7 +60,8 @@ TEST_F(GpuSolverTest, PassListsFollowTheScene) {
   // pinned2: no collider, no self-collision: nothing but the two kernels every cloth needs.
   GpuSolver pinned2(standardScene("pinned2.json"));
   EXPECT_EQ(pinned2.passes(), Strings{"forces+integrate"} + colourDispatches());
-  EXPECT_EQ(pinned2.dispatchesPerFrame(), (1 + 12) * 30);
+  EXPECT_EQ(pinned2.framePasses(), Strings{"health"});
+  EXPECT_EQ(pinned2.dispatchesPerFrame(), (1 + 12) * 30 + 1);
   for (const std::string& pass : pinned2.passes()) {
     EXPECT_EQ(pass.find("collide"), std::string::npos) << pass;
     EXPECT_EQ(pass.find("grid"), std::string::npos) << pass;
@@ -65,7 +70,7 @@ TEST_F(GpuSolverTest, PassListsFollowTheScene) {
   // dispatched with zero groups while the lists are fresh), the correction with the floor fused.
   GpuSolver self(standardScene("selfCollision.json"));
   EXPECT_EQ(self.passes(), (kListBuild + Strings{"self_collide+collide"} + colourDispatches()));
-  EXPECT_EQ(self.dispatchesPerFrame(), (8 + 12) * 30);
+  EXPECT_EQ(self.dispatchesPerFrame(), (8 + 12) * 30 + 1);
   // The averaged Jacobi stretch pass is one dispatch.
   Scene jacobi = standardScene("selfCollision.json");
   jacobi.sim.stretch_scheme = StretchScheme::Jacobi;
@@ -82,7 +87,7 @@ TEST_F(GpuSolverTest, PassListsFollowTheScene) {
   loose.sim.steps_per_frame = 10;
   GpuSolver three(loose);
   EXPECT_EQ(three.passes(), Strings{"forces+integrate"} + colourDispatches(3));
-  EXPECT_EQ(three.dispatchesPerFrame(), (1 + 3 * 12) * 10);
+  EXPECT_EQ(three.dispatchesPerFrame(), (1 + 3 * 12) * 10 + 1);
   loose.sim.stretch_scheme = StretchScheme::Jacobi;
   EXPECT_EQ(GpuSolver(loose).passes(),
             (Strings{"forces+integrate", "limit_stretch", "limit_stretch", "limit_stretch"}));
@@ -103,10 +108,11 @@ TEST_F(GpuSolverTest, TimingsNameEveryDispatchedPass) {
   std::map<std::string, int> per_substep;
   for (const std::string& pass : gpu.passes())
     if (per_substep[pass]++ == 0) distinct.push_back(pass);
+  distinct.push_back("health");  // once per frame, after the last substep
   Strings names;
   for (const PassTiming& t : timings) {
     names.push_back(t.name);
-    EXPECT_EQ(t.calls, 30 * per_substep[t.name]) << t.name;
+    EXPECT_EQ(t.calls, t.name == "health" ? 1 : 30 * per_substep[t.name]) << t.name;
     EXPECT_GE(t.ms, 0.0) << t.name;
   }
   EXPECT_EQ(names, distinct);
@@ -154,7 +160,7 @@ TEST_F(GpuSolverTest, ClothAtRestWithoutGravityStaysAtRest) {
   for (int f = 0; f < 30; ++f)
     gpu.stepFrame();
   EXPECT_LT(maxDeviation(gpu.readPositions(), gpu.topology().initial_positions), 1e-6);
-  EXPECT_TRUE(gpu.readHealth().ok());
+  EXPECT_TRUE(gpu.health().ok());
 }
 
 TEST_F(GpuSolverTest, StateRoundTripsExactly) {
@@ -335,16 +341,137 @@ TEST_F(GpuSolverTest, ABlowUpIsFlagged) {
   scene.sim.steps_per_frame = 1;
   scene.sim.stretch_passes = 0;
   scene.cloth.pinned = {{0, 0}};
-  GpuSolver gpu(scene, {.sane_bound = 1e3});
+  GpuSolver gpu(scene, {.health = {.sane_bound = 1e3}});
   gpu.stepFrame();
-  EXPECT_TRUE(gpu.readHealth().ok());
-  for (int f = 0; f < 200 && gpu.readHealth().ok(); ++f)
+  EXPECT_TRUE(gpu.health().ok());
+  for (int f = 0; f < 200 && gpu.health().ok(); ++f)
     gpu.stepFrame();
-  const GpuHealth health = gpu.readHealth();
+  const Health health = gpu.health();
   EXPECT_FALSE(health.ok());
   EXPECT_GE(health.first_point, 0);
+  // Cleared flags are raised again by the next check: the state itself is still blown up.
   gpu.clearHealth();
-  EXPECT_TRUE(gpu.readHealth().ok());
+  EXPECT_FALSE(gpu.health().ok());
+  gpu.reset();
+  EXPECT_TRUE(gpu.health().ok());
+}
+
+// A 3 x 2 cloth whose row 0 is a chain A - B - C along x: A and C pinned 12.5 rest lengths apart, B free
+// and 10.5 rest lengths from A (strain 9.5, below the blow-up strain 10), so no spring is a blow-up
+// before the stretch pass. The rows are 100 m apart and row 1 is pinned, so the vertical and diagonal
+// springs hold B with a strain below 0.002 and never reach the 10% limit. The stretch pass then corrects
+// A-B and B-C one after the other (they share B, so they have different colours): whichever it
+// corrects first, the second moves B to 1.1 rest lengths of its other end, and the first spring ends at
+// 12.5 - 1.1 = 11.4 rest lengths, strain 10.4: the frame's last pass made the blow-up.
+struct ChainCase {
+  Scene scene;
+  std::vector<glm::dvec3> x, v;
+};
+
+ChainCase lastPassOverstretches() {
+  ChainCase c;
+  c.scene.path = "chain";
+  c.scene.cloth.width = 1.0;  // rest length along x: 0.5 m
+  c.scene.cloth.height = 100.0;
+  c.scene.cloth.num_width_points = 3;
+  c.scene.cloth.num_height_points = 2;
+  c.scene.cloth.ks = 1.0;  // B moves ~1e-5 m in the integration: nothing next to the stretch pass
+  c.scene.cloth.pinned = {{0, 0}, {2, 0}, {0, 1}, {1, 1}, {2, 1}};
+  c.scene.sim.gravity = glm::dvec3(0);
+  c.scene.sim.self_collision = false;
+  c.scene.sim.steps_per_frame = 1;
+  c.scene.sim.stretch_passes = 1;
+  const double r = 0.5;
+  c.x = {{0, 0, 0}, {10.5 * r, 0, 0}, {12.5 * r, 0, 0}, {0, 0, 100}, {3, 0, 100}, {12.5 * r, 0, 100}};
+  c.v.assign(c.x.size(), glm::dvec3(0));
+  return c;
+}
+
+TEST_F(GpuSolverTest, ABlowUpMadeByTheFramesLastPassIsReportedInThatFrame) {
+  const ChainCase c = lastPassOverstretches();
+  ASSERT_TRUE(scanHealth(buildTopology(c.scene.cloth), c.scene.cloth, c.x, c.v).ok()) << "bad before the frame";
+  // The state before the stretch pass, checked on the GPU: still sane.
+  GpuSolver before(c.scene);
+  before.uploadState(c.x, c.v, 0);
+  before.forcesIntegrate();
+  EXPECT_TRUE(before.health().ok()) << before.health().describe();
+
+  GpuSolver gpu(c.scene);
+  gpu.uploadState(c.x, c.v, 0);
+  gpu.stepFrame();
+  CpuSolver<float> cpu(c.scene);
+  cpu.setState(c.x, c.v);
+  cpu.stepFrame();
+  const Health g = gpu.health(), h = cpu.health();
+  EXPECT_EQ(g.flags, Health::kOverstretched) << g.describe();
+  EXPECT_EQ(g.flags, h.flags) << "GPU: " << g.describe() << "; CPU: " << h.describe();
+  EXPECT_EQ(g.first_point, h.first_point);
+  EXPECT_LE(g.first_point, 1) << "an end of A-B or B-C";
+  // What the GPU flagged is what the state it holds shows.
+  const Health scanned = scanHealth(gpu.topology(), c.scene.cloth, gpu.readPositions(), gpu.readDisplacements());
+  EXPECT_EQ(scanned.flags, g.flags);
+  EXPECT_EQ(scanned.first_point, g.first_point);
+}
+
+// Every spring at `factor` times its rest length, every point pinned so that no pass moves any.
+std::pair<Health, Health> stretchedBy(double factor) {
+  Scene scene = smallScene(6);
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 6; ++x)
+      scene.cloth.pinned.push_back({x, y});
+  scene.sim.steps_per_frame = 2;
+  GpuSolver gpu(scene);
+  CpuSolver<float> cpu(scene);
+  std::vector<glm::dvec3> x = gpu.topology().initial_positions;
+  for (glm::dvec3& p : x)
+    p *= factor;  // the grid starts at the origin's corner: every distance scales
+  const std::vector<glm::dvec3> v(x.size(), glm::dvec3(0));
+  gpu.uploadState(x, v, 0);
+  cpu.setState(x, v);
+  gpu.stepFrame();
+  cpu.stepFrame();
+  return {gpu.health(), cpu.health()};
+}
+
+TEST_F(GpuSolverTest, AClothStretchedElevenFoldIsReportedByBothSolvers) {
+  const auto [gpu12, cpu12] = stretchedBy(12.0);  // strain 11
+  EXPECT_EQ(gpu12.flags, Health::kOverstretched) << gpu12.describe();
+  EXPECT_EQ(cpu12.flags, Health::kOverstretched) << cpu12.describe();
+  EXPECT_EQ(gpu12.first_point, 0);
+  EXPECT_EQ(cpu12.first_point, 0);
+  const auto [gpu10, cpu10] = stretchedBy(10.5);  // strain 9.5: stretched, not a blow-up
+  EXPECT_TRUE(gpu10.ok()) << gpu10.describe();
+  EXPECT_TRUE(cpu10.ok()) << cpu10.describe();
+}
+
+TEST_F(GpuSolverTest, TheHealthPassWritesNoPointAndRaisesEachFlag) {
+  GpuSolver gpu(standardScene("selfCollision.json"));
+  for (int f = 0; f < 3; ++f)
+    gpu.stepFrame();
+  const std::vector<glm::dvec3> x = gpu.readPositions(), v = gpu.readDisplacements();
+  gpu.checkHealth();
+  gpu.checkHealth();
+  EXPECT_EQ(gpu.readPositions(), x);
+  EXPECT_EQ(gpu.readDisplacements(), v);
+  EXPECT_TRUE(gpu.health().ok());
+  // One bad point of each kind flags what the CPU scan flags, with the same first point (a runaway
+  // point also overstretches its springs, and so flags neighbours with smaller indices).
+  const std::size_t i = 1234;
+  for (const auto& [position, displacement] :
+       {std::pair{glm::dvec3(std::nan(""), 0, 0), glm::dvec3(0)},
+        std::pair{x[i], glm::dvec3(0, std::numeric_limits<double>::infinity(), 0)},
+        std::pair{glm::dvec3(0, 0, -2e5), glm::dvec3(0)}}) {
+    std::vector<glm::dvec3> bad_x = x, bad_v = v;
+    bad_x[i] = position;
+    bad_v[i] = displacement;
+    gpu.uploadState(bad_x, bad_v, gpu.substeps());
+    gpu.clearHealth();
+    const Health g = gpu.health();
+    const Health c = scanHealth(gpu.topology(), gpu.scene().cloth, bad_x, bad_v);
+    EXPECT_EQ(g.flags, c.flags) << g.describe() << " / " << c.describe();
+    EXPECT_NE(g.flags & (Health::kNonFinite | Health::kOutOfBounds), 0u) << g.describe();
+    EXPECT_EQ(g.first_point, c.first_point);
+  }
 }
 
 TEST_F(GpuSolverTest, ClothBeyondTheBufferLimitFailsBeforeAnything) {
@@ -442,7 +569,7 @@ TEST_F(GpuSolverCommand, VerboseListsThePassesOfTheScene) {
   ASSERT_EQ(pinned2.status, 0) << pinned2.output;
   EXPECT_NE(pinned2.output.find("GL_RENDERER"), std::string::npos) << pinned2.output;
   // forces+integrate, then the Gauss-Seidel stretch limit's 12 colours.
-  EXPECT_NE(pinned2.output.find("13 dispatches per substep, 390 per frame"), std::string::npos) << pinned2.output;
+  EXPECT_NE(pinned2.output.find("13 dispatches per substep, 391 per frame"), std::string::npos) << pinned2.output;
   EXPECT_NE(pinned2.output.find("limit_stretch_colour x12"), std::string::npos) << pinned2.output;
   EXPECT_EQ(pinned2.output.find("collide"), std::string::npos) << "pinned2 has no colliders and no self-collision";
   EXPECT_EQ(pinned2.output.find("grid"), std::string::npos) << pinned2.output;
@@ -450,7 +577,7 @@ TEST_F(GpuSolverCommand, VerboseListsThePassesOfTheScene) {
       runDrape("", "simulate " + scene_ + "selfCollision.json --solver gpu --frames 1 --verbose");
   ASSERT_EQ(self.status, 0) << self.output;
   EXPECT_NE(self.output.find("self_collide+collide"), std::string::npos) << self.output;
-  EXPECT_NE(self.output.find("20 dispatches per substep, 600 per frame"), std::string::npos) << self.output;
+  EXPECT_NE(self.output.find("20 dispatches per substep, 601 per frame"), std::string::npos) << self.output;
 }
 
 TEST_F(GpuSolverCommand, WithoutAContextTheGpuSolverExitsWith3AndTheCpuStillRuns) {
@@ -463,6 +590,145 @@ TEST_F(GpuSolverCommand, WithoutAContextTheGpuSolverExitsWith3AndTheCpuStillRuns
   EXPECT_NE(gpu.output.find("no OpenGL 4.5"), std::string::npos) << "and what is missing: " << gpu.output;
   const CommandResult cpu = runDrape(no_egl, "simulate " + scene_ + "pinned2.json --solver cpu --frames 1");
   EXPECT_EQ(cpu.status, 0) << cpu.output;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The dispatches really issued (counted where they reach GL), the solver's pass list and the --verbose
+// listing, for every bundled scene.
+
+// Worked out from the scene files: every bundled scene is CS184's 50 x 50 cloth with all three spring
+// types (a 12-colour stretch limit; 2500 points, 4096 hash buckets: the grid is built in one work
+// group) at 30 substeps per frame. Without self-collision a substep is forces+integrate and 12 colours
+// (13 dispatches); with it, grid_build and self_collide as well (15). Then one health check per frame.
+const std::map<std::string, int> kBundledDispatchesPerFrame = {
+    {"pinned2.json", 13 * 30 + 1}, {"pinned4.json", 13 * 30 + 1},  // "self_collision": false
+    {"wind.json", 13 * 30 + 1},                                    // "self_collision": false
+    {"plane.json", 15 * 30 + 1},   {"selfCollision.json", 15 * 30 + 1},
+    {"sphere.json", 15 * 30 + 1},  {"two_spheres.json", 15 * 30 + 1},
+};
+
+Strings bundledScenes() {
+  Strings names;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(DRAPE_SOURCE_DIR) + "/scenes"))
+    if (entry.path().extension() == ".json") names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// The kernel file each pass name runs; the test's own table, so that a pass listed under the wrong
+// kernel, or a kernel dispatched without being listed, shows.
+std::string kernelOf(const std::string& pass) {
+  const std::pair<const char*, const char*> table[] = {
+      {"forces+integrate", "forces_integrate.comp"},
+      {"grid_count", "grid_count.comp"},
+      {"grid_build", "grid_build.comp"},
+      {"grid_scan", "grid_scan.comp"},  // grid_scan, grid_scan_blocks, grid_scan_offsets: one file, 3 stages
+      {"grid_scatter", "grid_scatter.comp"},
+      {"grid_rank", "grid_rank.comp"},
+      {"self_collide", "self_collide.comp"},
+      {"limit_stretch_colour", "limit_stretch_coloured.comp"},
+      {"limit_stretch", "limit_stretch.comp"},
+      {"health", "health.comp"},
+  };
+  for (const auto& [prefix, file] : table)
+    if (pass.rfind(prefix, 0) == 0) return file;
+  return "unknown pass " + pass;
+}
+
+std::string fileOf(const std::string& label) {
+  const std::size_t slash = label.find_last_of('/');
+  return slash == std::string::npos ? label : label.substr(slash + 1);
+}
+
+// What a frame should dispatch according to passes() and framePasses(), as kernel files.
+Strings plannedKernels(const GpuSolver& gpu) {
+  Strings out;
+  for (int s = 0; s < gpu.scene().sim.steps_per_frame; ++s)
+    for (const std::string& pass : gpu.passes())
+      out.push_back(kernelOf(pass));
+  for (const std::string& pass : gpu.framePasses())
+    out.push_back(kernelOf(pass));
+  return out;
+}
+
+Strings recordFrame(GpuSolver& gpu) {
+  gl::DispatchRecorder recorder;
+  gpu.stepFrame();
+  Strings out;
+  for (const gl::DispatchRecorder::Dispatch& d : recorder.dispatches())
+    out.push_back(fileOf(d.program));
+  return out;
+}
+
+TEST_F(GpuSolverTest, EveryBundledSceneDispatchesExactlyItsPassList) {
+  const Strings scenes = bundledScenes();
+  ASSERT_EQ(scenes.size(), kBundledDispatchesPerFrame.size()) << "a scene was added or removed: update the table";
+  for (const std::string& name : scenes) {
+    SCOPED_TRACE(name);
+    ASSERT_EQ(kBundledDispatchesPerFrame.count(name), 1u) << "no count worked out for " << name;
+    const int expected = kBundledDispatchesPerFrame.at(name);
+    GpuSolver gpu(standardScene(name));
+    EXPECT_EQ(gpu.dispatchesPerFrame(), expected);
+    const Strings planned = plannedKernels(gpu);
+    EXPECT_EQ(int(planned.size()), expected);
+    for (int frame = 0; frame < 2; ++frame) {  // the first frame is no exception
+      const Strings real = recordFrame(gpu);
+      EXPECT_EQ(int(real.size()), expected) << "frame " << frame;
+      EXPECT_EQ(real, planned) << "frame " << frame;
+    }
+  }
+  // Variants no bundled scene has: the five-dispatch grid build, the Jacobi stretch scheme, three passes.
+  Scene jacobi = standardScene("selfCollision.json");
+  jacobi.sim.stretch_scheme = StretchScheme::Jacobi;
+  jacobi.sim.stretch_passes = 3;
+  for (const Scene& scene : {smallScene(80, true), jacobi}) {
+    GpuSolver gpu(scene);
+    const Strings real = recordFrame(gpu);
+    EXPECT_EQ(int(real.size()), gpu.dispatchesPerFrame());
+    EXPECT_EQ(real, plannedKernels(gpu));
+  }
+}
+
+// The --verbose listing's lines "  N. PASS" or "  N. PASS xK", split at the per-frame heading.
+struct VerboseListing {
+  int per_substep = -1, per_frame = -1;
+  Strings substep, frame;
+};
+
+VerboseListing parseVerbose(const std::string& output) {
+  VerboseListing out;
+  std::smatch m;
+  if (std::regex_search(output, m, std::regex("gpu: (\\d+) dispatches per substep, (\\d+) per frame"))) {
+    out.per_substep = std::stoi(m[1]);
+    out.per_frame = std::stoi(m[2]);
+  }
+  Strings* into = &out.substep;
+  std::istringstream lines(output);
+  std::string line;
+  const std::regex entry("  \\d+\\. (\\S+)(?: x(\\d+))?");
+  while (std::getline(lines, line)) {
+    if (line.rfind("  then once per frame", 0) == 0) into = &out.frame;
+    if (!std::regex_match(line, m, entry)) continue;
+    const int count = m[2].matched ? std::stoi(m[2]) : 1;
+    into->insert(into->end(), std::size_t(count), m[1].str());
+  }
+  return out;
+}
+
+TEST_F(GpuSolverTest, TheVerboseListingOfEveryBundledSceneIsWhatItDispatches) {
+  if (!std::filesystem::exists(DRAPE_BINARY)) GTEST_SKIP() << DRAPE_BINARY << " is not built";
+  for (const std::string& name : bundledScenes()) {
+    SCOPED_TRACE(name);
+    const CommandResult r = runDrape(
+        "", "simulate " + std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name + " --solver gpu --frames 1 --verbose");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const VerboseListing listed = parseVerbose(r.output);
+    GpuSolver gpu(standardScene(name));
+    EXPECT_EQ(listed.substep, gpu.passes()) << r.output;
+    EXPECT_EQ(listed.frame, gpu.framePasses()) << r.output;
+    EXPECT_EQ(listed.per_substep, int(gpu.passes().size())) << r.output;
+    EXPECT_EQ(listed.per_frame, int(recordFrame(gpu).size())) << r.output;
+  }
 }
 
 }  // namespace

@@ -77,8 +77,8 @@ TEST(Layout, SimParamsIsStd430) {
                 MEMBER(SimParams, pair_reach, Scalar),
                 MEMBER(SimParams, pair_reach2, Scalar),
                 MEMBER(SimParams, pair_margin, Scalar),
-                MEMBER(SimParams, pad0, Scalar),
-                MEMBER(SimParams, pad1, Scalar)},
+                MEMBER(SimParams, blow_up_stretch, Scalar),
+                MEMBER(SimParams, pad0, Scalar)},
                sizeof(SimParams));
   EXPECT_EQ(sizeof(SimParams), 144u);
 }

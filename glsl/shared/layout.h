@@ -62,9 +62,11 @@ DRAPE_CONSTANT(uint, kPairDispatchGridBlocks, 2u);   // one work group per kScan
 DRAPE_CONSTANT(uint, kPairDispatchPointBlocks, 3u);  // one work group per kScanBlock points
 DRAPE_CONSTANT(uint, kPairDispatchCount, 4u);
 
-// Health flags (issue 5's blow-up guard): set by the integrate kernel, read back on request.
-DRAPE_CONSTANT(uint, kHealthNonFinite, 1u);    // a position or displacement became NaN or infinite
-DRAPE_CONSTANT(uint, kHealthOutOfBounds, 2u);  // a point left the sane box |x| <= SimParams.sane_bound
+// Health flags (the blow-up check, src/core/health.hpp): raised by health.comp after a frame's last pass,
+// read back on request. The same bits as drape::Health.
+DRAPE_CONSTANT(uint, kHealthNonFinite, 1u);      // a position or displacement became NaN or infinite
+DRAPE_CONSTANT(uint, kHealthOutOfBounds, 2u);    // a point left the sane box |x| <= SimParams.sane_bound
+DRAPE_CONSTANT(uint, kHealthOverstretched, 4u);  // a spring longer than SimParams.blow_up_stretch x rest
 
 // Everything a kernel needs that is not per point. Values are derived on the host with exactly the
 // float operations the CPU reference uses (weight = gravity * mass, dt2 = dt * dt, ...), so both
@@ -95,8 +97,8 @@ struct SimParams {
   float pair_reach;       // m, 2 * thickness + the list's margin: the build lists pairs closer than this
   float pair_reach2;      // m^2, pair_reach * pair_reach
   float pair_margin;      // m, the list's margin (skin)
+  float blow_up_stretch;  // a spring longer than this times its rest length is reported as a blow-up
   uint pad0;              // std430 rounds the struct to 16 bytes; C++ must see the same size
-  uint pad1;
 };
 
 // One adjacency entry: the spring from this point to another, in the CPU's order (ascending spring

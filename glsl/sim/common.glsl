@@ -80,20 +80,3 @@ uint neighborIndex(Neighbor nb) {
 uint neighborType(Neighbor nb) {
   return nb.index_type >> kNeighborIndexBits;
 }
-
-#ifndef SIM_NO_HEALTH
-// Blow-up detection for the stability guard (issue 5): a few compares per point, an atomic only when
-// something is already wrong. The host reads the flags when it chooses (GpuSolver::readHealth).
-void checkHealth(uint i, vec3 x, vec3 v) {
-  uint flags = 0u;
-  if (any(isnan(x)) || any(isinf(x)) || any(isnan(v)) || any(isinf(v))) {
-    flags = kHealthNonFinite;
-  } else if (any(greaterThan(abs(x), vec3(params.sane_bound)))) {
-    flags = kHealthOutOfBounds;
-  }
-  if (flags != 0u) {
-    atomicOr(health.flags, flags);
-    atomicMin(health.first_point, i);
-  }
-}
-#endif

@@ -57,7 +57,6 @@ void main() {
 #if SELF_COLLISION
   checkPairTravel(i, x);
 #endif
-  checkHealth(i, x, v);
   posOut[i] = vec4(x, 1.0);
   dispOut[i] = vec4(v, pin);
 }

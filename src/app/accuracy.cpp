@@ -39,7 +39,7 @@ Trajectory runTrajectory(Solver& solver, const std::vector<int>& sample_frames) 
   for (int f = 1; f <= sample_frames.back(); ++f) {
     const auto t0 = Clock::now();
     solver.stepFrame();
-    finishWork(solver);
+    solver.finish();
     out.step_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     out.frames_run = f;
     Positions x = solver.readPositions();
@@ -151,7 +151,7 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
     jobs[j].wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
   });
 
-  SolverFactory factory;
+  SolverFactory factory({.skip_unavailable = true});
   std::map<int, std::vector<Positions>> references;
   for (std::size_t j = 0; j < jobs.size(); j += 2) {
     const ReferenceJob& ref = jobs[j];
@@ -205,7 +205,7 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
     const Scene s = configure(scene, run.steps_per_frame, run.stretch_passes);
     std::unique_ptr<Solver> solver;
     try {
-      solver = maker.make(s, run.solver, false, report.threads_per_run);
+      solver = maker.make(s, run.solver, {.threads = report.threads_per_run});
     } catch (const SkippedRun& e) {
       run.skipped = e.what();
     }
@@ -234,7 +234,7 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
   say(fmt::format("{} CPU runs, {} at a time ({} solver thread{} each), then {} GPU runs", cpu_jobs.size(), report.jobs,
                   report.threads_per_run, report.threads_per_run == 1 ? "" : "s", gpu_jobs.size()));
   forEachJob(cpu_jobs.size(), report.jobs, [&](std::size_t k) {
-    SolverFactory cpu_factory;  // makes CPU solvers only: no context is touched off the main thread
+    SolverFactory cpu_factory({.skip_unavailable = true});  // CPU solvers only: no context off the main thread
     runOne(sweep[cpu_jobs[k]], cpu_factory);
   });
   for (std::size_t j : gpu_jobs)

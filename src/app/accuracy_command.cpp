@@ -2,6 +2,7 @@
 // count; CSV, a markdown summary, and a log-log plot by tools/plot_accuracy.py.
 #include "app/accuracy.hpp"
 #include "app/commands.hpp"
+#include "app/options.hpp"
 #include "app/output.hpp"
 #include "app/process.hpp"
 
@@ -25,17 +26,17 @@ namespace fs = std::filesystem;
 struct AccuracyCommandOptions {
   std::string scene;
   std::string out;
-  std::string steps = "5,10,20,30,60,120";
-  std::string solvers = "cpu-xprev,cpu,cpu64,gpu";
-  std::string passes = "1,2,4";
-  std::string times = "0.5,1,2";
+  std::vector<int> steps = {5, 10, 20, 30, 60, 120};
+  std::vector<std::string> solvers = {"cpu-xprev", "cpu", "cpu64", "gpu"};
+  std::vector<int> passes = {1, 2, 4};
+  std::vector<double> times = {0.5, 1, 2};
   int reference_factor = 16;
   int jobs = 0;
   bool quick = false;
   bool no_plot = false;
 };
 
-// The plot needs Debian's matplotlib, which a pyenv python3 on PATH may not see (DESIGN section 4).
+// The plot needs Debian's matplotlib, which a pyenv python3 on PATH may not see (docs/design.md section 8).
 // DRAPE_PYTHON names another interpreter. No shell: the scene's name and --out reach python as they are.
 void plot(const fs::path& dir, const std::string& title) {
   const fs::path script = fs::path(DRAPE_SOURCE_DIR) / "tools" / "plot_accuracy.py";
@@ -78,11 +79,10 @@ void runAccuracyCommand(const AccuracyCommandOptions& c) {
   AccuracyOptions o;
   o.scene = c.scene;
   const Scene scene = loadScene(c.scene);  // bad input fails before the output directory is made
-  o.steps = parseIntList("--steps", c.quick ? "5,10,30,120" : c.steps, 1, kMaxStepsPerFrame);
-  o.solvers = parseNameList("--solver", c.solvers, kMeasuredSolvers);
-  o.stretch_passes =
-      c.quick ? std::vector<int>{scene.sim.stretch_passes} : parseIntList("--passes", c.passes, 0, kMaxStretchPasses);
-  o.times = parseDoubleList("--times", c.quick ? "0.5,1" : c.times, kMaxSampleTime);
+  o.steps = c.quick ? std::vector<int>{5, 10, 30, 120} : c.steps;
+  o.solvers = c.solvers;
+  o.stretch_passes = c.quick ? std::vector<int>{scene.sim.stretch_passes} : c.passes;
+  o.times = c.quick ? std::vector<double>{0.5, 1} : c.times;
   o.reference_factor = c.quick ? 8 : c.reference_factor;
   o.jobs = c.jobs;
   const std::string stem = fs::path(c.scene).stem().string();
@@ -113,10 +113,11 @@ void addAccuracyCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("accuracy", "Error against run time, against a converged double-precision run");
   cmd->add_option("scene", c->scene, "Scene JSON file")->required();
   cmd->add_option("--out", c->out, "Output directory (default out/accuracy/<scene>)");
-  cmd->add_option("--steps", c->steps, "Comma-separated substeps per frame")->capture_default_str();
-  cmd->add_option("--solver", c->solvers, "Comma-separated solvers: cpu-xprev, cpu, cpu64, gpu")->capture_default_str();
-  cmd->add_option("--passes", c->passes, "Comma-separated stretch-limit passes")->capture_default_str();
-  cmd->add_option("--times", c->times, "Comma-separated sample times, s")->capture_default_str();
+  addListOption(cmd, "--steps", c->steps, "Comma-separated substeps per frame")->check(integerIn(1, kMaxStepsPerFrame));
+  addListOption(cmd, "--solver", c->solvers, "Comma-separated solvers")->check(CLI::IsMember(solverNames(true)));
+  addListOption(cmd, "--passes", c->passes, "Comma-separated stretch-limit passes")
+      ->check(integerIn(0, kMaxStretchPasses));
+  addListOption(cmd, "--times", c->times, "Comma-separated sample times, s")->check(positiveNumberUpTo(kMaxSampleTime));
   cmd->add_option("--reference-factor", c->reference_factor, "Reference substeps = this x the scene's")
       ->check(CLI::Range(2, 256))
       ->capture_default_str();

@@ -29,14 +29,14 @@ std::vector<BenchPass> passesPerFrame(const Solver& solver, int frames) {
 // pipeline (glFinish where timer queries do not work), which must not leak into the frame times.
 // One warm-up frame is enough here: the programs are already compiled and cached by the first solver.
 std::vector<BenchPass> timeGpuPasses(SolverFactory& factory, const Scene& scene, int warmup, int frames) {
-  std::unique_ptr<Solver> solver = factory.make(scene, "gpu", true);
+  std::unique_ptr<Solver> solver = factory.make(scene, "gpu", {.pass_timing = true});
   for (int f = 0; f < std::min(warmup, 1); ++f)
     solver->stepFrame();
-  finishWork(*solver);
+  solver->finish();
   solver->resetTimings();
   for (int f = 0; f < frames; ++f)
     solver->stepFrame();
-  finishWork(*solver);
+  solver->finish();
   return passesPerFrame(*solver, frames);
 }
 
@@ -58,7 +58,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
 
   std::unique_ptr<Solver> solver;
   try {
-    solver = factory.make(scene, solver_name, false, threads);
+    solver = factory.make(scene, solver_name, {.threads = threads});
   } catch (const SkippedRun& e) {
     run.skipped = e.what();
     return run;
@@ -67,7 +67,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
   run.threads = solver->threads();
   int frame = 0;
   auto sane = [&] {
-    const std::string why = checkHealth(*solver);
+    const std::string why = solver->health().describe();
     if (!why.empty()) run.blew_up = fmt::format("frame {}: {}", frame, why);
     return why.empty();
   };
@@ -78,7 +78,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
   for (int f = 0; f < o.warmup; ++f) {
     const auto start = Clock::now();
     solver->stepFrame();
-    finishWork(*solver);
+    solver->finish();
     last_warmup_ms = msSince(start);
     ++frame;
     if (!gpu && !sane()) return run;
@@ -97,7 +97,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
     for (int f = 0; f < frames; ++f) {
       const auto start = Clock::now();
       solver->stepFrame();
-      if (gpu && f + 1 == frames) finishWork(*solver);
+      if (gpu && f + 1 == frames) solver->finish();
       ms += msSince(start);
       ++frame;
       if (!gpu && !sane()) break;
@@ -111,7 +111,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
   if (run.frame_ms.samples > 0 && run.frame_ms.median > 0)
     run.vertex_substeps_per_s = double(run.points) * run.steps_per_frame / (run.frame_ms.median * 1e-3);
   run.dispatches_per_frame = solver->dispatchesPerFrame();
-  run.gpu_memory_bytes = gpuMemoryBytes(*solver);
+  run.gpu_memory_bytes = solver->deviceMemoryBytes();
   if (!gpu) {
     if (timed_frames > 0) run.passes = passesPerFrame(*solver, timed_frames);
     run.pass_timing = fmt::format("wall clock per pass, {} thread{}", run.threads, run.threads == 1 ? "" : "s");
@@ -148,7 +148,7 @@ BenchReport runBench(const BenchOptions& o, const std::function<void(const std::
   std::vector<Scene> scenes;
   for (const std::string& path : o.scenes)
     scenes.push_back(loadScene(path));  // all bad input fails first
-  SolverFactory factory;
+  SolverFactory factory({.skip_unavailable = true});
   std::size_t total = 0;
   for (const std::string& solver : o.solvers)
     total += o.scenes.size() * o.sizes.size() * (solver == "gpu" ? 1 : o.threads.size());

@@ -2,6 +2,7 @@
 // memory for each scene x cloth size x solver; JSON for comparing runs, markdown for the README.
 #include "app/bench.hpp"
 #include "app/commands.hpp"
+#include "app/options.hpp"
 #include "app/output.hpp"
 #include "gl/context.hpp"
 
@@ -17,13 +18,13 @@ namespace drape {
 
 namespace {
 
-const char* const kDefaultScenes = "scenes/pinned2.json,scenes/sphere.json";
+const std::vector<std::string> kDefaultScenes = {"scenes/pinned2.json", "scenes/sphere.json"};
 
 struct BenchCommandOptions {
-  std::string scenes = kDefaultScenes;
-  std::string sizes = "32,64,128,256";
-  std::string solvers = "cpu,gpu";
-  std::string threads = "0";
+  std::vector<std::string> scenes = kDefaultScenes;
+  std::vector<int> sizes = {32, 64, 128, 256};
+  std::vector<std::string> solvers = {"cpu", "gpu"};
+  std::vector<int> threads = {0};
   int frames = 5;
   int warmup = 2;
   int repeats = 3;
@@ -61,14 +62,14 @@ void requireGlIfAsked(const std::vector<std::string>& solvers) {
 
 void runBenchCommand(const BenchCommandOptions& c) {
   BenchOptions o;
-  o.scenes = parseNameList("--scenes", c.scenes, {});
+  o.scenes = c.scenes;
   // The default scenes are found from any directory; scenes the user names are taken as given.
   if (c.scenes == kDefaultScenes)
     for (std::string& path : o.scenes)
       if (!std::filesystem::exists(path)) path = std::string(DRAPE_SOURCE_DIR) + "/" + path;
-  o.sizes = parseIntList("--sizes", c.sizes, 2, int(std::sqrt(double(kMaxClothPoints))));  // N x N points
-  o.solvers = parseNameList("--solver", c.solvers, kMeasuredSolvers);
-  o.threads = parseIntList("--threads", c.threads, 0, 1024);
+  o.sizes = c.sizes;
+  o.solvers = c.solvers;
+  o.threads = c.threads;
   o.frames = c.frames;
   o.warmup = c.warmup;
   o.repeats = c.repeats;
@@ -97,12 +98,13 @@ void runBenchCommand(const BenchCommandOptions& c) {
 void addBenchCommand(CLI::App& app) {
   auto c = std::make_shared<BenchCommandOptions>();
   CLI::App* cmd = app.add_subcommand("bench", "Time the solvers on scenes resampled to N x N cloths");
-  cmd->add_option("--scenes", c->scenes, "Comma-separated scene files")->capture_default_str();
-  cmd->add_option("--sizes", c->sizes, "Comma-separated cloth sizes N (N x N points)")->capture_default_str();
-  cmd->add_option("--solver", c->solvers, "Comma-separated solvers: cpu, cpu-xprev, cpu64, gpu")->capture_default_str();
-  cmd->add_option("--threads", c->threads,
-                  "Comma-separated thread counts for the CPU solvers, a run each (0 = every core)")
-      ->capture_default_str();
+  addListOption(cmd, "--scenes", c->scenes, "Comma-separated scene files");
+  addListOption(cmd, "--sizes", c->sizes, "Comma-separated cloth sizes N (N x N points)")
+      ->check(integerIn(2, int(std::sqrt(double(kMaxClothPoints)))));
+  addListOption(cmd, "--solver", c->solvers, "Comma-separated solvers")->check(CLI::IsMember(solverNames(true)));
+  addListOption(cmd, "--threads", c->threads,
+                "Comma-separated thread counts for the CPU solvers, a run each (0 = every core)")
+      ->check(integerIn(0, 1024));
   cmd->add_option("--frames", c->frames, "Timed frames per repeat, at most")->check(kPositive)->capture_default_str();
   cmd->add_option("--warmup", c->warmup, "Untimed frames before timing")->check(kNonNegative)->capture_default_str();
   cmd->add_option("--repeats", c->repeats, "Timed repeats (median and spread over these)")

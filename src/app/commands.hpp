@@ -30,24 +30,6 @@ class CommandError : public std::runtime_error {
   int status_;
 };
 
-// Option checks with a short message ("must be a number > 0, got -3"): CLI11's NonNegativeNumber and
-// PositiveNumber print their open end as DBL_MAX, all 310 digits of it.
-inline CLI::Validator numberCheck(const char* description, bool (*accept)(double)) {
-  return CLI::Validator(
-      [description, accept](std::string& value) {
-        try {
-          std::size_t used = 0;
-          const double number = std::stod(value, &used);
-          if (used == value.size() && accept(number)) return std::string();
-        } catch (const std::exception&) {
-        }
-        return std::string("must be a number ") + description + ", got " + value;
-      },
-      description);
-}
-inline const CLI::Validator kNonNegative = numberCheck(">= 0", [](double v) { return v >= 0; });
-inline const CLI::Validator kPositive = numberCheck("> 0", [](double v) { return v > 0; });
-
 // Each returns nothing; the subcommand's callback throws CommandError on failure.
 void addSimulateCommand(CLI::App& app);
 void addViewCommand(CLI::App& app);

@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // --help and --version are "errors" that exit 0; usage errors are bad input: status 2, one line.
     if (e.get_exit_code() == 0) return app.exit(e);
-    const bool no_command = app.get_subcommands().empty() && dynamic_cast<const CLI::RequiredError*>(&e);
+    const bool no_command = app.get_subcommands().empty() && e.get_name() == "RequiredError";
     fmt::print(stderr, "drape: {}\n", no_command ? missingCommandMessage(app, argc, argv) : usageMessage(e));
     return drape::kExitBadInput;
   } catch (const drape::CommandError& e) {

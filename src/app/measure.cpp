@@ -1,12 +1,5 @@
 #include "app/measure.hpp"
 
-#include "app/commands.hpp"
-#include "app/solver_factory.hpp"
-#include "cpu/cpu_solver.hpp"
-#include "gl/context.hpp"
-#include "gl/objects.hpp"
-#include "gpu/gpu_solver.hpp"
-
 #include <fmt/format.h>
 #include <sys/utsname.h>
 #include <unistd.h>
@@ -15,57 +8,9 @@
 #include <cmath>
 #include <ctime>
 #include <fstream>
-#include <sstream>
 #include <thread>
 
 namespace drape {
-
-SolverFactory::SolverFactory() = default;
-
-SolverFactory::~SolverFactory() = default;
-
-std::unique_ptr<Solver> SolverFactory::make(const Scene& scene, const std::string& name, bool pass_timing,
-                                            int threads) {
-  if (name == "cpu" || name == "cpu64") return makeSolver(scene, name, false, threads);
-  if (name == "cpu-xprev")
-    return std::make_unique<CpuSolver<float>>(
-        scene, CpuSolverOptions{.form = VerletForm::PreviousPosition, .threads = threads});
-  if (name != "gpu")
-    throw CommandError(kExitBadInput, fmt::format("unknown solver '{}' (cpu, cpu-xprev, cpu64, gpu)", name));
-  if (!gpu_unavailable_.empty()) throw SkippedRun(gpu_unavailable_);
-  if (!context_) {
-    try {
-      context_ = std::make_unique<gl::HeadlessContext>(gl::HeadlessContext::create());
-    } catch (const std::exception& e) {
-      gpu_unavailable_ = fmt::format("no OpenGL 4.5 context: {}", e.what());
-      throw SkippedRun(gpu_unavailable_);
-    }
-  }
-  context_->makeCurrent();
-  GpuSolverOptions options;
-  options.timing = pass_timing;
-  std::unique_ptr<GpuSolver> solver;
-  try {
-    solver = std::make_unique<GpuSolver>(scene, options);
-  } catch (const GpuLimitError& e) {
-    throw SkippedRun(e.what());
-  }
-  if (gl_info_.renderer.empty()) {
-    const gl::ContextInfo& info = context_->info();
-    gl_info_ = {info.vendor,   info.renderer, info.version,          info.glsl_version,
-                info.platform, info.software, gl::timerQueriesWork()};
-  }
-  return solver;
-}
-
-void finishWork(Solver& solver) {
-  if (auto* gpu = dynamic_cast<GpuSolver*>(&solver)) gpu->readHealth();
-}
-
-long long gpuMemoryBytes(const Solver& solver) {
-  const auto* gpu = dynamic_cast<const GpuSolver*>(&solver);
-  return gpu ? (long long)gpu->gpuMemoryBytes() : -1;
-}
 
 Scene resampleCloth(const Scene& scene, int n) {
   Scene out = scene;
@@ -105,18 +50,6 @@ double quantile(const std::vector<double>& sorted, double q) {
   const std::size_t lo = std::size_t(std::floor(pos));
   const std::size_t hi = std::min(lo + 1, sorted.size() - 1);
   return sorted[lo] + (pos - double(lo)) * (sorted[hi] - sorted[lo]);
-}
-
-std::vector<std::string> splitList(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    item.erase(0, item.find_first_not_of(" \t"));
-    item.erase(item.find_last_not_of(" \t") + 1);
-    out.push_back(item);
-  }
-  return out;
 }
 
 }  // namespace
@@ -162,61 +95,6 @@ std::string utcTimestamp() {
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return buf;
-}
-
-std::vector<int> parseIntList(const std::string& option, const std::string& text, int min_value, int max_value) {
-  std::vector<int> out;
-  for (const std::string& item : splitList(text)) {
-    std::size_t used = 0;
-    int value = 0;
-    try {
-      value = std::stoi(item, &used);
-    } catch (const std::out_of_range&) {
-      throw CommandError(kExitBadInput, fmt::format("{}: {} is above the maximum {}", option, item, max_value));
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (item.empty() || used != item.size())
-      throw CommandError(kExitBadInput, fmt::format("{}: '{}' is not an integer", option, item));
-    if (value < min_value)
-      throw CommandError(kExitBadInput, fmt::format("{}: {} is below the minimum {}", option, value, min_value));
-    if (value > max_value)
-      throw CommandError(kExitBadInput, fmt::format("{}: {} is above the maximum {}", option, value, max_value));
-    out.push_back(value);
-  }
-  if (out.empty()) throw CommandError(kExitBadInput, fmt::format("{}: empty list", option));
-  return out;
-}
-
-std::vector<double> parseDoubleList(const std::string& option, const std::string& text, double max_value) {
-  std::vector<double> out;
-  for (const std::string& item : splitList(text)) {
-    std::size_t used = 0;
-    double value = 0;
-    try {
-      value = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (item.empty() || used != item.size() || !std::isfinite(value) || value <= 0)
-      throw CommandError(kExitBadInput, fmt::format("{}: '{}' is not a positive number", option, item));
-    if (value > max_value)
-      throw CommandError(kExitBadInput, fmt::format("{}: {} is above the maximum {:g}", option, item, max_value));
-    out.push_back(value);
-  }
-  if (out.empty()) throw CommandError(kExitBadInput, fmt::format("{}: empty list", option));
-  return out;
-}
-
-std::vector<std::string> parseNameList(const std::string& option, const std::string& text,
-                                       const std::vector<std::string>& allowed) {
-  std::vector<std::string> out = splitList(text);
-  if (out.empty()) throw CommandError(kExitBadInput, fmt::format("{}: empty list", option));
-  for (const std::string& name : out)
-    if (name.empty() || (!allowed.empty() && std::find(allowed.begin(), allowed.end(), name) == allowed.end()))
-      throw CommandError(kExitBadInput,
-                         fmt::format("{}: unknown name '{}' (one of {})", option, name, fmt::join(allowed, ", ")));
-  return out;
 }
 
 }  // namespace drape

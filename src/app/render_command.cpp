@@ -1,11 +1,11 @@
 // `drape render`: run a scene headless (EGL, no display) and write frames as PNGs, optionally a video.
 #include "app/commands.hpp"
+#include "app/options.hpp"
 #include "app/output.hpp"
 #include "app/process.hpp"
 #include "app/solver_factory.hpp"
 #include "core/metrics.hpp"
 #include "gl/context.hpp"
-#include "gpu/gpu_solver.hpp"
 #include "render/image.hpp"
 #include "render/renderer.hpp"
 
@@ -16,7 +16,6 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <regex>
 #include <string_view>
 
 namespace drape {
@@ -30,7 +29,7 @@ struct RenderOptions {
   int frames = 90;
   int every = 1;
   std::string out;
-  std::string shader = "phong";
+  std::vector<std::string> shader = {"phong"};
   std::string size = "640x480";
   std::string solver = "gpu";
   std::string video;
@@ -41,33 +40,23 @@ struct RenderOptions {
   double zoom = 1.0;
 };
 
-glm::ivec2 parseSize(const std::string& text) {
-  static const std::regex pattern("([0-9]{1,5})x([0-9]{1,5})");
-  std::smatch m;
-  if (!std::regex_match(text, m, pattern))
-    throw CommandError(kExitBadInput, fmt::format("--size: '{}' is not WIDTHxHEIGHT (e.g. 640x480)", text));
-  const glm::ivec2 size{std::stoi(m[1]), std::stoi(m[2])};
-  if (size.x < 16 || size.y < 16 || size.x > 8192 || size.y > 8192)
-    throw CommandError(kExitBadInput, fmt::format("--size: {} is outside 16x16 .. 8192x8192", text));
-  return size;
-}
-
-// "phong", "phong,toon" or "all".
-std::vector<Shading> parseShadings(const std::string& text) {
-  if (text == "all") return {allShadings().begin(), allShadings().end()};
+// The --shader list (names checked by CLI11): "all" anywhere means every model, in their order.
+std::vector<Shading> chosenShadings(const std::vector<std::string>& names) {
+  if (std::find(names.begin(), names.end(), "all") != names.end()) return {allShadings().begin(), allShadings().end()};
   std::vector<Shading> shadings;
-  std::size_t begin = 0;
-  while (begin <= text.size()) {
-    const std::size_t end = std::min(text.find(',', begin), text.size());
-    const std::string name = text.substr(begin, end - begin);
-    const std::optional<Shading> shading = parseShading(name);
-    if (!shading)
-      throw CommandError(kExitBadInput,
-                         fmt::format("--shader: unknown shader '{}' ({}, or all)", name, shadingNames()));
-    if (std::find(shadings.begin(), shadings.end(), *shading) == shadings.end()) shadings.push_back(*shading);
-    begin = end + 1;
+  for (const std::string& name : names) {
+    const Shading shading = *parseShading(name);
+    if (std::find(shadings.begin(), shadings.end(), shading) == shadings.end()) shadings.push_back(shading);
   }
   return shadings;
+}
+
+std::vector<std::string> shaderChoices() {
+  std::vector<std::string> names;
+  for (Shading shading : allShadings())
+    names.emplace_back(shadingName(shading));
+  names.emplace_back("all");
+  return names;
 }
 
 // The frame's one read-back, as an RGB image (the alpha channel is always opaque).
@@ -117,16 +106,6 @@ void encodeVideo(const std::filesystem::path& dir, const std::string& video, dou
   fmt::print(stderr, "render: wrote {}\n", video);
 }
 
-// The GPU solver draws from the context that is current; CPU solvers need one for the renderer only.
-std::unique_ptr<Solver> makeRenderSolver(const Scene& scene, const std::string& name) {
-  if (name != "gpu") return makeSolver(scene, name);
-  try {
-    return std::make_unique<GpuSolver>(scene);
-  } catch (const GpuLimitError& e) {  // a cloth too large for this GPU is bad input, as for simulate
-    throw CommandError(kExitBadInput, fmt::format("{}: {}", scene.path, e.what()));
-  }
-}
-
 // An existing --out must be a directory; the directories are made only once everything else is known to
 // work, so that a bad scene or a missing context leaves nothing behind.
 void checkOutputDirectory(const std::filesystem::path& dir) {
@@ -161,8 +140,8 @@ gl::HeadlessContext makeRenderContext() {
 }
 
 void runRender(const RenderOptions& o) {
-  const glm::ivec2 size = parseSize(o.size);
-  const std::vector<Shading> shadings = parseShadings(o.shader);
+  const glm::ivec2 size = parseSize("--size", o.size, 16, 8192);
+  const std::vector<Shading> shadings = chosenShadings(o.shader);
   if (!o.video.empty() && !findProgram("ffmpeg"))
     throw CommandError(kExitFailure, fmt::format("--video: ffmpeg is not installed (apt-get install ffmpeg); "
                                                  "leave out --video to write the PNG frames only"));
@@ -176,7 +155,10 @@ void runRender(const RenderOptions& o) {
     throw CommandError(kExitBadInput, fmt::format("--samples: {} is more than this OpenGL allows ({}, "
                                                   "GL_MAX_SAMPLES on {})",
                                                   o.samples, most, context.info().renderer));
-  std::unique_ptr<Solver> solver = makeRenderSolver(scene, o.solver);
+  // The GPU solver runs in the renderer's context and is drawn from there; CPU solvers need the context
+  // for the renderer only.
+  SolverFactory factory({.use_current_context = true});
+  std::unique_ptr<Solver> solver = factory.make(scene, o.solver);
   ClothFeed feed(*solver);
   Renderer renderer(scene, solver->topology(), {.sphere_latitudes = o.latitudes, .sphere_longitudes = o.longitudes});
   gl::Framebuffer target = gl::Framebuffer::createColorDepth(size.x, size.y, o.samples);
@@ -238,10 +220,10 @@ void addRenderCommand(CLI::App& app) {
       ->check(CLI::Range(0, kMaxRenderFrames));
   cmd->add_option("--every", opts->every, "Write every K-th frame")->check(CLI::Range(1, kMaxRenderFrames));
   cmd->add_option("--out", opts->out, "Directory for frame_NNNN.png")->required();
-  cmd->add_option("--shader", opts->shader, "Shading model, a comma-separated list, or all: " + shadingNames());
+  addListOption(cmd, "--shader", opts->shader, "Shading models, comma-separated, or all")
+      ->check(CLI::IsMember(shaderChoices()));
   cmd->add_option("--size", opts->size, "Image size WIDTHxHEIGHT (default 640x480)");
-  cmd->add_option("--solver", opts->solver, "gpu (default), cpu or cpu64")
-      ->check(CLI::IsMember({"cpu", "cpu64", "gpu"}));
+  cmd->add_option("--solver", opts->solver, "gpu (default), cpu or cpu64")->check(CLI::IsMember(solverNames(false)));
   cmd->add_option("--video", opts->video, "Also encode the frames into this video with ffmpeg (e.g. out.mp4)");
   cmd->add_option("-a,--latitudes", opts->latitudes, "Sphere latitude rings (default 40)")->check(CLI::Range(2, 1000));
   cmd->add_option("-o,--longitudes", opts->longitudes, "Sphere longitude segments (default 40)")

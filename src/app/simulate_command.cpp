@@ -1,6 +1,7 @@
 // `drape simulate`: run a scene headless and print a summary; --out writes the final positions.
 #include "app/commands.hpp"
 #include "app/measure.hpp"
+#include "app/options.hpp"
 #include "app/output.hpp"
 #include "app/solver_factory.hpp"
 #include "core/metrics.hpp"
@@ -64,13 +65,14 @@ Scene guardStability(Scene scene, bool auto_substeps) {
 void runSimulate(const SimulateOptions& o) {
   if (!o.out.empty()) checkOutputFile(o.out);  // before the run, not after it
   const Scene scene = guardStability(loadScene(o.scene), o.auto_substeps);
-  auto solver = makeSolver(scene, o.solver, o.verbose, o.threads);
+  SolverFactory factory({.verbose = o.verbose});  // before the solver: it owns the solver's GL context
+  auto solver = factory.make(scene, o.solver, {.threads = o.threads});
   if (o.verbose) fmt::print(stderr, "{}", describePasses(*solver));
   const auto start = std::chrono::steady_clock::now();
   for (int f = 0; f < o.frames; ++f) {
     solver->stepFrame();
-    // Cheap: a few bytes from the GPU, a scan of the positions on the CPU. A garbage run stops here.
-    if (const std::string why = checkHealth(*solver); !why.empty())
+    // Cheap: a few bytes from the GPU, a scan of the state on the CPU. A garbage run stops here.
+    if (const std::string why = solver->health().describe(); !why.empty())
       throw CommandError(kExitBlowUp, fmt::format("{}: blew up at frame {}: {}", scene.path, f + 1, why));
   }
   const Positions x = solver->readPositions();  // also waits for the GPU before the clock stops
@@ -90,7 +92,8 @@ void addSimulateCommand(CLI::App& app) {
   cmd->add_option("scene", opts->scene, "Scene JSON file")->required();
   cmd->add_option("--frames", opts->frames, "Frames to simulate")->check(kNonNegative);
   cmd->add_option("--solver", opts->solver, "cpu (float), cpu64 (double) or gpu")
-      ->check(CLI::IsMember({"cpu", "cpu64", "gpu"}));
+      ->check(CLI::IsMember(solverNames(false)))
+      ->capture_default_str();
   cmd->add_option("--out", opts->out, "Write the final positions as JSON [[x,y,z],...]");
   cmd->add_flag("--verbose,-v", opts->verbose, "List the passes and dispatches per frame");
   cmd->add_option("--threads", opts->threads,

@@ -3,58 +3,109 @@
 #include "app/commands.hpp"
 #include "cpu/cpu_solver.hpp"
 #include "gl/context.hpp"
+#include "gl/objects.hpp"
 #include "gpu/gpu_solver.hpp"
 
 #include <fmt/format.h>
 
 namespace drape {
 
-namespace {
-
-std::unique_ptr<Solver> makeGpuSolver(const Scene& scene, bool verbose) {
-  gl::HeadlessContext context;
-  try {
-    context = gl::HeadlessContext::create();
-  } catch (const gl::ContextError& e) {
-    throw CommandError(kExitNoGl, fmt::format("gpu solver: {}", e.what()));
-  }
-  if (verbose)
-    fmt::print(stderr, "gpu solver: GL_RENDERER {} | GL_VERSION {} ({})\n", context.info().renderer,
-               context.info().version, context.info().platform);
-  try {
-    // The solver owns the context, so the context lives exactly as long as the solver's GL objects.
-    return std::make_unique<GpuSolver>(scene, GpuSolverOptions{}, std::move(context));
-  } catch (const GpuLimitError& e) {
-    throw CommandError(kExitBadInput, fmt::format("{}: {}", scene.path, e.what()));
-  }
+const std::vector<SolverKind>& solverKinds() {
+  static const std::vector<SolverKind> kinds = {
+      {"cpu", "CPU reference in float, the GPU's arithmetic", false},
+      {"cpu64", "CPU reference in double", false},
+      {"gpu", "OpenGL 4.5 compute shaders", false},
+      {"cpu-xprev", "CPU float with CS184's x_prev form of Verlet (its round-off, measured)", true},
+  };
+  return kinds;
 }
 
-}  // namespace
+std::vector<std::string> solverNames(bool with_measurement_only) {
+  std::vector<std::string> names;
+  for (const SolverKind& kind : solverKinds())
+    if (with_measurement_only || !kind.measurement_only) names.push_back(kind.name);
+  return names;
+}
 
-std::unique_ptr<Solver> makeSolver(const Scene& scene, const std::string& name, bool verbose, int threads) {
-  if (name == "cpu") return std::make_unique<CpuSolver<float>>(scene, CpuSolverOptions{.threads = threads});
-  if (name == "cpu64") return std::make_unique<CpuSolver<double>>(scene, CpuSolverOptions{.threads = threads});
-  if (name == "gpu") return makeGpuSolver(scene, verbose);
-  throw CommandError(kExitBadInput, fmt::format("--solver: unknown solver '{}' (cpu, cpu64, gpu)", name));
+SolverFactory::SolverFactory(SolverFactoryOptions options) : options_(options) {}
+
+SolverFactory::~SolverFactory() = default;
+
+std::unique_ptr<Solver> SolverFactory::make(const Scene& scene, const std::string& name, SolverRequest request) {
+  const CpuSolverOptions cpu{.threads = request.threads};
+  if (name == "cpu") return std::make_unique<CpuSolver<float>>(scene, cpu);
+  if (name == "cpu64") return std::make_unique<CpuSolver<double>>(scene, cpu);
+  if (name == "cpu-xprev")
+    return std::make_unique<CpuSolver<float>>(
+        scene, CpuSolverOptions{.form = VerletForm::PreviousPosition, .threads = request.threads});
+  if (name == "gpu") return makeGpu(scene, request);
+  throw CommandError(kExitBadInput,
+                     fmt::format("--solver: unknown solver '{}' ({})", name, fmt::join(solverNames(true), ", ")));
+}
+
+void SolverFactory::unavailable(int status, const std::string& why) {
+  if (options_.skip_unavailable) throw SkippedRun(why);
+  throw CommandError(status, why);
+}
+
+std::unique_ptr<Solver> SolverFactory::makeGpu(const Scene& scene, const SolverRequest& request) {
+  if (!options_.use_current_context) {
+    if (!no_context_.empty()) unavailable(kExitNoGl, no_context_);
+    if (!context_) {
+      try {
+        context_ = std::make_unique<gl::HeadlessContext>(gl::HeadlessContext::create());
+      } catch (const gl::ContextError& e) {
+        no_context_ = fmt::format("gpu solver: no OpenGL 4.5 context: {}", e.what());
+        unavailable(kExitNoGl, no_context_);
+      }
+      if (options_.verbose)
+        fmt::print(stderr, "gpu solver: GL_RENDERER {} | GL_VERSION {} ({})\n", context_->info().renderer,
+                   context_->info().version, context_->info().platform);
+    }
+    context_->makeCurrent();
+  }
+  GpuSolverOptions options;
+  options.timing = request.pass_timing;
+  std::unique_ptr<GpuSolver> solver;
+  try {
+    solver = std::make_unique<GpuSolver>(scene, options);
+  } catch (const GpuLimitError& e) {
+    unavailable(kExitBadInput, fmt::format("{}: {}", scene.path, e.what()));
+  }
+  if (gl_info_.renderer.empty()) {
+    const gl::ContextInfo& info = context_ ? context_->info() : solver->contextInfo();
+    gl_info_ = {info.vendor,   info.renderer, info.version,          info.glsl_version,
+                info.platform, info.software, gl::timerQueriesWork()};
+  }
+  return solver;
 }
 
 std::string describePasses(const Solver& solver) {
-  const std::vector<std::string> passes = solver.passes();
+  const std::vector<std::string> passes = solver.passes(), frame_passes = solver.framePasses();
   const int substeps = solver.scene().sim.steps_per_frame;
   std::string out;
   if (solver.dispatchesPerFrame() > 0) {
-    out = fmt::format("{}: {} dispatches per substep, {} per frame ({} substeps)\n", solver.name(), passes.size(),
+    out = fmt::format("{}: {} dispatches per substep, {} per frame ({} substeps", solver.name(), passes.size(),
                       solver.dispatchesPerFrame(), substeps);
+    out += frame_passes.empty() ? ")\n" : fmt::format(", then {} once per frame)\n", frame_passes.size());
   } else {
     out = fmt::format("{}: {} passes per substep, {} substeps per frame\n", solver.name(), passes.size(), substeps);
   }
   // A pass dispatched several times in a row (the stretch limit's colours) is one line with its count.
-  for (std::size_t i = 0, line = 1; i < passes.size(); ++line) {
-    std::size_t run = 1;
-    while (i + run < passes.size() && passes[i + run] == passes[i])
-      ++run;
-    out += run == 1 ? fmt::format("  {}. {}\n", line, passes[i]) : fmt::format("  {}. {} x{}\n", line, passes[i], run);
-    i += run;
+  std::size_t line = 1;
+  const auto list = [&out, &line](const std::vector<std::string>& names) {
+    for (std::size_t i = 0; i < names.size(); ++line) {
+      std::size_t run = 1;
+      while (i + run < names.size() && names[i + run] == names[i])
+        ++run;
+      out += run == 1 ? fmt::format("  {}. {}\n", line, names[i]) : fmt::format("  {}. {} x{}\n", line, names[i], run);
+      i += run;
+    }
+  };
+  list(passes);
+  if (!frame_passes.empty()) {
+    out += "  then once per frame, after the last substep:\n";
+    list(frame_passes);
   }
   return out;
 }

@@ -1,24 +1,93 @@
-// Makes the solver a command asked for by name: "cpu" (float), "cpu64" (double), "gpu".
+// The one table of solvers by name, and the factory every command makes its solvers with: `simulate`,
+// `render` and `view` one solver, the measurement commands (bench, accuracy) many.
 #pragma once
 
+#include "core/scene.hpp"
 #include "core/solver.hpp"
 
 #include <memory>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace drape {
 
-// "gpu" makes its own headless GL 4.5 context, owned by the solver (it makes that context current);
-// without one it throws CommandError(kExitNoGl, "gpu solver: <what was tried>: <what is missing>").
-// A scene too large for the GPU throws CommandError(kExitBadInput, ...) before anything is dispatched.
-// verbose: logs GL_RENDERER and GL_VERSION of the context to stderr. threads: the CPU solvers' OpenMP
-// threads (0 = every core; the bytes they compute do not depend on it).
-std::unique_ptr<Solver> makeSolver(const Scene& scene, const std::string& name, bool verbose = false, int threads = 0);
+namespace gl {
+class HeadlessContext;
+}
+
+struct SolverKind {
+  const char* name;
+  const char* description;  // for --help
+  bool measurement_only;    // offered by bench and accuracy only
+};
+
+// "cpu"        CpuSolver<float>, displacement form (the GPU's arithmetic)
+// "cpu64"      CpuSolver<double>
+// "gpu"        GpuSolver (OpenGL 4.5 compute)
+// "cpu-xprev"  CpuSolver<float>, x_prev form (CS184's; measured for its round-off): measurement only
+const std::vector<SolverKind>& solverKinds();
+// The names for CLI::IsMember: every solver, or those that `simulate`, `render` and `view` run.
+std::vector<std::string> solverNames(bool with_measurement_only);
+
+// A solver that cannot run here (no GL 4.5 context, a grid beyond the GPU's limits), for a factory made
+// with skip_unavailable: the measurement commands record the run as skipped with this reason.
+class SkippedRun : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct GlInfo {
+  std::string vendor, renderer, version, glsl_version, platform;
+  bool software = false;       // llvmpipe and friends: timings are the CPU's, never the GPU's
+  bool timer_queries = false;  // GL_TIME_ELAPSED works; otherwise passes are timed by glFinish + wall clock
+};
+
+struct SolverFactoryOptions {
+  // Where GPU solvers run: the context that is current when make() is called (a window, the renderer's
+  // headless one), or, by default, one headless context the factory makes at the first GPU request and
+  // keeps current for every GPU solver it makes.
+  bool use_current_context = false;
+  // A GPU solver that cannot run here: SkippedRun (the measurement commands), or by default
+  // CommandError, status 3 without a context and 2 for a cloth beyond the GPU's limits.
+  bool skip_unavailable = false;
+  bool verbose = false;  // log GL_RENDERER and GL_VERSION to stderr when the factory makes its context
+};
+
+struct SolverRequest {
+  bool pass_timing = false;  // GPU: time every pass (timer queries, or glFinish around each where none work)
+  int threads = 0;           // CPU solvers' OpenMP threads (0 = every core; the bytes do not depend on it)
+};
+
+// Makes solvers by name. It must outlive the solvers it made: it owns their GL context.
+class SolverFactory {
+ public:
+  explicit SolverFactory(SolverFactoryOptions options = {});
+  ~SolverFactory();
+  SolverFactory(const SolverFactory&) = delete;
+  SolverFactory& operator=(const SolverFactory&) = delete;
+
+  // An unknown name is CommandError(kExitBadInput).
+  std::unique_ptr<Solver> make(const Scene& scene, const std::string& name, SolverRequest request = {});
+  // Set once a GPU solver was made.
+  const GlInfo* glInfo() const { return gl_info_.renderer.empty() ? nullptr : &gl_info_; }
+
+ private:
+  std::unique_ptr<Solver> makeGpu(const Scene& scene, const SolverRequest& request);
+  [[noreturn]] void unavailable(int status, const std::string& why);  // throws SkippedRun or CommandError
+
+  SolverFactoryOptions options_;
+  std::unique_ptr<gl::HeadlessContext> context_;
+  std::string no_context_;  // why no context could be made, once tried
+  GlInfo gl_info_;
+};
 
 // Readable listing of the passes per substep and dispatches per frame (for --verbose), e.g.
-//   gpu: 2 dispatches per substep, 60 per frame (30 substeps)
+//   gpu: 2 dispatches per substep, 61 per frame (30 substeps, then 1 once per frame)
 //     1. forces+integrate
 //     2. limit_stretch
+//     then once per frame, after the last substep:
+//     3. health
 std::string describePasses(const Solver& solver);
 
 }  // namespace drape

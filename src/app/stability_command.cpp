@@ -2,6 +2,7 @@
 // guard; a markdown table and a CSV.
 #include "app/commands.hpp"
 #include "app/measure.hpp"
+#include "app/options.hpp"
 #include "app/output.hpp"
 #include "app/stability_cases.hpp"
 
@@ -19,31 +20,24 @@ namespace fs = std::filesystem;
 
 struct StabilityCommandOptions {
   std::string out = "out/stability";
-  std::string steps = "1,5,30,120";
-  std::string cases;  // empty: all
-  int jobs = 0;       // runs side by side; 0: one per core
+  std::vector<int> steps = {1, 5, 30, 120};
+  std::vector<std::string> cases;  // empty: all
+  int jobs = 0;                    // runs side by side; 0: one per core
 };
 
 void runStabilityCommand(const StabilityCommandOptions& o) {
-  const std::vector<int> steps = parseIntList("--steps", o.steps, 1, kMaxStepsPerFrame);
-  std::vector<StabilityCase> all = stabilityCases(), chosen;
-  if (o.cases.empty()) {
-    chosen = all;
-  } else {
-    std::vector<std::string> names;
+  const std::vector<StabilityCase> all = stabilityCases();
+  std::vector<StabilityCase> chosen = o.cases.empty() ? all : std::vector<StabilityCase>{};
+  for (const std::string& name : o.cases)
     for (const StabilityCase& c : all)
-      names.push_back(c.name);
-    for (const std::string& name : parseNameList("--cases", o.cases, names))
-      for (const StabilityCase& c : all)
-        if (c.name == name) chosen.push_back(c);
-  }
+      if (c.name == name) chosen.push_back(c);
   std::error_code ec;
   fs::create_directories(o.out, ec);
   if (ec) throw CommandError(kExitBadInput, fmt::format("--out: {}: {}", o.out, ec.message()));
   for (const char* name : {"stability.csv", "stability.md"})
     checkOutputFile(fs::path(o.out) / name);  // before the runs, not after them
   const StabilityReport report = runStability(
-      chosen, steps,
+      chosen, o.steps,
       [](const std::string& line) {
         fmt::print(stderr, "stability {}\n", line);
         std::fflush(stderr);
@@ -64,8 +58,11 @@ void addStabilityCommand(CLI::App& app) {
   auto o = std::make_shared<StabilityCommandOptions>();
   CLI::App* cmd = app.add_subcommand("stability", "Stiff and extreme cases: stable or not, with and without the guard");
   cmd->add_option("--out", o->out, "Output directory")->capture_default_str();
-  cmd->add_option("--steps", o->steps, "Comma-separated substeps per frame")->capture_default_str();
-  cmd->add_option("--cases", o->cases, "Comma-separated case names (default: all)");
+  addListOption(cmd, "--steps", o->steps, "Comma-separated substeps per frame")->check(integerIn(1, kMaxStepsPerFrame));
+  std::vector<std::string> names;
+  for (const StabilityCase& c : stabilityCases())
+    names.push_back(c.name);
+  addListOption(cmd, "--cases", o->cases, "Comma-separated case names (default: all)")->check(CLI::IsMember(names));
   cmd->add_option("--jobs", o->jobs, "Runs side by side, each on its share of the cores (0: one per core)")
       ->check(CLI::Range(0, 1024))
       ->capture_default_str();

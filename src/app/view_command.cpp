@@ -1,9 +1,9 @@
 // `drape view`: the interactive viewer (src/render/viewer.hpp) with its Dear ImGui control panel.
 #include "app/commands.hpp"
 #include "app/imgui_panel.hpp"
+#include "app/options.hpp"
 #include "app/solver_factory.hpp"
 #include "gl/context.hpp"
-#include "gpu/gpu_solver.hpp"
 #include "render/viewer.hpp"
 
 #include <GLFW/glfw3.h>
@@ -11,7 +11,6 @@
 #include <fmt/format.h>
 
 #include <filesystem>
-#include <regex>
 
 namespace drape {
 
@@ -28,17 +27,6 @@ struct ViewOptions {
   std::string size = "1280x800";
 };
 
-glm::ivec2 parseWindowSize(const std::string& text) {
-  static const std::regex pattern("([0-9]{1,5})x([0-9]{1,5})");
-  std::smatch m;
-  if (!std::regex_match(text, m, pattern))
-    throw CommandError(kExitBadInput, fmt::format("--size: '{}' is not WIDTHxHEIGHT (e.g. 1280x800)", text));
-  const glm::ivec2 size{std::stoi(m[1]), std::stoi(m[2])};
-  if (size.x < 64 || size.y < 64 || size.x > 8192 || size.y > 8192)
-    throw CommandError(kExitBadInput, fmt::format("--size: {} is outside 64x64 .. 8192x8192", text));
-  return size;
-}
-
 // The default scene is found from the current directory or, failing that, in the source tree.
 std::string resolveScene(const std::string& scene) {
   if (!scene.empty()) return scene;
@@ -48,7 +36,7 @@ std::string resolveScene(const std::string& scene) {
 }
 
 void runView(const ViewOptions& o) {
-  const glm::ivec2 size = parseWindowSize(o.size);
+  const glm::ivec2 size = parseSize("--size", o.size, 64, 8192);
   const std::optional<Shading> shading = parseShading(o.shader);
   if (!shading)
     throw CommandError(kExitBadInput, fmt::format("--shader: unknown shader '{}' ({})", o.shader, shadingNames()));
@@ -61,10 +49,10 @@ void runView(const ViewOptions& o) {
     throw CommandError(kExitNoGl, fmt::format("view: {} (without a display, `drape render` writes images)", e.what()));
   }
   fmt::print(stderr, "view: {}\n", gl::describe(window.info()));
-  // The GPU solver times every pass for the panel; where timer queries work this costs nothing.
-  std::unique_ptr<Solver> solver = o.solver == "gpu"
-                                       ? std::make_unique<GpuSolver>(scene, GpuSolverOptions{.timing = true})
-                                       : makeSolver(scene, o.solver);
+  // The GPU solver runs in the window's context and times every pass for the panel; where timer
+  // queries work this costs nothing.
+  SolverFactory factory({.use_current_context = true});
+  std::unique_ptr<Solver> solver = factory.make(scene, o.solver, {.pass_timing = true});
   ViewerOptions options;
   options.renderer.sphere_latitudes = o.latitudes;
   options.renderer.sphere_longitudes = o.longitudes;
@@ -87,8 +75,7 @@ void addViewCommand(CLI::App& app) {
   cmd->add_option("-o,--longitudes", opts->longitudes, "Sphere longitude segments (default 40)")
       ->check(CLI::Range(3, 1000));
   cmd->add_option("--shader", opts->shader, "Shading model: " + shadingNames());
-  cmd->add_option("--solver", opts->solver, "gpu (default), cpu or cpu64")
-      ->check(CLI::IsMember({"cpu", "cpu64", "gpu"}));
+  cmd->add_option("--solver", opts->solver, "gpu (default), cpu or cpu64")->check(CLI::IsMember(solverNames(false)));
   auto* frames =
       cmd->add_option("--frames", opts->frames, "Simulate N frames, then close (with --screenshot: save the last)")
           ->check(kPositive);

@@ -1,6 +1,8 @@
-// What every solver (CPU float, CPU double, GPU) offers the commands: step, read back, describe passes.
+// What every solver (CPU float, CPU double, GPU) offers the commands: step, read back, describe passes,
+// the blow-up check, waiting for the device and the device memory held.
 #pragma once
 
+#include "core/health.hpp"
 #include "core/scene.hpp"
 #include "core/topology.hpp"
 
@@ -29,6 +31,7 @@ class Solver {
   void stepFrame() {
     for (int s = 0; s < scene().sim.steps_per_frame; ++s)
       step();
+    endFrame();
   }
   virtual void reset() = 0;  // back to the initial positions, time 0
 
@@ -43,11 +46,25 @@ class Solver {
   virtual long long substeps() const = 0;  // substeps taken since reset
   double time() const { return double(substeps()) * scene().sim.dt(); }
 
+  // The blow-up check (core/health.hpp) on the state after the last pass stepped. The GPU answers from
+  // flags its check kernel raised (a few bytes read back, which waits for the GPU); its flags stay
+  // raised until reset().
+  virtual Health health() { return scanHealth(topology(), scene().cloth, readPositions(), readDisplacements()); }
+  // Blocks until every pass given so far has run: stop a clock after this. Nothing to wait for on the CPU.
+  virtual void finish() {}
+  // Bytes of device (GPU) memory the solver allocated; -1 for a solver whose state is in host memory.
+  virtual long long deviceMemoryBytes() const { return -1; }
+
   virtual std::vector<std::string> passes() const = 0;  // passes dispatched per substep, in order
+  // Passes dispatched once per frame, after the last substep's (stepFrame()).
+  virtual std::vector<std::string> framePasses() const { return {}; }
   virtual int dispatchesPerFrame() const { return 0; }
   virtual int threads() const { return 0; }  // CPU threads the solver's loops may use; 0 for the GPU
   virtual std::vector<PassTiming> timings() const { return {}; }
   virtual void resetTimings() {}
+
+ protected:
+  virtual void endFrame() {}  // what a solver runs once per frame, after stepFrame()'s last substep
 };
 
 }  // namespace drape

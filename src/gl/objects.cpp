@@ -182,16 +182,30 @@ void Program::use() const {
   checkDebugErrors();
 }
 
+namespace {
+thread_local DispatchRecorder* t_dispatch_recorder = nullptr;
+}
+
+DispatchRecorder::DispatchRecorder() : outer_(t_dispatch_recorder) {
+  t_dispatch_recorder = this;
+}
+
+DispatchRecorder::~DispatchRecorder() {
+  t_dispatch_recorder = outer_;
+}
+
 void Program::dispatch(glm::uvec3 groups) const {
   glUseProgram(id());
   glDispatchCompute(groups.x, groups.y, groups.z);
   checkDebugErrors();
+  if (t_dispatch_recorder) t_dispatch_recorder->dispatches_.push_back({label_, groups});
 }
 
 void Program::dispatchIndirect(std::size_t offset) const {
   glUseProgram(id());
   glDispatchComputeIndirect(GLintptr(offset));
   checkDebugErrors();
+  if (t_dispatch_recorder) t_dispatch_recorder->dispatches_.push_back({label_, glm::uvec3(0), true});
 }
 
 glm::uvec3 Program::localSize() const {

@@ -282,4 +282,28 @@ class Query {
 // own probe program.
 bool timerQueriesWork();
 
+// Records every compute dispatch this thread issues through Program::dispatch (or dispatchIndirect) while it lives (the
+// innermost one, when nested): the program's label and work groups. It counts what really reaches GL,
+// so tests can hold a solver's own account of its passes against it.
+class DispatchRecorder {
+ public:
+  struct Dispatch {
+    std::string program;   // Program::label()
+    glm::uvec3 groups{0};  // 0 for an indirect dispatch: its sizes are in a GPU buffer
+    bool indirect = false;
+  };
+  DispatchRecorder();
+  ~DispatchRecorder();
+  DispatchRecorder(const DispatchRecorder&) = delete;
+  DispatchRecorder& operator=(const DispatchRecorder&) = delete;
+
+  const std::vector<Dispatch>& dispatches() const { return dispatches_; }
+  void clear() { dispatches_.clear(); }
+
+ private:
+  friend class Program;
+  std::vector<Dispatch> dispatches_;
+  DispatchRecorder* outer_ = nullptr;
+};
+
 }  // namespace drape::gl

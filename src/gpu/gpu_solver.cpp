@@ -143,7 +143,7 @@ bool GpuSolver::gridInOneGroup() const {
 // List entries to allocate before any build has counted them: the points within reach in a flat sheet
 // of the cloth's spacing (pi r^2 / spacing^2), four times over for folds, at least 32 per point, and no
 // more than one buffer may hold. A build that needs more still gives the right answer (self_collide
-// serves the points that did not fit from the grid), and the next readHealth() grows the buffer.
+// serves the points that did not fit from the grid), and the next health() grows the buffer.
 std::uint64_t GpuSolver::pairCapacityEstimate() const {
   const ClothSpec& c = scene_.cloth;
   const std::uint64_t n = std::uint64_t(topo_.pointCount());
@@ -285,7 +285,8 @@ void GpuSolver::uploadParams() {
   p.drag_area = float(wind.drag * c.width * c.height / double(n));
   p.noise_scale = float(wind.noise_scale);
   p.noise_speed = float(wind.noise_speed);
-  p.sane_bound = float(options_.sane_bound);
+  p.sane_bound = float(options_.health.sane_bound);
+  p.blow_up_stretch = float(1.0 + options_.health.max_strain);
   p.point_count = std::uint32_t(n);
   p.grid_width = std::uint32_t(c.num_width_points);
   p.grid_height = std::uint32_t(c.num_height_points);
@@ -340,6 +341,7 @@ void GpuSolver::compilePrograms() {
   programs_.forces_integrate = gl::compileCompute("sim/forces_integrate.comp", defines_);
   programs_.limit_stretch = gl::compileCompute("sim/limit_stretch.comp", defines_);
   programs_.limit_stretch_coloured = gl::compileCompute("sim/limit_stretch_coloured.comp", defines_);
+  programs_.health = gl::compileCompute("sim/health.comp", defines_);
   if (scene_.sim.self_collision) {
     programs_.pairs_check = gl::compileCompute("sim/pairs_check.comp", defines_);
     programs_.pairs_prepare = gl::compileCompute("sim/pairs_prepare.comp", defines_);
@@ -382,6 +384,7 @@ void GpuSolver::setParams(const ClothSpec& cloth, const SimParams& sim) {
   uploadParams();
   invalidatePairs();  // thickness may have changed, and with it the lists' reach
   if (sceneDefines() != defines_) compilePrograms();
+  health_checked_ = false;  // the spring types checked may have changed
 }
 
 }  // namespace drape

@@ -19,12 +19,14 @@
 //   limit_stretch_colour                        Gauss-Seidel stretch scheme: one dispatch per spring colour
 //                                               and stretch pass, each moving both ends of its springs in place
 //   limit_stretch                               Jacobi stretch scheme: once per stretch pass
+// and once per frame, after the last substep (stepFrame()):
+//   health                                      the blow-up check of core/health.hpp, writing only its flags
 // Every pass that reads other points' positions reads one copy of the state and writes the other
 // (Jacobi / ping-pong), so no invocation sees a neighbour's half-finished update.
 #pragma once
 
 #include "core/colouring.hpp"
-#include "core/derived.hpp"
+#include "core/health.hpp"
 #include "core/solver.hpp"
 #include "gl/context.hpp"
 #include "gl/objects.hpp"
@@ -40,7 +42,7 @@ namespace drape {
 struct GpuSolverOptions {
   std::uint32_t buckets = 0;         // self-collision hash buckets, a power of two; 0: one per point, as the CPU grid
   bool timing = false;               // time every pass (GL timer queries; else glFinish + wall clock, which stalls)
-  double sane_bound = 1e5;           // m; a point beyond this on any axis is reported by readHealth()
+  HealthLimits health{};             // what health() reports as a blow-up
   std::size_t max_buffer_bytes = 0;  // largest buffer allowed; 0: GL_MAX_SHADER_STORAGE_BLOCK_SIZE
   double pair_margin = kDefaultPairMargin;  // self-collision list skin / (2*thickness), as CpuSolverOptions
   std::size_t pair_capacity = 0;            // list entries the buffer holds at first; 0: estimated from the cloth
@@ -51,14 +53,6 @@ struct GpuSolverOptions {
 class GpuLimitError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
-};
-
-// What the blow-up check in the integrate kernel saw since the last clearHealth().
-struct GpuHealth {
-  bool non_finite = false;     // a position or displacement became NaN or infinite
-  bool out_of_bounds = false;  // a point went beyond GpuSolverOptions::sane_bound
-  long long first_point = -1;  // smallest index that raised a flag, -1 if none
-  bool ok() const { return !non_finite && !out_of_bounds; }
 };
 
 // The self-collision candidate lists as the GPU built them, read back for tests and the bench.
@@ -83,8 +77,8 @@ struct GpuGrid {
 class GpuSolver final : public Solver {
  public:
   // Uses the current context. `context`, when not empty, is owned by the solver and outlives its GL
-  // objects (makeSolver uses this for `--solver gpu`). Throws GpuLimitError before allocating anything
-  // when the scene does not fit, gl::ShaderError when a kernel does not compile.
+  // objects. Throws GpuLimitError before allocating anything when the scene does not fit,
+  // gl::ShaderError when a kernel does not compile.
   explicit GpuSolver(Scene scene, GpuSolverOptions options = {}, gl::HeadlessContext context = {});
   ~GpuSolver() override;
   GpuSolver(const GpuSolver&) = delete;
@@ -101,6 +95,7 @@ class GpuSolver final : public Solver {
   std::vector<glm::dvec3> readDisplacements() override;
   long long substeps() const override { return substeps_; }
   std::vector<std::string> passes() const override;
+  std::vector<std::string> framePasses() const override { return {passName(kHealth)}; }
   int dispatchesPerFrame() const override;
   std::vector<PassTiming> timings() const override;
   void resetTimings() override;
@@ -133,10 +128,14 @@ class GpuSolver final : public Solver {
   // smallest index), -1 if none. One explicit read-back of a few bytes.
   int pickPoint(glm::vec3 origin, glm::vec3 direction, float radius);
 
-  GpuHealth readHealth();  // explicit read-back; cheap, but it waits for the GPU
+  // The flags raised since the last clearHealth() (reset() clears them). A state that was stepped or
+  // replaced since the last check (step() without stepFrame(), uploadState()) is checked first, so the
+  // answer is always about the current state. One read-back of a few bytes: it waits for the GPU.
+  Health health() override;
   void clearHealth();
-
-  std::size_t gpuMemoryBytes() const;  // all buffers this solver allocated
+  void checkHealth();      // the health pass on the current state, as stepFrame() runs it after the last substep
+  void finish() override;  // glFinish
+  long long deviceMemoryBytes() const override;  // all buffers this solver allocated
   // The #defines the scene's kernels were compiled with (NUM_SPHERES, NUM_PLANES, SELF_COLLISION, WIND).
   const gl::Defines& defines() const { return defines_; }
   const gl::ContextInfo& contextInfo() const { return context_info_; }
@@ -163,6 +162,7 @@ class GpuSolver final : public Solver {
     kLimitStretchColoured,
     kNormals,
     kPick,
+    kHealth,
     kPassCount
   };
   struct StateBuffers {
@@ -174,6 +174,7 @@ class GpuSolver final : public Solver {
     gl::Program pairs_check, pairs_prepare, pairs_grid_count, pairs_count, pairs_scan[3], pairs_fill;
     gl::Program grid_build, grid_scan[3], grid_scatter, grid_rank;
     gl::Program limit_stretch, limit_stretch_coloured;
+    gl::Program health;
     gl::Program normals, pick[2];  // compiled on first use
   };
   struct PendingQuery {
@@ -210,6 +211,7 @@ class GpuSolver final : public Solver {
   void dispatchPingPong(PassId pass, const gl::Program& program);
   void resolveQueries() const;
   void writePoint(std::uint32_t index, const glm::vec4* position, const glm::vec4* displacement);
+  void endFrame() override { checkHealth(); }
 
   // Declared first so it is destroyed last, after every GL object below.
   gl::HeadlessContext owned_context_;
@@ -218,7 +220,8 @@ class GpuSolver final : public Solver {
   GpuSolverOptions options_;
   Topology topo_;
   long long substeps_ = 0;
-  bool pairs_checked_ = false;  // forcesIntegrate checked the current positions' travel
+  bool pairs_checked_ = false;   // forcesIntegrate checked the current positions' travel
+  bool health_checked_ = false;  // the health pass ran on the current state
   int held_ = -1;
   std::uint32_t max_groups_x_ = 65535;
 

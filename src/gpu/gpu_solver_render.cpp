@@ -30,6 +30,7 @@ void GpuSolver::writePoint(std::uint32_t index, const glm::vec4* position, const
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   if (position) state_[current_].position.upload(index * sizeof(glm::vec4), sizeof(glm::vec4), position);
   if (displacement) state_[current_].displacement.upload(index * sizeof(glm::vec4), sizeof(glm::vec4), displacement);
+  health_checked_ = false;
 }
 
 void GpuSolver::setPosition(std::uint32_t index, glm::vec3 position) {

@@ -2,6 +2,10 @@
 #include "gpu/gpu_solver.hpp"
 #include "gpu/layout.hpp"
 
+static_assert(drape::gpu::kHealthNonFinite == drape::Health::kNonFinite &&
+              drape::gpu::kHealthOutOfBounds == drape::Health::kOutOfBounds &&
+              drape::gpu::kHealthOverstretched == drape::Health::kOverstretched);
+
 #include <algorithm>
 #include <chrono>
 #include <cstddef>
@@ -13,6 +17,7 @@ void GpuSolver::step() {
   if (scene_.sim.self_collision) selfCollide();
   limitStretch();
   ++substeps_;
+  health_checked_ = false;
 }
 
 void GpuSolver::forcesIntegrate() {
@@ -112,7 +117,7 @@ std::vector<std::string> GpuSolver::passes() const {
 }
 
 int GpuSolver::dispatchesPerFrame() const {
-  return int(passes().size()) * scene_.sim.steps_per_frame;
+  return int(passes().size()) * scene_.sim.steps_per_frame + int(framePasses().size());
 }
 
 std::string GpuSolver::passName(PassId pass) const {
@@ -160,6 +165,8 @@ std::string GpuSolver::passName(PassId pass) const {
       return "normals";
     case kPick:
       return "pick";
+    case kHealth:
+      return "health";
     case kPassCount:
       break;
   }
@@ -312,6 +319,7 @@ void GpuSolver::uploadState(const std::vector<glm::dvec3>& x, const std::vector<
   state_[current_].displacement.upload(pv);
   substeps_ = substeps;
   pairs_checked_ = false;
+  health_checked_ = false;
 }
 
 std::vector<glm::dvec3> GpuSolver::readPositions() {
@@ -362,7 +370,7 @@ GpuPairs GpuSolver::readPairs() {
   return pairs;
 }
 
-// Called where the host already waits for the GPU (readHealth): when a list build needed more entries
+// Called where the host already waits for the GPU (health()): when a list build needed more entries
 // than the buffer holds, a buffer 1.5x that size replaces it and the lists are rebuilt. Until then the
 // points that did not fit were served from the grid, with the same result.
 void GpuSolver::growPairList() {
@@ -381,24 +389,38 @@ void GpuSolver::growPairList() {
   invalidatePairs();
 }
 
-GpuHealth GpuSolver::readHealth() {
+// After the frame's last pass, so that a state made bad by any pass (self-collision, the stretch limit)
+// is reported in the frame that made it. Binds the current state as input and writes only the flags.
+void GpuSolver::checkHealth() {
+  bindShared();
+  bindState(current_, 1 - current_);
+  dispatch(kHealth, programs_.health, groupsFor(std::uint64_t(topo_.pointCount()), gpu::kLocalSize));
+  health_checked_ = true;
+}
+
+Health GpuSolver::health() {
+  if (!health_checked_) checkHealth();
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   growPairList();
   const gpu::Health h = health_.download<gpu::Health>(1)[0];
-  GpuHealth out;
-  out.non_finite = (h.flags & gpu::kHealthNonFinite) != 0;
-  out.out_of_bounds = (h.flags & gpu::kHealthOutOfBounds) != 0;
+  Health out;
+  out.flags = h.flags;
   out.first_point = h.flags != 0 ? (long long)h.first_point : -1;
   return out;
+}
+
+void GpuSolver::finish() {
+  glFinish();
 }
 
 void GpuSolver::clearHealth() {
   const gpu::Health clean{0u, 0xffffffffu, 0u, 0u};
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   health_.upload(0, sizeof clean, &clean);
+  health_checked_ = false;  // the next health() checks the current state again
 }
 
-std::size_t GpuSolver::gpuMemoryBytes() const {
+long long GpuSolver::deviceMemoryBytes() const {
   std::size_t total = 0;
   for (const StateBuffers& s : state_)
     total += s.position.size() + s.displacement.size();
@@ -408,7 +430,7 @@ std::size_t GpuSolver::gpuMemoryBytes() const {
         &pair_anchor_, &pair_start_, &pair_list_,   &normals_,      &tangents_,    &vertex_tri_offsets_,
         &vertex_tris_, &triangles_,  &uvs_,         &pick_})
     total += b->size();
-  return total;
+  return (long long)total;
 }
 
 }  // namespace drape

@@ -2,7 +2,6 @@
 
 #include "gl/debug.hpp"
 #include "gpu/gpu_solver.hpp"
-#include "gpu/health.hpp"
 #include "render/image.hpp"
 
 #include <GLFW/glfw3.h>
@@ -109,7 +108,7 @@ void Viewer::simulateFrame() {
   solver_->stepFrame();
   ++frames_simulated_;
   // Every frame, so that no frame of garbage is ever drawn; on the GPU this reads back a few bytes.
-  if (std::string why = checkHealth(*solver_); !why.empty()) {
+  if (std::string why = solver_->health().describe(); !why.empty()) {
     blow_up_ = "blow-up at frame " + std::to_string(frames_simulated_) + ": " + why;
     paused_ = true;
     status_ = blow_up_ + ". Paused; R resets the cloth (lower ks or raise steps/frame first).";

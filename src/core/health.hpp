@@ -1,0 +1,42 @@
+// The blow-up check every long run applies after each frame, for any solver: the viewer pauses on it,
+// `drape simulate` exits 4 on it, bench marks a run with it. The CPU solvers scan their state with
+// scanHealth; the GPU solver runs the same tests in a kernel after the frame's last pass
+// (glsl/sim/health.comp) and reads back only the flags.
+#pragma once
+
+#include "core/scene.hpp"
+#include "core/topology.hpp"
+
+#include <string>
+#include <vector>
+
+namespace drape {
+
+// m: a coordinate beyond this, on any axis, is a runaway point (no scene comes near: the cloths are metres).
+inline constexpr double kSaneBound = 1e5;
+// A spring longer than (1 + this) times its rest length is a blow-up: the stretch limit holds springs
+// near 10% (docs/design.md section 2); only a diverging run gets near 11 times the rest length.
+inline constexpr double kBlowUpStrain = 10.0;
+
+struct HealthLimits {
+  double sane_bound = kSaneBound;
+  double max_strain = kBlowUpStrain;
+};
+
+// What a health check found. The flag values are the GPU's (glsl/shared/layout.h, kHealth*).
+struct Health {
+  static constexpr unsigned kNonFinite = 1u;      // a position or displacement is NaN or infinite
+  static constexpr unsigned kOutOfBounds = 2u;    // a coordinate beyond HealthLimits::sane_bound
+  static constexpr unsigned kOverstretched = 4u;  // an enabled spring beyond (1 + max_strain) x rest
+  unsigned flags = 0;
+  long long first_point = -1;  // smallest index of a point that raised a flag (a spring raises both ends)
+  bool ok() const { return flags == 0; }
+  std::string describe() const;  // empty while ok, else one line naming every flag and the point
+};
+
+// Non-finite x or v, |x| beyond the bound, enabled springs of `topo` stretched beyond the limit.
+// Only the flags and the first point are kept, so that a CPU scan and the GPU kernel can be compared.
+Health scanHealth(const Topology& topo, const ClothSpec& cloth, const std::vector<glm::dvec3>& x,
+                  const std::vector<glm::dvec3>& v, const HealthLimits& limits = {});
+
+}  // namespace drape

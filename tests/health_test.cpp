@@ -1,0 +1,90 @@
+// The blow-up check both solvers share (src/core/health.hpp), on hand-made states of a 4 x 4 cloth
+// (spacing 1/3 m, so a structural spring rests at 1/3 m), and the CPU solver's health() built on it.
+#include "core/health.hpp"
+#include "cpu/cpu_solver.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+namespace drape {
+namespace {
+
+struct Grid {
+  ClothSpec cloth;
+  Topology topo;
+  std::vector<glm::dvec3> x, v;
+  Grid() {
+    cloth.num_width_points = 4;
+    cloth.num_height_points = 4;
+    topo = buildTopology(cloth);
+    x = topo.initial_positions;
+    v.assign(x.size(), glm::dvec3(0));
+  }
+};
+
+TEST(Health, ARestingClothIsHealthy) {
+  const Grid g;
+  const Health h = scanHealth(g.topo, g.cloth, g.x, g.v);
+  EXPECT_TRUE(h.ok());
+  EXPECT_EQ(h.first_point, -1);
+  EXPECT_EQ(h.describe(), "");
+}
+
+TEST(Health, NonFiniteDisplacementAloneIsFlagged) {
+  Grid g;
+  g.v[9].y = std::numeric_limits<double>::quiet_NaN();
+  const Health h = scanHealth(g.topo, g.cloth, g.x, g.v);
+  EXPECT_EQ(h.flags, Health::kNonFinite);
+  EXPECT_EQ(h.first_point, 9);
+  EXPECT_NE(h.describe().find("non-finite"), std::string::npos) << h.describe();
+}
+
+TEST(Health, TheSaneBoundIsPerAxisAndExclusive) {
+  Grid g;
+  const HealthLimits limits{.sane_bound = 2.0, .max_strain = 1e9};  // strain out of the way
+  g.x[5].z = -2.0;                                                  // on the bound: sane
+  EXPECT_TRUE(scanHealth(g.topo, g.cloth, g.x, g.v, limits).ok());
+  g.x[5].z = -2.001;
+  const Health h = scanHealth(g.topo, g.cloth, g.x, g.v, limits);
+  EXPECT_EQ(h.flags, Health::kOutOfBounds);
+  EXPECT_EQ(h.first_point, 5);
+}
+
+// Point 15 (grid corner (3, 3), at x = 1 m) moved along +x, away from point 14 (its structural
+// neighbour on the left, rest 1/3 m): at 10.9 rest lengths the spring is inside 1 + 10, at 11.1 beyond.
+TEST(Health, ASpringBeyondElevenRestLengthsFlagsBothEnds) {
+  Grid g;
+  const double rest = 1.0 / 3.0;
+  g.x[15].x = g.x[14].x + 10.9 * rest;
+  EXPECT_TRUE(scanHealth(g.topo, g.cloth, g.x, g.v).ok());
+  g.x[15].x = g.x[14].x + 11.1 * rest;
+  Health h = scanHealth(g.topo, g.cloth, g.x, g.v);
+  EXPECT_EQ(h.flags, Health::kOverstretched);
+  // Only 14-15 is beyond: 15 sits 10.1 rest lengths right of 11 and 7, so 15-11 is sqrt(10.1^2 + 1) = 10.15
+  // rest lengths, the diagonal 15-10 sqrt(11.1^2 + 1) / sqrt(2) = 7.9, the bending springs 6.05 and 5.1.
+  EXPECT_EQ(h.first_point, 14);
+  // The same spring, its type disabled, is not checked.
+  g.cloth.enable_structural = false;
+  g.topo = buildTopology(g.cloth);
+  h = scanHealth(g.topo, g.cloth, g.x, g.v);
+  EXPECT_TRUE(h.ok()) << h.describe();
+}
+
+TEST(Health, TheCpuSolverReportsTheStateItHolds) {
+  Scene scene;
+  scene.cloth.num_width_points = 4;
+  scene.cloth.num_height_points = 4;
+  CpuSolver<float> cpu(scene);
+  EXPECT_TRUE(cpu.health().ok());
+  std::vector<glm::dvec3> x = cpu.topology().initial_positions, v(x.size(), glm::dvec3(0));
+  x[3].y = std::numeric_limits<double>::quiet_NaN();  // NaN: no spring compares as longer, only 3 is flagged
+  cpu.setState(x, v);
+  EXPECT_EQ(cpu.health().flags, Health::kNonFinite);
+  EXPECT_EQ(cpu.health().first_point, 3);
+  EXPECT_EQ(cpu.deviceMemoryBytes(), -1);
+}
+
+}  // namespace
+}  // namespace drape
