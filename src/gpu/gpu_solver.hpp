@@ -26,6 +26,7 @@
 #pragma once
 
 #include "core/colouring.hpp"
+#include "core/derived.hpp"
 #include "core/health.hpp"
 #include "core/solver.hpp"
 #include "gl/context.hpp"
