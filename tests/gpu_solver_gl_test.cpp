@@ -603,8 +603,8 @@ TEST_F(GpuSolverCommand, WithoutAContextTheGpuSolverExitsWith3AndTheCpuStillRuns
 const std::map<std::string, int> kBundledDispatchesPerFrame = {
     {"pinned2.json", 13 * 30 + 1}, {"pinned4.json", 13 * 30 + 1},  // "self_collision": false
     {"wind.json", 13 * 30 + 1},                                    // "self_collision": false
-    {"plane.json", 15 * 30 + 1},   {"selfCollision.json", 15 * 30 + 1},
-    {"sphere.json", 15 * 30 + 1},  {"two_spheres.json", 15 * 30 + 1},
+    {"plane.json", 20 * 30 + 1},   {"selfCollision.json", 20 * 30 + 1},
+    {"sphere.json", 20 * 30 + 1},  {"two_spheres.json", 20 * 30 + 1},
 };
 
 Strings bundledScenes() {
@@ -620,7 +620,12 @@ Strings bundledScenes() {
 std::string kernelOf(const std::string& pass) {
   const std::pair<const char*, const char*> table[] = {
       {"forces+integrate", "forces_integrate.comp"},
-      {"grid_count", "grid_count.comp"},
+      {"pairs_check", "pairs_check.comp"},
+      {"pairs_prepare", "pairs_prepare.comp"},
+      {"pairs_grid_count", "pairs_grid_count.comp"},
+      {"pairs_count", "pairs_count.comp"},
+      {"pairs_scan", "grid_scan.comp"},  // pairs_scan, pairs_scan_blocks, pairs_scan_offsets: the same file
+      {"pairs_fill", "pairs_fill.comp"},
       {"grid_build", "grid_build.comp"},
       {"grid_scan", "grid_scan.comp"},  // grid_scan, grid_scan_blocks, grid_scan_offsets: one file, 3 stages
       {"grid_scatter", "grid_scatter.comp"},
