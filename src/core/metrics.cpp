@@ -1,5 +1,7 @@
 #include "core/metrics.hpp"
 
+#include "core/cloth_mesh.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -43,6 +45,14 @@ double rmsDeviation(const Positions& a, const Positions& b) {
 }
 
 double clothSize(const ClothSpec& cloth) {
+  if (cloth.mesh) {
+    glm::dvec3 lo = cloth.mesh->positions.front(), hi = lo;
+    for (const glm::dvec3& x : cloth.mesh->positions) {
+      lo = glm::min(lo, x);
+      hi = glm::max(hi, x);
+    }
+    return glm::distance(lo, hi);
+  }
   return std::hypot(cloth.width, cloth.height);
 }
 

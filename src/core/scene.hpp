@@ -4,7 +4,9 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -18,6 +20,8 @@ inline const char* stretchSchemeName(StretchScheme s) {
   return s == StretchScheme::GaussSeidel ? "gauss_seidel" : "jacobi";
 }
 inline constexpr int kSpringTypeCount = 3;
+
+struct ClothMesh;  // core/cloth_mesh.hpp
 
 struct ClothSpec {
   double width = 1.0;                                 // m, along x
@@ -33,8 +37,16 @@ struct ClothSpec {
   double damping = 0.2;                               // percent of the displacement lost per substep
   double density = 150.0;                             // kg/m^2 (the CS184 scenes use 150)
   double ks = 5000.0;                                 // N/m; bending springs use 0.2*ks
+  // A cloth from a mesh file instead of a grid (the grid keys above are then unused): read and checked
+  // on load, shared by every copy of the scene.
+  std::shared_ptr<const ClothMesh> mesh;
+  std::string mesh_file;                       // as the scene wrote it, for messages
+  std::vector<std::uint32_t> pinned_vertices;  // point indices that never move (grid or mesh)
+  bool has_pin_box = false;                    // points inside [pin_box_min, pin_box_max] never move
+  glm::dvec3 pin_box_min{0.0}, pin_box_max{0.0};
 
-  int pointCount() const { return num_width_points * num_height_points; }
+  int pointCount() const;
+  bool isGrid() const { return mesh == nullptr; }
   bool springEnabled(SpringType t) const {
     return t == SpringType::Structural ? enable_structural
            : t == SpringType::Shearing ? enable_shearing

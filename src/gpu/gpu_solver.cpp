@@ -1,5 +1,6 @@
 #include "gpu/gpu_solver.hpp"
 
+#include "core/cloth_mesh.hpp"
 #include "core/derived.hpp"
 #include "gl/shader.hpp"
 #include "gpu/layout.hpp"
@@ -22,6 +23,9 @@ std::string mebibytes(std::uint64_t bytes) {
 }
 
 std::uint64_t springCount(const ClothSpec& c, SpringType type) {
+  if (c.mesh)
+    return std::uint64_t(std::count_if(c.mesh->springs.begin(), c.mesh->springs.end(),
+                                       [type](const MeshSpring& s) { return s.type == type; }));
   const std::uint64_t W = std::uint64_t(c.num_width_points), H = std::uint64_t(c.num_height_points);
   switch (type) {
     case SpringType::Structural:
@@ -58,12 +62,12 @@ GpuSolver::GpuSolver(Scene scene, GpuSolverOptions options, gl::HeadlessContext 
   try {
     allocate();
   } catch (const gl::GlError& e) {
-    throw GpuLimitError("gpu solver: allocating the buffers for a " + std::to_string(topo_.W) + "x" +
-                        std::to_string(topo_.H) + " cloth failed: " + e.what());
+    throw GpuLimitError("gpu solver: allocating the buffers for a " + std::to_string(topo_.pointCount()) +
+                        "-point cloth failed: " + e.what());
   }
   if (glGetError() == GL_OUT_OF_MEMORY)
-    throw GpuLimitError("gpu solver: out of GPU memory allocating the buffers for a " + std::to_string(topo_.W) + "x" +
-                        std::to_string(topo_.H) + " cloth");
+    throw GpuLimitError("gpu solver: out of GPU memory allocating the buffers for a " +
+                        std::to_string(topo_.pointCount()) + "-point cloth");
   timer_queries_ = options_.timing && gl::timerQueriesWork();
   resetTimings();
   compilePrograms();
@@ -77,7 +81,7 @@ GpuSolver::~GpuSolver() {
 
 void GpuSolver::checkLimits() const {
   const ClothSpec& c = scene_.cloth;
-  const std::uint64_t n = std::uint64_t(c.num_width_points) * std::uint64_t(c.num_height_points);
+  const std::uint64_t n = std::uint64_t(c.pointCount());
   std::uint64_t springs = 0;
   for (int t = 0; t < kSpringTypeCount; ++t)
     if (enabled_springs_[t]) springs += springCount(c, SpringType(t));
@@ -85,7 +89,9 @@ void GpuSolver::checkLimits() const {
   GLint64 block = 0;
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
   const std::uint64_t limit = options_.max_buffer_bytes ? options_.max_buffer_bytes : std::uint64_t(block);
-  const std::string cloth = std::to_string(c.num_width_points) + "x" + std::to_string(c.num_height_points) + " cloth";
+  const std::string cloth =
+      c.mesh ? std::to_string(n) + "-point mesh cloth"
+             : std::to_string(c.num_width_points) + "x" + std::to_string(c.num_height_points) + " cloth";
   struct Need {
     const char* what;
     std::uint64_t bytes;
@@ -141,6 +147,7 @@ void GpuSolver::allocate() {
     s.displacement = gl::Buffer::create(n * sizeof(glm::vec4), nullptr, kUpdatable);
   }
   params_ = gl::Buffer::create(sizeof(gpu::SimParams), nullptr, kUpdatable);
+  point_mass_ = gl::Buffer::create(n * sizeof(gpu::PointMass), nullptr, kUpdatable);
   uploadParams();
   uploadAdjacency();
 
@@ -194,15 +201,25 @@ void GpuSolver::uploadParams() {
   const ClothSpec& c = scene_.cloth;
   const SimParams& sim = scene_.sim;
   const WindSpec& wind = sim.wind;
-  const int n = c.num_width_points * c.num_height_points;
-  const float mass = float(derived::pointMass(c));
+  const int n = topo_.pointCount();
   const float dt = float(sim.dt());
   const float thickness = float(c.thickness);
+  std::vector<gpu::PointMass> masses(std::size_t(n), gpu::PointMass{});
+  for (std::size_t i = 0; i < masses.size(); ++i) {
+    const float mass = float(derived::pointMass(c, topo_, i));
+    masses[i].weight = glm::vec4(glm::vec3(sim.gravity) * mass, 1.0f / mass);
+    masses[i].drag_area = float(derived::dragArea(wind.drag, c, topo_, i));
+    const auto& stencil = topo_.normal_stencil[i];
+    masses[i].normal_a = stencil[0];
+    masses[i].normal_b = stencil[1];
+    masses[i].normal_c = stencil[2];
+    masses[i].normal_d = stencil[3];
+  }
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // kernels still reading the old values come first
+  point_mass_.upload(masses);
   gpu::SimParams p{};
-  p.weight = glm::vec4(glm::vec3(sim.gravity) * mass, 0.0f);
   p.stiffness = glm::vec4(float(c.ks), float(c.ks), float(derived::bendingStiffness(c)), 0.0f);
   p.wind_velocity = glm::vec4(glm::vec3(wind.velocity), float(wind.turbulence));
-  p.inv_mass = 1.0f / mass;
   p.dt = dt;
   p.dt2 = dt * dt;
   p.keep = float(1.0 - c.damping / 100.0);
@@ -210,13 +227,10 @@ void GpuSolver::uploadParams() {
   p.inv_cell_size = 1.0f / (2.0f * thickness);  // as HashGrid<float>::build rounds it
   p.steps_per_frame = float(sim.steps_per_frame);
   p.stretch_limit = float(sim.stretch_limit);
-  p.drag_area = float(wind.drag * c.width * c.height / double(n));
   p.noise_scale = float(wind.noise_scale);
   p.noise_speed = float(wind.noise_speed);
   p.sane_bound = float(options_.sane_bound);
   p.point_count = std::uint32_t(n);
-  p.grid_width = std::uint32_t(c.num_width_points);
-  p.grid_height = std::uint32_t(c.num_height_points);
   p.bucket_count = bucketCount();
   p.bucket_mask = p.bucket_count - 1;
   p.scan_blocks = (p.bucket_count + gpu::kScanBlock - 1) / gpu::kScanBlock;

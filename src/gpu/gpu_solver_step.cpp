@@ -131,6 +131,7 @@ std::string GpuSolver::passName(PassId pass) const {
 // every stage binds what it uses; a binding is a cheap state change.
 void GpuSolver::bindShared() const {
   params_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingParams);
+  point_mass_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingPointMass);
   offsets_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingOffsets);
   neighbors_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingNeighbors);
   colliders_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColliders);
@@ -319,9 +320,9 @@ std::size_t GpuSolver::gpuMemoryBytes() const {
   std::size_t total = 0;
   for (const StateBuffers& s : state_)
     total += s.position.size() + s.displacement.size();
-  for (const gl::Buffer* b : {&params_, &offsets_, &neighbors_, &colliders_, &health_, &grid_points_, &grid_counts_,
-                              &grid_start_, &grid_blocks_, &grid_scatter_, &grid_sorted_, &normals_, &tangents_,
-                              &vertex_tri_offsets_, &vertex_tris_, &triangles_, &uvs_, &pick_})
+  for (const gl::Buffer* b : {&params_, &point_mass_, &offsets_, &neighbors_, &colliders_, &health_, &grid_points_,
+                              &grid_counts_, &grid_start_, &grid_blocks_, &grid_scatter_, &grid_sorted_, &normals_,
+                              &tangents_, &vertex_tri_offsets_, &vertex_tris_, &triangles_, &uvs_, &pick_})
     total += b->size();
   return total;
 }

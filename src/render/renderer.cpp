@@ -57,10 +57,17 @@ void bindStorage(GLuint binding, GLuint buffer) {
 // The cloth's footprint on a plane: where it lands when it falls flat.
 void includePlaneFootprint(Bounds& bounds, const PlaneSpec& plane, const Topology& topology) {
   const glm::vec3 n = glm::normalize(glm::vec3(plane.normal)), p = glm::vec3(plane.point);
-  const int W = topology.W, H = topology.H;
-  for (int corner : {0, W - 1, (H - 1) * W, H * W - 1}) {
-    const glm::vec3 x = glm::vec3(topology.initial_positions[std::size_t(corner)]);
+  auto include = [&](std::size_t i) {
+    const glm::vec3 x = glm::vec3(topology.initial_positions[i]);
     bounds.include(x - glm::dot(x - p, n) * n);
+  };
+  const int W = topology.W, H = topology.H;
+  if (W > 0) {
+    for (int corner : {0, W - 1, (H - 1) * W, H * W - 1})
+      include(std::size_t(corner));
+  } else {
+    for (std::size_t i = 0; i < topology.initial_positions.size(); ++i)
+      include(i);
   }
 }
 
