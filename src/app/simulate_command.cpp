@@ -41,10 +41,12 @@ void printSummary(const Scene& scene, Solver& solver, int frames, double wall_ms
   fmt::print("centroid     ({:.5f}, {:.5f}, {:.5f}) m\n", c.x, c.y, c.z);
   fmt::print("max strain   {:.4f}\n", maxStrain(solver.topology(), scene.cloth, x));
   const std::vector<double> d = colliderDistances(scene, x);
+  const std::size_t planes_end = scene.spheres.size() + scene.planes.size();
   for (std::size_t i = 0; i < d.size(); ++i) {
-    const bool sphere = i < scene.spheres.size();
-    fmt::print("{:<12} {:.5f} m (closest point; negative is inside)\n",
-               fmt::format("{} {}", sphere ? "sphere" : "plane", sphere ? i : i - scene.spheres.size()), d[i]);
+    const std::string name = i < scene.spheres.size() ? fmt::format("sphere {}", i)
+                             : i < planes_end         ? fmt::format("plane {}", i - scene.spheres.size())
+                                                      : fmt::format("mesh {}", i - planes_end);
+    fmt::print("{:<12} {:.5f} m (closest point; negative is inside)\n", name, d[i]);
   }
   // Timing is the one line that differs between runs; everything above is deterministic.
   fmt::print("time         {:.3f} ms per frame\n", frames > 0 ? wall_ms / frames : 0.0);

@@ -1,6 +1,7 @@
 #include "core/metrics.hpp"
 
 #include "core/cloth_mesh.hpp"
+#include "core/mesh_obstacle.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -83,6 +84,12 @@ std::vector<double> colliderDistances(const Scene& scene, const Positions& x) {
     double m = inf;
     for (const auto& p : x)
       m = std::min(m, glm::dot(p - pl.point, pl.normal));
+    out.push_back(m);
+  }
+  for (const MeshSpec& mesh : scene.meshes) {
+    double m = inf;
+    for (const auto& p : x)
+      m = std::min(m, signedDistance(*mesh.mesh, p));
     out.push_back(m);
   }
   return out;

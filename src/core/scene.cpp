@@ -7,6 +7,7 @@
 #include "core/scene.hpp"
 
 #include "core/cloth_mesh.hpp"
+#include "core/mesh_obstacle.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -442,6 +443,28 @@ PlaneSpec readPlane(const Node& n) {
   return p;
 }
 
+// Obstacles beyond this many vertices are not what a scene here needs, and each costs its bake.
+constexpr long long kMaxObstacleVertices = 4LL * 1024 * 1024;
+
+MeshSpec readMeshObstacle(const Node& n, const std::string& scene_file) {
+  n.expectObject({"obj", "offset", "scale", "friction"});
+  MeshSpec m;
+  Node obj = n.require("obj");
+  m.obj = obj.text();
+  if (m.obj.empty()) obj.fail("empty path");
+  if (auto v = n.find("offset")) m.offset = v->vec3();
+  if (auto v = n.find("scale")) m.scale = positive(*v);
+  if (auto v = n.find("friction")) m.friction = between(*v, 0.0, 1.0);
+  const std::filesystem::path file = std::filesystem::path(scene_file).parent_path() / m.obj;
+  try {
+    m.mesh =
+        std::make_shared<const MeshObstacle>(buildMeshObstacle(readObj(file, kMaxObstacleVertices), m.offset, m.scale));
+  } catch (const MeshError& e) {
+    obj.fail(file.string() + ": " + e.what());
+  }
+  return m;
+}
+
 WindSpec readWind(const Node& n) {
   n.expectObject({"enabled", "velocity", "turbulence", "noise_scale", "noise_speed", "drag"});
   WindSpec w;
@@ -524,13 +547,17 @@ Scene parseScene(const std::string& json_text, const std::string& name) {
   if (!builder.document().is_object()) {
     throw SceneError(name + ": top level: expected an object, got " + builder.document().type_name());
   }
-  root.expectObject({"cloth", "sphere", "plane", "spheres", "planes", "simulation"});
+  root.expectObject({"cloth", "sphere", "plane", "spheres", "planes", "meshes", "simulation"});
 
   Scene scene;
   scene.path = name;
   scene.cloth = readCloth(root.require("cloth"), name);
   readColliders(root, "sphere", "spheres", readSphere, scene.spheres);
   readColliders(root, "plane", "planes", readPlane, scene.planes);
+  if (auto v = root.find("meshes")) {
+    for (std::size_t i = 0, count = v->arraySize(); i < count; ++i)
+      scene.meshes.push_back(readMeshObstacle(v->element(i), name));
+  }
   if (auto v = root.find("simulation")) scene.sim = readSimulation(*v);
   checkDerived(scene, root);
   return scene;

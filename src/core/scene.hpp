@@ -21,7 +21,8 @@ inline const char* stretchSchemeName(StretchScheme s) {
 }
 inline constexpr int kSpringTypeCount = 3;
 
-struct ClothMesh;  // core/cloth_mesh.hpp
+struct ClothMesh;     // core/cloth_mesh.hpp
+struct MeshObstacle;  // core/mesh_obstacle.hpp
 
 struct ClothSpec {
   double width = 1.0;                                 // m, along x
@@ -66,6 +67,16 @@ struct PlaneSpec {
   double friction = 0.5;       // [0, 1]
 };
 
+// A static triangle mesh the cloth collides with (scene key "meshes"), read and baked into a signed
+// distance field on load.
+struct MeshSpec {
+  std::string obj;         // as the scene wrote it
+  glm::dvec3 offset{0.0};  // m, added after scaling
+  double scale = 1.0;      // > 0
+  double friction = 0.3;   // [0, 1], as spheres
+  std::shared_ptr<const MeshObstacle> mesh;
+};
+
 // Wind: a steady air velocity plus smooth gradient noise in space and time. The air pushes each point
 // along its normal in proportion to the relative normal velocity (a simple drag model).
 struct WindSpec {
@@ -97,6 +108,7 @@ struct Scene {
   ClothSpec cloth;
   std::vector<SphereSpec> spheres;
   std::vector<PlaneSpec> planes;
+  std::vector<MeshSpec> meshes;  // collided with after the planes
   SimParams sim;
 };
 

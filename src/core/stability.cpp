@@ -125,6 +125,8 @@ Scene withSubsteps(const Scene& scene, int steps_per_frame) {
     s.friction = rescale(s.friction);
   for (PlaneSpec& p : out.planes)
     p.friction = rescale(p.friction);
+  for (MeshSpec& m : out.meshes)
+    m.friction = rescale(m.friction);
   return out;
 }
 

@@ -1,4 +1,5 @@
 #include "cpu/cpu_solver.hpp"
+#include "cpu/mesh_physics.hpp"
 #include "cpu/parallel.hpp"
 
 #include "core/derived.hpp"
@@ -87,7 +88,7 @@ bool CpuSolver<T>::needsPass(int pass) const {
     case kSelfCollide:
       return scene_.sim.self_collision;
     case kCollide:
-      return !scene_.spheres.empty() || !scene_.planes.empty();
+      return !scene_.spheres.empty() || !scene_.planes.empty() || !scene_.meshes.empty();
     case kLimitStretch:
       return scene_.sim.stretch_passes > 0;
     default:
@@ -237,6 +238,11 @@ void CpuSolver<T>::collide() {
       }
     for (const PlaneSpec& p : scene_.planes)
       if (physics::collidePlane(x, v, vec3(p.point), vec3(p.normal), T(p.friction), c)) {
+        x += c;
+        v += c;
+      }
+    for (const MeshSpec& m : scene_.meshes)
+      if (physics::collideField(x, v, m.mesh->field, T(m.friction), c)) {
         x += c;
         v += c;
       }

@@ -4,6 +4,7 @@
 #include "core/derived.hpp"
 #include "gl/shader.hpp"
 #include "gpu/layout.hpp"
+#include "gpu/mesh_colliders.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -156,6 +157,7 @@ void GpuSolver::allocate() {
     colliders.push_back({glm::vec4(glm::vec3(s.origin), float(s.radius)), glm::vec4(float(s.friction), 0, 0, 0)});
   for (const PlaneSpec& p : scene_.planes)
     colliders.push_back({glm::vec4(glm::vec3(p.point), float(p.friction)), glm::vec4(glm::vec3(p.normal), 0)});
+  appendMeshColliders(colliders, scene_.meshes);
   colliders_ = gl::Buffer::fromVector(colliders, 0);
   health_ = gl::Buffer::create(sizeof(gpu::Health), nullptr, kUpdatable);
   pick_ = gl::Buffer::create(sizeof(gpu::PickResult), nullptr, kUpdatable);
@@ -269,10 +271,12 @@ void GpuSolver::uploadAdjacency() {
 }
 
 gl::Defines GpuSolver::sceneDefines() const {
-  return {{"NUM_SPHERES", std::to_string(scene_.spheres.size())},
-          {"NUM_PLANES", std::to_string(scene_.planes.size())},
-          {"SELF_COLLISION", scene_.sim.self_collision ? "1" : "0"},
-          {"WIND", scene_.sim.wind.enabled ? "1" : "0"}};
+  gl::Defines d = {{"NUM_SPHERES", std::to_string(scene_.spheres.size())},
+                   {"NUM_PLANES", std::to_string(scene_.planes.size())},
+                   {"SELF_COLLISION", scene_.sim.self_collision ? "1" : "0"},
+                   {"WIND", scene_.sim.wind.enabled ? "1" : "0"}};
+  if (!scene_.meshes.empty()) d.emplace_back("NUM_MESHES", std::to_string(scene_.meshes.size()));
+  return d;
 }
 
 // Kernels are compiled for this scene, so code for absent features does not exist in them. Kernels

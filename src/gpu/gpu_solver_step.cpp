@@ -91,7 +91,7 @@ int GpuSolver::dispatchesPerFrame() const {
 }
 
 std::string GpuSolver::passName(PassId pass) const {
-  const bool colliders = !scene_.spheres.empty() || !scene_.planes.empty();
+  const bool colliders = !scene_.spheres.empty() || !scene_.planes.empty() || !scene_.meshes.empty();
   switch (pass) {
     case kForcesIntegrate:
       return std::string("forces+integrate") + (scene_.sim.self_collision ? "+grid_count"
