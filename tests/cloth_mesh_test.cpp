@@ -9,10 +9,14 @@
 #include "mesh_test_support.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <fstream>
 #include <numeric>
 #include <ostream>
+#include <sstream>
 
 namespace drape {
 namespace {
@@ -214,6 +218,35 @@ TEST(MeshCloth, GridKeysBesideAMeshAreRefused) {
     EXPECT_NE(std::string(e.what()).find("cloth.pinned_vertices[0]: 9 is not a point of this cloth"), std::string::npos)
         << e.what();
   }
+}
+
+// What a user meets: `drape simulate` on a scene with a bad mesh exits 2 with one line on stderr naming the
+// scene, the key, the mesh file and the problem, and writes no --out.
+TEST(MeshClothCommand, BadMeshIsStatusTwoWithOneLineAndNoOutput) {
+  const auto dir = mesh_test::tempDir();
+  writeFile("cmd_bad.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 0 1 0\nv 0 -1 0\nf 1 2 3\nf 2 1 4\nf 1 2 5\n");
+  const auto scene = writeFile("cmd_bad.json", R"({"cloth": {"mesh": "cmd_bad.obj", "thickness": 0.01}})");
+  std::filesystem::remove(dir / "cmd_out.json");
+  std::filesystem::remove(dir / "cmd_err.txt");
+  const std::string cmd = std::string(DRAPE_BINARY) + " simulate " + scene.string() + " --out " +
+                          (dir / "cmd_out.json").string() + " >/dev/null 2>" + (dir / "cmd_err.txt").string();
+  const int raw = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(raw));
+  EXPECT_EQ(WEXITSTATUS(raw), 2);
+  std::stringstream err;
+  err << std::ifstream(dir / "cmd_err.txt").rdbuf();
+  const std::string text = err.str();
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+  EXPECT_NE(text.find(scene.string() + ": cloth.mesh: "), std::string::npos) << text;
+  EXPECT_NE(text.find("non-manifold"), std::string::npos) << text;
+  EXPECT_FALSE(std::filesystem::exists(dir / "cmd_out.json"));
+  // bench resamples grids: a mesh cloth is refused the same way.
+  const std::string flag = std::string(DRAPE_SOURCE_DIR) + "/scenes/flag.json";
+  const int bench = std::system(
+      (std::string(DRAPE_BINARY) + " bench --scenes " + flag + " --solver cpu --sizes 8 --frames 1 >/dev/null 2>&1")
+          .c_str());
+  ASSERT_TRUE(WIFEXITED(bench));
+  EXPECT_EQ(WEXITSTATUS(bench), 2);
 }
 
 }  // namespace

@@ -84,6 +84,18 @@ TEST_F(GpuMeshDeterminism, MeshObstacleAndMeshClothRunsAreBitIdentical) {
   }
 }
 
+class GpuMeshLimits : public GlTest {};
+
+TEST_F(GpuMeshLimits, AMeshBeyondTheBufferLimitIsRefusedBeforeAnyBuffer) {
+  const Scene scene = gpu_test::standardScene("flag.json");
+  try {
+    GpuSolver gpu(scene, {.max_buffer_bytes = 4096});
+    FAIL() << "a 651-point mesh fitted 4 KiB buffers";
+  } catch (const GpuLimitError& e) {
+    EXPECT_NE(std::string(e.what()).find("a 651-point mesh cloth needs"), std::string::npos) << e.what();
+  }
+}
+
 class RenderExport : public GlTest {};
 
 TEST_F(RenderExport, RenderWritesTheUsdaOfTheFramesItDraws) {
