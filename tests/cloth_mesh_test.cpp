@@ -197,6 +197,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadMesh{"missing", "", "cannot open: no such file"}, BadMesh{"no_faces", kTriangle, "no faces"},
         BadMesh{"nan_vertex", "v 0 0 0\nv 1 nan 0\nv 0 0 1\nf 1 2 3\n", "line 2: vertex coordinate 'nan'"},
         BadMesh{"inf_vertex", "v 0 0 0\nv 1 1e999 0\nv 0 0 1\nf 1 2 3\n", "not a finite number"},
+        BadMesh{"beyond_float", "v 0 0 0\nv 1e300 0 0\nv 0 0 1\nf 1 2 3\n", "vertex 1 is beyond float range"},
         BadMesh{"two_coordinates", "v 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\n", "needs x, y and z"},
         BadMesh{"index_out_of_range", kTriangle + "f 1 2 4\n", "face 0 names vertex 3"},
         BadMesh{"repeated_corner", kTriangle + "f 1 2 2\n", "face 0 is degenerate: vertex 1 appears twice"},

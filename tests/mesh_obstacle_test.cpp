@@ -137,6 +137,13 @@ TEST(MeshObstacle, MissingFileAndBadKeysAreRefused) {
   EXPECT_THROW(parseScene("{" + cloth + R"(, "meshes": [{"obj": "box.obj", "scale": 0}]})", scene), SceneError);
   EXPECT_THROW(parseScene("{" + cloth + R"(, "meshes": [{"obj": "box.obj", "friction": 2}]})", scene), SceneError);
   EXPECT_THROW(parseScene("{" + cloth + R"(, "meshes": [{"obj": "box.obj", "ofset": [0, 0, 0]}]})", scene), SceneError);
+  try {
+    mesh_test::writeFile("big.obj", boxObj({0, 0, 0}, {10, 10, 10}));
+    parseScene("{" + cloth + R"(, "meshes": [{"obj": "big.obj", "scale": 1e38}]})", scene);
+    FAIL() << "a box scaled beyond float range was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("is beyond float range"), std::string::npos) << e.what();
+  }
   const Scene placed = parseScene(
       "{" + cloth + R"(, "meshes": [{"obj": "box.obj", "offset": [1, 2, 3], "scale": 2, "friction": 0.7}]})", scene);
   EXPECT_EQ(placed.meshes[0].friction, 0.7);

@@ -53,6 +53,7 @@ std::vector<glm::vec2> projectedUvs(const std::vector<glm::dvec3>& x) {
 
 ClothMesh buildClothMesh(const PolygonMesh& mesh) {
   ClothMesh out;
+  checkFloatRange(mesh.positions);
   out.positions = mesh.positions;
   const std::size_t n = mesh.positions.size();
   const auto& x = out.positions;

@@ -57,6 +57,7 @@ MeshObstacle buildMeshObstacle(const PolygonMesh& mesh, glm::dvec3 offset, doubl
   out.positions.reserve(mesh.positions.size());
   for (const glm::dvec3& p : mesh.positions)
     out.positions.push_back(p * scale + offset);
+  checkFloatRange(out.positions);
   const auto& x = out.positions;
   // Directed edges: a closed, consistently wound surface has each edge once in each direction.
   std::unordered_map<std::uint64_t, int> edges;

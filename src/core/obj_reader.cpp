@@ -3,6 +3,7 @@
 #include <tiny_obj_loader.h>
 
 #include <cerrno>
+#include <cfloat>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -85,6 +86,15 @@ PolygonMesh parseObj(const std::string& text, long long max_vertices) {
   }
   if (mesh.faces.empty()) throw MeshError("no faces (a mesh needs at least one 'f' line)");
   return mesh;
+}
+
+void checkFloatRange(const std::vector<glm::dvec3>& positions) {
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    const glm::dvec3& p = positions[i];
+    if (!(std::fabs(p.x) <= double(FLT_MAX) && std::fabs(p.y) <= double(FLT_MAX) && std::fabs(p.z) <= double(FLT_MAX)))
+      throw MeshError("vertex " + std::to_string(i) + " is beyond float range (|coordinate| at most " +
+                      std::to_string(FLT_MAX) + ")");
+  }
 }
 
 PolygonMesh readObj(const std::filesystem::path& file, long long max_vertices) {

@@ -31,6 +31,10 @@ inline constexpr long long kMaxObjBytes = 512LL * 1024 * 1024;
 // Throws MeshError: missing or unreadable file, a parse error, a non-finite coordinate, a face corner
 // out of range, no faces, more than `max_vertices` vertices.
 PolygonMesh readObj(const std::filesystem::path& file, long long max_vertices);
+
+// The solvers compute in float: a vertex beyond float's range would be infinite there. Throws MeshError
+// naming the first such vertex.
+void checkFloatRange(const std::vector<glm::dvec3>& positions);
 PolygonMesh parseObj(const std::string& text, long long max_vertices);
 
 }  // namespace drape

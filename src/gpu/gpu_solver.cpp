@@ -103,6 +103,7 @@ void GpuSolver::checkLimits() const {
       {"coloured springs", springs * sizeof(gpu::ColouredSpring)},
       {"hash-grid points", scene_.sim.self_collision ? n * sizeof(gpu::GridPoint) : 0},
       {"hash-grid buckets", scene_.sim.self_collision ? (buckets + 1) * sizeof(std::uint32_t) : 0},
+      {"colliders and mesh distance fields", colliderCount(scene_) * sizeof(gpu::Collider)},
   };
   for (const Need& need : needs)
     if (need.bytes > limit)

@@ -6,6 +6,13 @@
 
 namespace drape {
 
+std::uint64_t colliderCount(const Scene& scene) {
+  std::uint64_t n = scene.spheres.size() + scene.planes.size() + 2 * scene.meshes.size();
+  for (const MeshSpec& m : scene.meshes)
+    n += (m.mesh->field.samples.size() + 7) / 8;
+  return n;
+}
+
 void appendMeshColliders(std::vector<gpu::Collider>& colliders, const std::vector<MeshSpec>& meshes) {
   const std::size_t headers = colliders.size();
   std::size_t base = headers + 2 * meshes.size();

@@ -13,4 +13,7 @@ namespace drape {
 // (DistanceField::origin_f, inv_cell_f), so both interpolate the same numbers.
 void appendMeshColliders(std::vector<gpu::Collider>& colliders, const std::vector<MeshSpec>& meshes);
 
+// Collider entries the scene needs: spheres, planes, and the meshes' headers and samples.
+std::uint64_t colliderCount(const Scene& scene);
+
 }  // namespace drape
