@@ -99,6 +99,7 @@ void GpuSolver::checkLimits() const {
   };
   const Need needs[] = {
       {"positions", n * sizeof(glm::vec4)},
+      {"point masses", n * sizeof(gpu::PointMass)},
       {"spring adjacency", 2 * springs * sizeof(gpu::Neighbor)},
       {"coloured springs", springs * sizeof(gpu::ColouredSpring)},
       {"hash-grid points", scene_.sim.self_collision ? n * sizeof(gpu::GridPoint) : 0},
