@@ -47,7 +47,9 @@ DRAPE_CONSTANT(uint, kBindingPairControl, 23u);       // PairControl: the self-c
 DRAPE_CONSTANT(uint, kBindingPairAnchor, 24u);        // vec4 per point: position at the last list build
 DRAPE_CONSTANT(uint, kBindingPairStart, 25u);         // uint per point + 1: where each point's list starts
 DRAPE_CONSTANT(uint, kBindingPairList, 26u);          // uint per candidate: each point's candidates, ascending
-DRAPE_CONSTANT(uint, kBindingCount, 27u);             // binding points used: one more than the largest
+// Per-point quantities that a mesh cloth does not share between its points (a grid's are all alike).
+DRAPE_CONSTANT(uint, kBindingPointMass, 27u);         // PointMass per point
+DRAPE_CONSTANT(uint, kBindingCount, 28u);             // binding points used: one more than the largest
 
 // Work-group sizes, shared so C++ computes group counts from the same numbers.
 DRAPE_CONSTANT(uint, kLocalSize, 128u);      // per-point and per-bucket kernels
@@ -69,13 +71,11 @@ DRAPE_CONSTANT(uint, kHealthOutOfBounds, 2u);    // a point left the sane box |x
 DRAPE_CONSTANT(uint, kHealthOverstretched, 4u);  // a spring longer than SimParams.blow_up_stretch x rest
 
 // Everything a kernel needs that is not per point. Values are derived on the host with exactly the
-// float operations the CPU reference uses (weight = gravity * mass, dt2 = dt * dt, ...), so both
+// float operations the CPU reference uses (dt2 = dt * dt, ...), so both
 // start every substep from bit-identical constants.
 struct SimParams {
-  vec4 weight;            // xyz: gravity * mass per point (N); w unused
   vec4 stiffness;         // N/m per spring type: x structural, y shearing, z bending (0.2 ks); w unused
   vec4 wind_velocity;     // xyz: steady air velocity (m/s); w: turbulence (relative amplitude)
-  float inv_mass;         // 1/kg
   float dt;               // s, one substep
   float dt2;              // s^2, dt * dt
   float keep;             // 1 - damping/100: fraction of the displacement kept per substep
@@ -83,13 +83,10 @@ struct SimParams {
   float inv_cell_size;    // 1/m, 1 / hash-grid cell edge (2 * thickness), rounded on the host
   float steps_per_frame;  // self-collision corrections are divided by this (CS184)
   float stretch_limit;    // springs are shortened to at most this times their rest length
-  float drag_area;        // wind drag * area per point (kg/m)
   float noise_scale;      // m, wind noise wavelength
   float noise_speed;      // 1/s, wind noise drift
   float sane_bound;       // m, |x| beyond this on any axis is reported as a blow-up
-  uint point_count;       // W * H
-  uint grid_width;        // W: point (x, y) has index y * W + x
-  uint grid_height;       // H
+  uint point_count;       // points in the cloth
   uint bucket_mask;       // hash-grid buckets - 1 (buckets are a power of two)
   uint bucket_count;      // hash-grid buckets
   uint scan_blocks;       // ceil(bucket_count / kScanBlock)
@@ -119,6 +116,23 @@ struct ColouredSpring {
   uint b;      // other end
   float rest;  // m
   uint pad0;
+};
+
+// What a point does not share with the others on a mesh cloth: its weight and inverse mass, and its wind
+// drag times area, each rounded on the host with the CPU's operations (CpuSolver::refreshDerived); and the
+// four points whose cross(x[b] - x[a], x[d] - x[c]) is its normal for wind (Topology::normal_stencil). One
+// buffer, not two: Mesa allows a compute shader 16 storage blocks, and the integrate kernel with
+// self-collision has 16.
+struct PointMass {
+  vec4 weight;  // xyz: gravity * mass (N); w: 1 / mass (1/kg)
+  uint normal_a;
+  uint normal_b;
+  uint normal_c;
+  uint normal_d;
+  float drag_area;  // wind drag * the point's area (kg/m)
+  uint pad0;
+  uint pad1;
+  uint pad2;
 };
 
 // A sphere (a = centre xyz, radius w; b.x = friction) or a plane (a = point xyz, friction w;

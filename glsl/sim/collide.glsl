@@ -5,8 +5,11 @@
 
 #include "common.glsl"
 #include "physics.glsl"
+#if NUM_MESHES > 0
+#include "mesh_collide.glsl"
+#endif
 
-// Each object in turn, each seeing the result of the previous one (CS184 order: spheres, then planes),
+// Each object in turn, each seeing the result of the previous one (CS184 order: spheres, then planes; then meshes),
 // as CpuSolver::collide. Pinned points are skipped by the caller.
 void collideObjects(inout vec3 x_io, inout vec3 v_io) {
 #if COLLIDERS
@@ -27,6 +30,14 @@ void collideObjects(inout vec3 x_io, inout vec3 v_io) {
       v += c;
     }
   }
+#if NUM_MESHES > 0
+  for (int m = 0; m < NUM_MESHES; ++m) {
+    if (collideField(x, v, uint(NUM_SPHERES + NUM_PLANES + 2 * m), c)) {
+      x += c;
+      v += c;
+    }
+  }
+#endif
   x_io = x;
   v_io = v;
 #endif

@@ -20,7 +20,10 @@
 #ifndef WIND
 #define WIND 0
 #endif
-#define COLLIDERS (NUM_SPHERES + NUM_PLANES > 0)
+#ifndef NUM_MESHES
+#define NUM_MESHES 0
+#endif
+#define COLLIDERS (NUM_SPHERES + NUM_PLANES + NUM_MESHES > 0)
 
 layout(std430, binding = kBindingParams) readonly buffer ParamsBuffer {
   SimParams params;

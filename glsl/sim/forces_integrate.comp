@@ -12,18 +12,16 @@
 
 layout(local_size_x = kLocalSize) in;
 
+layout(std430, binding = kBindingPointMass) readonly buffer PointMassBuffer {
+  PointMass pointMass[];
+};
+
 #if WIND
 uniform float u_time;  // s, simulated time at the start of the substep (substeps * dt, as the CPU)
 
-// CpuSolver::pointNormal: central differences over the grid, clamped at the border.
-vec3 pointNormal(uint i) {
-  int W = int(params.grid_width), H = int(params.grid_height);
-  int x = int(i) % W, y = int(i) / W;
-  vec3 left = posIn[y * W + max(x - 1, 0)].xyz;
-  vec3 right = posIn[y * W + min(x + 1, W - 1)].xyz;
-  vec3 down = posIn[max(y - 1, 0) * W + x].xyz;
-  vec3 up = posIn[min(y + 1, H - 1) * W + x].xyz;
-  return gridNormal(left, right, down, up);
+// CpuSolver::pointNormal: on a grid, central differences clamped at the border.
+vec3 pointNormal(PointMass m) {
+  return gridNormal(posIn[m.normal_a].xyz, posIn[m.normal_b].xyz, posIn[m.normal_c].xyz, posIn[m.normal_d].xyz);
 }
 #endif
 
@@ -36,7 +34,8 @@ void main() {
   if (pin != 0.0) {
     v = vec3(0.0);  // pinned points never move; their force is never needed
   } else {
-    precise vec3 f = params.weight.xyz;
+    PointMass m = pointMass[i];
+    precise vec3 f = m.weight.xyz;
     // Ascending spring index, the CPU's order, so the sums round alike. Disabled spring types are not
     // in the GPU's adjacency at all.
     for (uint e = offsets[i]; e < offsets[i + 1u]; ++e) {
@@ -46,9 +45,9 @@ void main() {
 #if WIND
     precise vec3 air = windVelocity(x, u_time, params.wind_velocity.xyz, params.wind_velocity.w, params.noise_scale,
                                     params.noise_speed);
-    f += windForce(pointNormal(i), v / params.dt, air, params.drag_area);
+    f += windForce(pointNormal(m), v / params.dt, air, m.drag_area);
 #endif
-    v = integrateVerlet(v, f * params.inv_mass, params.dt2, params.keep);
+    v = integrateVerlet(v, f * m.weight.w, params.dt2, params.keep);
     x += v;
 #if COLLIDERS && !SELF_COLLISION
     collideObjects(x, v);

@@ -146,8 +146,12 @@ BenchReport runBench(const BenchOptions& o, const std::function<void(const std::
   report.options = o;
   const auto start = Clock::now();
   std::vector<Scene> scenes;
-  for (const std::string& path : o.scenes)
+  for (const std::string& path : o.scenes) {
     scenes.push_back(loadScene(path));  // all bad input fails first
+    // --sizes resamples the grid; a mesh is the size its file gives.
+    if (!scenes.back().cloth.isGrid())
+      throw SceneError(path + ": cloth.mesh: bench resamples grid cloths to --sizes; a mesh cloth has no grid");
+  }
   SolverFactory factory({.skip_unavailable = true});
   std::size_t total = 0;
   for (const std::string& solver : o.solvers)

@@ -1,5 +1,6 @@
 // `drape render`: run a scene headless (EGL, no display) and write frames as PNGs, optionally a video.
 #include "app/commands.hpp"
+#include "app/export.hpp"
 #include "app/options.hpp"
 #include "app/output.hpp"
 #include "app/process.hpp"
@@ -16,6 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <optional>
 #include <string_view>
 
 namespace drape {
@@ -33,6 +35,8 @@ struct RenderOptions {
   std::string size = "640x480";
   std::string solver = "gpu";
   std::string video;
+  std::string export_path;
+  std::string export_format;
   int latitudes = 40;
   int longitudes = 40;
   int samples = 1;
@@ -147,6 +151,8 @@ void runRender(const RenderOptions& o) {
                                                  "leave out --video to write the PNG frames only"));
   checkOutputDirectory(o.out);
   if (!o.video.empty()) checkOutputFile(o.video);
+  const ExportFormat export_format =
+      o.export_path.empty() ? ExportFormat::Obj : parseExportFormat(o.export_format, o.export_path);
   const Scene scene = loadScene(o.scene);
 
   gl::HeadlessContext context = makeRenderContext();
@@ -160,6 +166,8 @@ void runRender(const RenderOptions& o) {
   SolverFactory factory({.use_current_context = true});
   std::unique_ptr<Solver> solver = factory.make(scene, o.solver);
   ClothFeed feed(*solver);
+  std::optional<ClothExport> exporter;
+  if (!o.export_path.empty()) exporter.emplace(o.export_path, export_format, scene, solver->topology());
   Renderer renderer(scene, solver->topology(), {.sphere_latitudes = o.latitudes, .sphere_longitudes = o.longitudes});
   gl::Framebuffer target = gl::Framebuffer::createColorDepth(size.x, size.y, o.samples);
   const std::vector<std::filesystem::path> dirs = makeOutputDirectories(o, shadings);
@@ -176,6 +184,7 @@ void runRender(const RenderOptions& o) {
   for (int frame = 0; frame <= o.frames; ++frame) {
     if (frame > 0) solver->stepFrame();
     if (frame % o.every != 0) continue;
+    if (exporter) exporter->add(frame, solver->readPositions());
     if (o.camera == "cloth") {
       // Framing the cloth where it is now takes an explicit read-back of its positions, per image.
       const std::vector<glm::dvec3> x = solver->readPositions();
@@ -206,6 +215,7 @@ void runRender(const RenderOptions& o) {
     throw CommandError(kExitBlowUp, fmt::format("{}: the simulation became non-finite within {} frames; the images "
                                                 "in {} show it",
                                                 scene.path, o.frames, o.out));
+  if (exporter) exporter->finish();
   if (!o.video.empty()) encodeVideo(dirs.front(), o.video, scene.sim.frames_per_sec / o.every);
 }
 
@@ -220,6 +230,10 @@ void addRenderCommand(CLI::App& app) {
       ->check(CLI::Range(0, kMaxRenderFrames));
   cmd->add_option("--every", opts->every, "Write every K-th frame")->check(CLI::Range(1, kMaxRenderFrames));
   cmd->add_option("--out", opts->out, "Directory for frame_NNNN.png")->required();
+  cmd->add_option("--export", opts->export_path,
+                  "Also write the cloth per written frame: PATH.obj/.ply become PATH_NNNN.obj/.ply, .usda one file");
+  cmd->add_option("--format", opts->export_format, "--export format: obj, ply or usda (default: PATH's extension)")
+      ->check(CLI::IsMember({"obj", "ply", "usda"}));
   addListOption(cmd, "--shader", opts->shader, "Shading models, comma-separated, or all")
       ->check(CLI::IsMember(shaderChoices()));
   cmd->add_option("--size", opts->size, "Image size WIDTHxHEIGHT (default 640x480)");

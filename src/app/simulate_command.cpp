@@ -1,5 +1,6 @@
 // `drape simulate`: run a scene headless and print a summary; --out writes the final positions.
 #include "app/commands.hpp"
+#include "app/export.hpp"
 #include "app/measure.hpp"
 #include "app/options.hpp"
 #include "app/output.hpp"
@@ -11,6 +12,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <optional>
 
 namespace drape {
 
@@ -24,6 +26,9 @@ struct SimulateOptions {
   bool verbose = false;
   bool auto_substeps = false;
   int threads = 0;
+  std::string export_path;
+  std::string export_format;
+  int every = 1;
 };
 
 void printSummary(const Scene& scene, Solver& solver, int frames, double wall_ms) {
@@ -37,10 +42,12 @@ void printSummary(const Scene& scene, Solver& solver, int frames, double wall_ms
   fmt::print("centroid     ({:.5f}, {:.5f}, {:.5f}) m\n", c.x, c.y, c.z);
   fmt::print("max strain   {:.4f}\n", maxStrain(solver.topology(), scene.cloth, x));
   const std::vector<double> d = colliderDistances(scene, x);
+  const std::size_t planes_end = scene.spheres.size() + scene.planes.size();
   for (std::size_t i = 0; i < d.size(); ++i) {
-    const bool sphere = i < scene.spheres.size();
-    fmt::print("{:<12} {:.5f} m (closest point; negative is inside)\n",
-               fmt::format("{} {}", sphere ? "sphere" : "plane", sphere ? i : i - scene.spheres.size()), d[i]);
+    const std::string name = i < scene.spheres.size() ? fmt::format("sphere {}", i)
+                             : i < planes_end         ? fmt::format("plane {}", i - scene.spheres.size())
+                                                      : fmt::format("mesh {}", i - planes_end);
+    fmt::print("{:<12} {:.5f} m (closest point; negative is inside)\n", name, d[i]);
   }
   // Timing is the one line that differs between runs; everything above is deterministic.
   fmt::print("time         {:.3f} ms per frame\n", frames > 0 ? wall_ms / frames : 0.0);
@@ -64,13 +71,19 @@ Scene guardStability(Scene scene, bool auto_substeps) {
 
 void runSimulate(const SimulateOptions& o) {
   if (!o.out.empty()) checkOutputFile(o.out);  // before the run, not after it
+  const ExportFormat format =
+      o.export_path.empty() ? ExportFormat::Obj : parseExportFormat(o.export_format, o.export_path);
   const Scene scene = guardStability(loadScene(o.scene), o.auto_substeps);
   SolverFactory factory({.verbose = o.verbose});  // before the solver: it owns the solver's GL context
   auto solver = factory.make(scene, o.solver, {.threads = o.threads});
+  std::optional<ClothExport> exporter;
+  if (!o.export_path.empty()) exporter.emplace(o.export_path, format, scene, solver->topology());
   if (o.verbose) fmt::print(stderr, "{}", describePasses(*solver));
   const auto start = std::chrono::steady_clock::now();
+  if (exporter) exporter->add(0, solver->readPositions());
   for (int f = 0; f < o.frames; ++f) {
     solver->stepFrame();
+    if (exporter && (f + 1) % o.every == 0) exporter->add(f + 1, solver->readPositions());
     // Cheap: a few bytes from the GPU, a scan of the state on the CPU. A garbage run stops here.
     if (const std::string why = solver->health().describe(); !why.empty())
       throw CommandError(kExitBlowUp, fmt::format("{}: blew up at frame {}: {}", scene.path, f + 1, why));
@@ -82,6 +95,7 @@ void runSimulate(const SimulateOptions& o) {
                        fmt::format("{}: the simulation became non-finite within {} frames", scene.path, o.frames));
   printSummary(scene, *solver, o.frames, ms);
   if (!o.out.empty()) writePositionsJson(o.out, x);
+  if (exporter) exporter->finish();
 }
 
 }  // namespace
@@ -99,6 +113,12 @@ void addSimulateCommand(CLI::App& app) {
   cmd->add_option("--threads", opts->threads,
                   "CPU solvers' threads (default 0: every core); every count computes the same bytes")
       ->check(CLI::Range(0, 1024));
+  cmd->add_option("--export", opts->export_path,
+                  "Write the cloth per exported frame: PATH.obj/.ply become PATH_NNNN.obj/.ply, .usda one file");
+  cmd->add_option("--format", opts->export_format, "--export format: obj, ply or usda (default: PATH's extension)")
+      ->check(CLI::IsMember({"obj", "ply", "usda"}));
+  cmd->add_option("--every", opts->every, "--export every K-th frame (frame 0 is the initial state)")
+      ->check(CLI::Range(1, 1000000));
   cmd->add_flag("--auto-substeps", opts->auto_substeps,
                 "Raise the substeps per frame to stay inside the explicit-integration bound");
   cmd->callback([opts] { runSimulate(*opts); });

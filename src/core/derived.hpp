@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/scene.hpp"
+#include "core/topology.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -14,6 +15,16 @@ namespace drape::derived {
 // kg per point: the cloth's mass shared equally by its W*H points (CS184).
 inline double pointMass(const ClothSpec& cloth) {
   return cloth.width * cloth.height * cloth.density / double(cloth.pointCount());
+}
+
+// kg of one point: a grid's is the same for all (above, CS184's); a mesh vertex's is its area's.
+inline double pointMass(const ClothSpec& cloth, const Topology& topo, std::size_t i) {
+  return cloth.isGrid() ? pointMass(cloth) : cloth.density * topo.area[i];
+}
+
+// Wind drag times a point's area (kg/m): on a grid the same for all, in the grid's original operation order.
+inline double dragArea(double drag, const ClothSpec& cloth, const Topology& topo, std::size_t i) {
+  return cloth.isGrid() ? drag * cloth.width * cloth.height / double(cloth.pointCount()) : drag * topo.area[i];
 }
 
 // N/m. Bending springs are softer than the others by a fixed factor (CS184: 0.2).

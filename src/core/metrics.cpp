@@ -1,5 +1,8 @@
 #include "core/metrics.hpp"
 
+#include "core/cloth_mesh.hpp"
+#include "core/mesh_obstacle.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -43,6 +46,14 @@ double rmsDeviation(const Positions& a, const Positions& b) {
 }
 
 double clothSize(const ClothSpec& cloth) {
+  if (cloth.mesh) {
+    glm::dvec3 lo = cloth.mesh->positions.front(), hi = lo;
+    for (const glm::dvec3& x : cloth.mesh->positions) {
+      lo = glm::min(lo, x);
+      hi = glm::max(hi, x);
+    }
+    return glm::distance(lo, hi);
+  }
   return std::hypot(cloth.width, cloth.height);
 }
 
@@ -73,6 +84,12 @@ std::vector<double> colliderDistances(const Scene& scene, const Positions& x) {
     double m = inf;
     for (const auto& p : x)
       m = std::min(m, glm::dot(p - pl.point, pl.normal));
+    out.push_back(m);
+  }
+  for (const MeshSpec& mesh : scene.meshes) {
+    double m = inf;
+    for (const auto& p : x)
+      m = std::min(m, signedDistance(*mesh.mesh, p));
     out.push_back(m);
   }
   return out;

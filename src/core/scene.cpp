@@ -6,6 +6,9 @@
 // accepts, so a misspelt key is an error instead of a silently ignored line.
 #include "core/scene.hpp"
 
+#include "core/cloth_mesh.hpp"
+#include "core/mesh_obstacle.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -337,10 +340,11 @@ std::vector<glm::ivec2> readPins(const Node& n, int W, int H) {
   return pins;
 }
 
-ClothSpec readCloth(const Node& n) {
-  n.expectObject({"width", "height", "num_width_points", "num_height_points", "thickness", "orientation", "pinned",
-                  "enable_structural", "enable_shearing", "enable_bending", "damping", "density", "ks"});
-  ClothSpec c;
+// The keys that make a grid; a mesh cloth takes its shape from the mesh instead.
+constexpr const char* kGridKeys[] = {"width",       "height", "num_width_points", "num_height_points",
+                                     "orientation", "pinned"};
+
+void readGrid(const Node& n, ClothSpec& c) {
   c.width = positive(n.require("width"));
   c.height = positive(n.require("height"));
   c.num_width_points = integerAtLeast(n.require("num_width_points"), 2);
@@ -356,6 +360,57 @@ ClothSpec readCloth(const Node& n) {
   if (o != 0 && o != 1) orientation.fail("must be 0 (horizontal) or 1 (vertical), got " + std::to_string(o));
   c.orientation = static_cast<Orientation>(o);
   if (auto v = n.find("pinned")) c.pinned = readPins(*v, c.num_width_points, c.num_height_points);
+}
+
+// The mesh file is found relative to the scene file, as a user who keeps the two side by side expects.
+void readMesh(const Node& n, ClothSpec& c, const std::string& scene_file) {
+  for (const char* key : kGridKeys)
+    if (auto v = n.find(key)) v->fail("not used with 'mesh' (a mesh cloth takes its shape from the mesh)");
+  Node mesh = n.child("mesh");
+  c.mesh_file = mesh.text();
+  if (c.mesh_file.empty()) mesh.fail("empty path");
+  const std::filesystem::path file = std::filesystem::path(scene_file).parent_path() / c.mesh_file;
+  try {
+    c.mesh = std::make_shared<const ClothMesh>(buildClothMesh(readObj(file, kMaxClothPoints)));
+  } catch (const MeshError& e) {
+    mesh.fail(file.string() + ": " + e.what());
+  }
+  c.thickness = positive(n.require("thickness"));
+}
+
+std::vector<std::uint32_t> readVertexPins(const Node& n, int points) {
+  std::vector<std::uint32_t> pins;
+  for (std::size_t i = 0, count = n.arraySize(); i < count; ++i) {
+    Node pin = n.element(i);
+    long long v = pin.integer();
+    if (v < 0 || v >= points)
+      pin.fail(std::to_string(v) + " is not a point of this cloth (0 to " + std::to_string(points - 1) + ")");
+    pins.push_back(std::uint32_t(v));
+  }
+  return pins;
+}
+
+void readPinBox(const Node& n, ClothSpec& c) {
+  if (n.arraySize() != 2)
+    n.fail("expected [[x0, y0, z0], [x1, y1, z1]], got " + std::to_string(n.arraySize()) + " corners");
+  c.pin_box_min = n.element(0).vec3();
+  c.pin_box_max = n.element(1).vec3();
+  for (int k = 0; k < 3; ++k)
+    if (!(c.pin_box_min[k] <= c.pin_box_max[k])) n.element(1).fail("each coordinate must be >= the first corner's");
+  c.has_pin_box = true;
+}
+
+ClothSpec readCloth(const Node& n, const std::string& scene_file) {
+  n.expectObject({"width", "height", "num_width_points", "num_height_points", "thickness", "orientation", "pinned",
+                  "enable_structural", "enable_shearing", "enable_bending", "damping", "density", "ks", "mesh",
+                  "pinned_vertices", "pin_box"});
+  ClothSpec c;
+  if (n.find("mesh"))
+    readMesh(n, c, scene_file);
+  else
+    readGrid(n, c);
+  if (auto v = n.find("pinned_vertices")) c.pinned_vertices = readVertexPins(*v, c.pointCount());
+  if (auto v = n.find("pin_box")) readPinBox(*v, c);
   if (auto v = n.find("enable_structural")) c.enable_structural = v->boolean();
   if (auto v = n.find("enable_shearing")) c.enable_shearing = v->boolean();
   if (auto v = n.find("enable_bending")) c.enable_bending = v->boolean();
@@ -386,6 +441,28 @@ PlaneSpec readPlane(const Node& n) {
   p.normal = glm::normalize(v / largest);
   if (auto f = n.find("friction")) p.friction = between(*f, 0.0, 1.0);
   return p;
+}
+
+// Obstacles beyond this many vertices are not what a scene here needs, and each costs its bake.
+constexpr long long kMaxObstacleVertices = 4LL * 1024 * 1024;
+
+MeshSpec readMeshObstacle(const Node& n, const std::string& scene_file) {
+  n.expectObject({"obj", "offset", "scale", "friction"});
+  MeshSpec m;
+  Node obj = n.require("obj");
+  m.obj = obj.text();
+  if (m.obj.empty()) obj.fail("empty path");
+  if (auto v = n.find("offset")) m.offset = v->vec3();
+  if (auto v = n.find("scale")) m.scale = positive(*v);
+  if (auto v = n.find("friction")) m.friction = between(*v, 0.0, 1.0);
+  const std::filesystem::path file = std::filesystem::path(scene_file).parent_path() / m.obj;
+  try {
+    m.mesh =
+        std::make_shared<const MeshObstacle>(buildMeshObstacle(readObj(file, kMaxObstacleVertices), m.offset, m.scale));
+  } catch (const MeshError& e) {
+    obj.fail(file.string() + ": " + e.what());
+  }
+  return m;
 }
 
 WindSpec readWind(const Node& n) {
@@ -441,12 +518,18 @@ bool normalFloat(double v) {
 void checkDerived(const Scene& scene, const Node& root) {
   const ClothSpec& c = scene.cloth;
   const Node cloth = root.child("cloth");
-  const double mass = c.width * c.height * c.density / double(c.pointCount());
-  if (!normalFloat(mass))
-    cloth.fail("mass per point width x height x density / points = " + show(mass) + " kg is 0 or infinite in float");
-  const double spacing_x = c.width / (c.num_width_points - 1), spacing_y = c.height / (c.num_height_points - 1);
-  if (!normalFloat(spacing_x) || !normalFloat(spacing_y))
-    cloth.fail("point spacing " + show(spacing_x) + " x " + show(spacing_y) + " m is 0 in float");
+  if (c.mesh) {
+    for (double area : c.mesh->area)
+      if (!normalFloat(c.density * area))
+        cloth.fail("mass of a point density x its area = " + show(c.density * area) + " kg is 0 or infinite in float");
+  } else {
+    const double mass = c.width * c.height * c.density / double(c.pointCount());
+    if (!normalFloat(mass))
+      cloth.fail("mass per point width x height x density / points = " + show(mass) + " kg is 0 or infinite in float");
+    const double spacing_x = c.width / (c.num_width_points - 1), spacing_y = c.height / (c.num_height_points - 1);
+    if (!normalFloat(spacing_x) || !normalFloat(spacing_y))
+      cloth.fail("point spacing " + show(spacing_x) + " x " + show(spacing_y) + " m is 0 in float");
+  }
   // Verlet multiplies by dt^2: its square must be a normal float too.
   const double dt = scene.sim.dt();
   if (!normalFloat(dt * dt))
@@ -464,13 +547,17 @@ Scene parseScene(const std::string& json_text, const std::string& name) {
   if (!builder.document().is_object()) {
     throw SceneError(name + ": top level: expected an object, got " + builder.document().type_name());
   }
-  root.expectObject({"cloth", "sphere", "plane", "spheres", "planes", "simulation"});
+  root.expectObject({"cloth", "sphere", "plane", "spheres", "planes", "meshes", "simulation"});
 
   Scene scene;
   scene.path = name;
-  scene.cloth = readCloth(root.require("cloth"));
+  scene.cloth = readCloth(root.require("cloth"), name);
   readColliders(root, "sphere", "spheres", readSphere, scene.spheres);
   readColliders(root, "plane", "planes", readPlane, scene.planes);
+  if (auto v = root.find("meshes")) {
+    for (std::size_t i = 0, count = v->arraySize(); i < count; ++i)
+      scene.meshes.push_back(readMeshObstacle(v->element(i), name));
+  }
   if (auto v = root.find("simulation")) scene.sim = readSimulation(*v);
   checkDerived(scene, root);
   return scene;
@@ -504,7 +591,17 @@ void applyLiveParams(Scene& scene, const ClothSpec& cloth, const SimParams& sim)
   scene.cloth.num_height_points = kept.num_height_points;
   scene.cloth.orientation = kept.orientation;
   scene.cloth.pinned = kept.pinned;
+  scene.cloth.mesh = kept.mesh;
+  scene.cloth.mesh_file = kept.mesh_file;
+  scene.cloth.pinned_vertices = kept.pinned_vertices;
+  scene.cloth.has_pin_box = kept.has_pin_box;
+  scene.cloth.pin_box_min = kept.pin_box_min;
+  scene.cloth.pin_box_max = kept.pin_box_max;
   scene.sim = sim;
+}
+
+int ClothSpec::pointCount() const {
+  return mesh ? int(mesh->positions.size()) : num_width_points * num_height_points;
 }
 
 }  // namespace drape

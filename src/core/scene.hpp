@@ -4,7 +4,9 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -18,6 +20,9 @@ inline const char* stretchSchemeName(StretchScheme s) {
   return s == StretchScheme::GaussSeidel ? "gauss_seidel" : "jacobi";
 }
 inline constexpr int kSpringTypeCount = 3;
+
+struct ClothMesh;     // core/cloth_mesh.hpp
+struct MeshObstacle;  // core/mesh_obstacle.hpp
 
 struct ClothSpec {
   double width = 1.0;                                 // m, along x
@@ -33,8 +38,16 @@ struct ClothSpec {
   double damping = 0.2;                               // percent of the displacement lost per substep
   double density = 150.0;                             // kg/m^2 (the CS184 scenes use 150)
   double ks = 5000.0;                                 // N/m; bending springs use 0.2*ks
+  // A cloth from a mesh file instead of a grid (the grid keys above are then unused): read and checked
+  // on load, shared by every copy of the scene.
+  std::shared_ptr<const ClothMesh> mesh;
+  std::string mesh_file;                       // as the scene wrote it, for messages
+  std::vector<std::uint32_t> pinned_vertices;  // point indices that never move (grid or mesh)
+  bool has_pin_box = false;                    // points inside [pin_box_min, pin_box_max] never move
+  glm::dvec3 pin_box_min{0.0}, pin_box_max{0.0};
 
-  int pointCount() const { return num_width_points * num_height_points; }
+  int pointCount() const;
+  bool isGrid() const { return mesh == nullptr; }
   bool springEnabled(SpringType t) const {
     return t == SpringType::Structural ? enable_structural
            : t == SpringType::Shearing ? enable_shearing
@@ -52,6 +65,16 @@ struct PlaneSpec {
   glm::dvec3 point{0.0};       // m, any point on the plane
   glm::dvec3 normal{0, 1, 0};  // unit after loading (normalised on load)
   double friction = 0.5;       // [0, 1]
+};
+
+// A static triangle mesh the cloth collides with (scene key "meshes"), read and baked into a signed
+// distance field on load.
+struct MeshSpec {
+  std::string obj;         // as the scene wrote it
+  glm::dvec3 offset{0.0};  // m, added after scaling
+  double scale = 1.0;      // > 0
+  double friction = 0.3;   // [0, 1], as spheres
+  std::shared_ptr<const MeshObstacle> mesh;
 };
 
 // Wind: a steady air velocity plus smooth gradient noise in space and time. The air pushes each point
@@ -85,6 +108,7 @@ struct Scene {
   ClothSpec cloth;
   std::vector<SphereSpec> spheres;
   std::vector<PlaneSpec> planes;
+  std::vector<MeshSpec> meshes;  // collided with after the planes
   SimParams sim;
 };
 

@@ -1,5 +1,6 @@
 #include "core/stability.hpp"
 
+#include "core/cloth_mesh.hpp"
 #include "core/derived.hpp"
 
 #include <algorithm>
@@ -43,11 +44,30 @@ double maxStiffnessSum(const ClothSpec& cloth) {
   return best;
 }
 
+// k_sum / m at the point where it is largest (1/s^2). A mesh's points differ in both, so every point counts.
+double maxStiffnessOverMass(const ClothSpec& cloth) {
+  if (cloth.isGrid()) {
+    const double k = maxStiffnessSum(cloth), m = derived::pointMass(cloth);
+    if (k <= 0.0) return 0.0;
+    return m <= 0.0 ? INFINITY : k / m;
+  }
+  const ClothMesh& mesh = *cloth.mesh;
+  std::vector<double> k(mesh.positions.size(), 0.0);
+  for (const MeshSpring& s : mesh.springs)
+    if (cloth.springEnabled(s.type)) {
+      k[s.a] += derived::springStiffness(cloth, s.type);
+      k[s.b] += derived::springStiffness(cloth, s.type);
+    }
+  double worst = 0.0;
+  for (std::size_t i = 0; i < k.size(); ++i)
+    if (k[i] > 0.0) worst = std::max(worst, k[i] / (cloth.density * mesh.area[i]));
+  return worst;
+}
+
 double stabilityNumber(const Scene& scene) {
-  const double k = maxStiffnessSum(scene.cloth), m = derived::pointMass(scene.cloth);
-  if (k <= 0.0) return 0.0;
-  if (m <= 0.0) return INFINITY;
-  return scene.sim.dt() * std::sqrt(k / m);
+  const double km = maxStiffnessOverMass(scene.cloth);
+  if (km <= 0.0) return 0.0;
+  return scene.sim.dt() * std::sqrt(km);
 }
 
 double stabilityLimit(double damping_percent) {
@@ -74,9 +94,9 @@ StabilityCheck checkStability(const Scene& scene) {
 }
 
 int autoSubsteps(const Scene& scene, int max_steps) {
-  const double k = maxStiffnessSum(scene.cloth), m = derived::pointMass(scene.cloth);
-  if (k <= 0.0) return 1;
-  if (m <= 0.0 || !(scene.sim.frames_per_sec > 0.0)) return 0;
+  const double km = maxStiffnessOverMass(scene.cloth);
+  if (km <= 0.0) return 1;
+  if (!std::isfinite(km) || !(scene.sim.frames_per_sec > 0.0)) return 0;
   // More substeps lower the number and (with the damping rescaled) raise the limit, so "inside" is
   // monotonic in the count: bisect between a count that is outside (or 0) and one that is inside.
   auto inside = [&](int steps) {
@@ -85,7 +105,7 @@ int autoSubsteps(const Scene& scene, int max_steps) {
   };
   if (inside(1)) return 1;
   // Undamped limit sqrt(2) >= any limit >= 1, so the count for limit 1 is always inside.
-  const double enough = std::ceil(std::sqrt(k / m) / scene.sim.frames_per_sec) + 1.0;
+  const double enough = std::ceil(std::sqrt(km) / scene.sim.frames_per_sec) + 1.0;
   int lo = 1, hi = int(std::min(enough, double(max_steps)));
   if (!inside(hi)) return 0;
   while (hi - lo > 1) {
@@ -105,6 +125,8 @@ Scene withSubsteps(const Scene& scene, int steps_per_frame) {
     s.friction = rescale(s.friction);
   for (PlaneSpec& p : out.planes)
     p.friction = rescale(p.friction);
+  for (MeshSpec& m : out.meshes)
+    m.friction = rescale(m.friction);
   return out;
 }
 

@@ -48,6 +48,8 @@ struct StabilityCheck {
 // from the grid size alone (an interior point has 4 structural, 4 shearing and 4 bending springs; on
 // small grids no point has them all). Pins are ignored, which can only overestimate.
 double maxStiffnessSum(const ClothSpec& cloth);
+// The largest k_sum / m over the cloth's points (a mesh's vary), 1/s^2.
+double maxStiffnessOverMass(const ClothSpec& cloth);
 double stabilityNumber(const Scene& scene);
 StabilityCheck checkStability(const Scene& scene);
 // Smallest steps_per_frame (>= 1) at which withSubsteps(scene, steps) is inside the bound; 0 if more than

@@ -1,5 +1,6 @@
 #include "core/topology.hpp"
 
+#include "core/cloth_mesh.hpp"
 #include "core/hash.hpp"
 
 #include <algorithm>
@@ -48,9 +49,39 @@ void buildAdjacency(Topology& topo) {
   }
 }
 
+// Pins by index and by box, for either generator.
+void addPins(Topology& topo, const ClothSpec& cloth) {
+  for (std::uint32_t i : cloth.pinned_vertices)
+    topo.pinned[i] = 1;
+  if (!cloth.has_pin_box) return;
+  for (std::size_t i = 0; i < topo.initial_positions.size(); ++i) {
+    const glm::dvec3& x = topo.initial_positions[i];
+    if (glm::all(glm::greaterThanEqual(x, cloth.pin_box_min)) && glm::all(glm::lessThanEqual(x, cloth.pin_box_max)))
+      topo.pinned[i] = 1;
+  }
+}
+
+Topology buildMeshTopology(const ClothSpec& cloth) {
+  const ClothMesh& mesh = *cloth.mesh;
+  Topology topo;
+  topo.initial_positions = mesh.positions;
+  topo.uvs = mesh.uvs;
+  topo.triangles = mesh.triangles;
+  topo.area = mesh.area;
+  topo.normal_stencil = mesh.normal_stencil;
+  topo.pinned.assign(mesh.positions.size(), 0);
+  addPins(topo, cloth);
+  topo.springs.reserve(mesh.springs.size());
+  for (const MeshSpring& s : mesh.springs)
+    topo.springs.push_back({s.a, s.b, s.type, glm::distance(mesh.positions[s.a], mesh.positions[s.b])});
+  buildAdjacency(topo);
+  return topo;
+}
+
 }  // namespace
 
 Topology buildTopology(const ClothSpec& cloth) {
+  if (cloth.mesh) return buildMeshTopology(cloth);
   Topology topo;
   topo.W = cloth.num_width_points;
   topo.H = cloth.num_height_points;
@@ -71,6 +102,15 @@ Topology buildTopology(const ClothSpec& cloth) {
   topo.pinned.assign(std::size_t(W) * H, 0);
   for (glm::ivec2 p : cloth.pinned)
     topo.pinned[std::size_t(p.y) * W + p.x] = 1;
+  addPins(topo, cloth);
+  topo.area.assign(std::size_t(W) * H, cloth.width * cloth.height / double(W * H));
+  topo.normal_stencil.resize(std::size_t(W) * H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      auto at = [W](int px, int py) { return std::uint32_t(py * W + px); };
+      topo.normal_stencil[std::size_t(at(x, y))] = {at(std::max(x - 1, 0), y), at(std::min(x + 1, W - 1), y),
+                                                    at(x, std::max(y - 1, 0)), at(x, std::min(y + 1, H - 1))};
+    }
 
   // Structural, then shearing, then bending (counts in docs/design.md section 2). Reserved up front: growing
   // a vector of 6 springs per point doubles its memory while it copies, which made the largest grid

@@ -4,6 +4,7 @@
 
 #include "core/scene.hpp"
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -23,9 +24,11 @@ struct Neighbor {
   double rest = 0.0;
 };
 
+// The one representation of a cloth both solvers run on, made by one of two generators: the grid
+// (CS184's, from the grid keys) or a mesh (core/cloth_mesh.hpp).
 struct Topology {
-  int W = 0, H = 0;
-  std::vector<glm::dvec3> initial_positions;  // index y*W + x
+  int W = 0, H = 0;                           // the grid's size; 0 for a mesh cloth
+  std::vector<glm::dvec3> initial_positions;  // a grid's point (x, y) is index y*W + x
   std::vector<std::uint8_t> pinned;           // 1 if the point never moves
   std::vector<Spring> springs;                // structural, then shearing, then bending (see buildTopology)
   // CSR adjacency: neighbours of point i are adjacency[offsets[i] .. offsets[i+1]), in a fixed order
@@ -33,9 +36,14 @@ struct Topology {
   std::vector<std::uint32_t> offsets;
   std::vector<Neighbor> adjacency;
   std::vector<std::uint32_t> triangles;  // 3 indices each, counter-clockwise seen from +normal
-  std::vector<glm::vec2> uvs;            // (x/(W-1), y/(H-1))
+  std::vector<glm::vec2> uvs;            // grid: (x/(W-1), y/(H-1)); mesh: the file's or projected
+  // Each point's share of the cloth's area (m^2); derived::pointMass and derived::dragArea follow it.
+  std::vector<double> area;
+  // The four points whose cross(x[1] - x[0], x[3] - x[2]) is a point's normal for wind: the grid's left,
+  // right, down and up neighbours, clamped at the border.
+  std::vector<std::array<std::uint32_t, 4>> normal_stencil;
 
-  int pointCount() const { return W * H; }
+  int pointCount() const { return int(initial_positions.size()); }
   std::size_t springCount(SpringType t) const;
 };
 

@@ -1,4 +1,5 @@
 #include "cpu/cpu_solver.hpp"
+#include "cpu/mesh_physics.hpp"
 #include "cpu/parallel.hpp"
 
 #include "core/derived.hpp"
@@ -46,7 +47,15 @@ std::string CpuSolver<T>::name() const {
 template <class T>
 void CpuSolver<T>::refreshDerived() {
   const ClothSpec& c = scene_.cloth;
-  mass_ = T(derived::pointMass(c));
+  const std::size_t n = std::size_t(topo_.pointCount());
+  mass_.resize(n);
+  inv_mass_.resize(n);
+  drag_area_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    mass_[i] = T(derived::pointMass(c, topo_, i));
+    inv_mass_[i] = T(1) / mass_[i];
+    drag_area_[i] = T(derived::dragArea(scene_.sim.wind.drag, c, topo_, i));
+  }
   dt_ = T(scene_.sim.dt());
   keep_ = T(1.0 - c.damping / 100.0);
   // A disabled spring type exerts no force: stiffness 0 is never used, the gather skips the type.
@@ -79,7 +88,7 @@ bool CpuSolver<T>::needsPass(int pass) const {
     case kSelfCollide:
       return scene_.sim.self_collision;
     case kCollide:
-      return !scene_.spheres.empty() || !scene_.planes.empty();
+      return !scene_.spheres.empty() || !scene_.planes.empty() || !scene_.meshes.empty();
     case kLimitStretch:
       return scene_.sim.stretch_passes > 0;
     default:
@@ -116,10 +125,8 @@ void CpuSolver<T>::step() {
 
 template <class T>
 typename CpuSolver<T>::vec3 CpuSolver<T>::pointNormal(int i) const {
-  const int W = topo_.W, H = topo_.H, x = i % W, y = i / W;
-  auto at = [&](int px, int py) { return x_[std::size_t(py * W + px)]; };
-  return physics::gridNormal(at(std::max(x - 1, 0), y), at(std::min(x + 1, W - 1), y), at(x, std::max(y - 1, 0)),
-                             at(x, std::min(y + 1, H - 1)));
+  const auto& s = topo_.normal_stencil[std::size_t(i)];
+  return physics::gridNormal(x_[s[0]], x_[s[1]], x_[s[2]], x_[s[3]]);
 }
 
 template <class T>
@@ -127,9 +134,8 @@ void CpuSolver<T>::accumulateForces() {
   const ClothSpec& cloth = scene_.cloth;
   const WindSpec& wind = scene_.sim.wind;
   const bool enabled[kSpringTypeCount] = {cloth.enable_structural, cloth.enable_shearing, cloth.enable_bending};
-  const vec3 weight = vec3(scene_.sim.gravity) * mass_;
+  const vec3 gravity = vec3(scene_.sim.gravity);
   const T time = T(double(substeps_) * scene_.sim.dt());
-  const T drag_area = T(wind.drag * cloth.width * cloth.height / double(topo_.pointCount()));
   // Per point, over its adjacency in a fixed order (the GPU's). Computing each spring once and gathering
   // it from both ends gives the same bytes (springForce(b, a) is exactly -springForce(a, b)) but measured
   // 1.5x slower here: the per-spring pass scatters its reads and writes, while this loop reads one
@@ -137,7 +143,7 @@ void CpuSolver<T>::accumulateForces() {
   const long long n = (long long)x_.size();
   parallelFor(0, n, threads_, [&](long long p) {
     const std::size_t i = std::size_t(p);
-    vec3 f = weight;
+    vec3 f = gravity * mass_[i];
     for (std::uint32_t e = topo_.offsets[i]; e < topo_.offsets[i + 1]; ++e) {
       const Neighbor& nb = topo_.adjacency[e];
       const int type = int(nb.type);
@@ -147,7 +153,7 @@ void CpuSolver<T>::accumulateForces() {
       vec3 air = physics::windVelocity(x_[i], time, vec3(wind.velocity), T(wind.turbulence), T(wind.noise_scale),
                                        T(wind.noise_speed));
       vec3 disp = form_ == VerletForm::Displacement ? v_[i] : x_[i] - v_[i];
-      f += physics::windForce(pointNormal(int(i)), disp / dt_, air, drag_area);
+      f += physics::windForce(pointNormal(int(i)), disp / dt_, air, drag_area_[i]);
     }
     f_[i] = f;
   });
@@ -156,7 +162,6 @@ void CpuSolver<T>::accumulateForces() {
 template <class T>
 void CpuSolver<T>::integrate() {
   const T dt2 = dt_ * dt_;
-  const T inv_mass = T(1) / mass_;
   const long long n = (long long)x_.size();
   parallelFor(0, n, threads_, [&](long long p) {
     const std::size_t i = std::size_t(p);
@@ -168,10 +173,10 @@ void CpuSolver<T>::integrate() {
       return;
     }
     if (form_ == VerletForm::Displacement) {
-      v_[i] = physics::integrateVerlet(v_[i], f_[i] * inv_mass, dt2, keep_);
+      v_[i] = physics::integrateVerlet(v_[i], f_[i] * inv_mass_[i], dt2, keep_);
       x_[i] += v_[i];
     } else {
-      vec3 next = physics::integrateVerletPrevious(x_[i], v_[i], f_[i] * inv_mass, dt2, keep_);
+      vec3 next = physics::integrateVerletPrevious(x_[i], v_[i], f_[i] * inv_mass_[i], dt2, keep_);
       v_[i] = x_[i];
       x_[i] = next;
     }
@@ -233,6 +238,11 @@ void CpuSolver<T>::collide() {
       }
     for (const PlaneSpec& p : scene_.planes)
       if (physics::collidePlane(x, v, vec3(p.point), vec3(p.normal), T(p.friction), c)) {
+        x += c;
+        v += c;
+      }
+    for (const MeshSpec& m : scene_.meshes)
+      if (physics::collideField(x, v, m.mesh->field, T(m.friction), c)) {
         x += c;
         v += c;
       }

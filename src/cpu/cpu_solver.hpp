@@ -57,7 +57,8 @@ class CpuSolver final : public Solver {
   const std::vector<vec3>& displacements() const { return v_; }
   const std::vector<vec3>& forces() const { return f_; }
   void setState(const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& v);
-  T mass() const { return mass_; }
+  T mass() const { return mass_.front(); }  // point 0's (every grid point has the same)
+  const std::vector<T>& masses() const { return mass_; }
   int threads() const override { return threads_; }
   const CollisionPairs<T>& collisionPairs() const { return pairs_; }
 
@@ -84,7 +85,8 @@ class CpuSolver final : public Solver {
   std::vector<T> rest_adjacent_;  // per adjacency entry, in T
   CollisionPairs<T> pairs_;
   SpringColouring colouring_;
-  T mass_ = 0, dt_ = 0, keep_ = 1;
+  std::vector<T> mass_, inv_mass_, drag_area_;  // per point (derived::pointMass, dragArea)
+  T dt_ = 0, keep_ = 1;
   Stiffness stiffness_{};
   long long substeps_ = 0;
   std::vector<PassTiming> timings_;

@@ -1,8 +1,10 @@
 #include "gpu/gpu_solver.hpp"
 
+#include "core/cloth_mesh.hpp"
 #include "core/derived.hpp"
 #include "gl/shader.hpp"
 #include "gpu/layout.hpp"
+#include "gpu/mesh_colliders.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -23,6 +25,9 @@ std::string mebibytes(std::uint64_t bytes) {
 }
 
 std::uint64_t springCount(const ClothSpec& c, SpringType type) {
+  if (c.mesh)
+    return std::uint64_t(std::count_if(c.mesh->springs.begin(), c.mesh->springs.end(),
+                                       [type](const MeshSpring& s) { return s.type == type; }));
   const std::uint64_t W = std::uint64_t(c.num_width_points), H = std::uint64_t(c.num_height_points);
   switch (type) {
     case SpringType::Structural:
@@ -59,12 +64,12 @@ GpuSolver::GpuSolver(Scene scene, GpuSolverOptions options, gl::HeadlessContext 
   try {
     allocate();
   } catch (const gl::GlError& e) {
-    throw GpuLimitError("gpu solver: allocating the buffers for a " + std::to_string(topo_.W) + "x" +
-                        std::to_string(topo_.H) + " cloth failed: " + e.what());
+    throw GpuLimitError("gpu solver: allocating the buffers for a " + std::to_string(topo_.pointCount()) +
+                        "-point cloth failed: " + e.what());
   }
   if (glGetError() == GL_OUT_OF_MEMORY)
-    throw GpuLimitError("gpu solver: out of GPU memory allocating the buffers for a " + std::to_string(topo_.W) + "x" +
-                        std::to_string(topo_.H) + " cloth");
+    throw GpuLimitError("gpu solver: out of GPU memory allocating the buffers for a " +
+                        std::to_string(topo_.pointCount()) + "-point cloth");
   timer_queries_ = options_.timing && gl::timerQueriesWork();
   resetTimings();
   compilePrograms();
@@ -78,7 +83,7 @@ GpuSolver::~GpuSolver() {
 
 void GpuSolver::checkLimits() const {
   const ClothSpec& c = scene_.cloth;
-  const std::uint64_t n = std::uint64_t(c.num_width_points) * std::uint64_t(c.num_height_points);
+  const std::uint64_t n = std::uint64_t(c.pointCount());
   std::uint64_t springs = 0;
   for (int t = 0; t < kSpringTypeCount; ++t)
     if (enabled_springs_[t]) springs += springCount(c, SpringType(t));
@@ -86,18 +91,22 @@ void GpuSolver::checkLimits() const {
   GLint64 block = 0;
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
   const std::uint64_t limit = options_.max_buffer_bytes ? options_.max_buffer_bytes : std::uint64_t(block);
-  const std::string cloth = std::to_string(c.num_width_points) + "x" + std::to_string(c.num_height_points) + " cloth";
+  const std::string cloth =
+      c.mesh ? std::to_string(n) + "-point mesh cloth"
+             : std::to_string(c.num_width_points) + "x" + std::to_string(c.num_height_points) + " cloth";
   struct Need {
     const char* what;
     std::uint64_t bytes;
   };
   const Need needs[] = {
       {"positions", n * sizeof(glm::vec4)},
+      {"point masses", n * sizeof(gpu::PointMass)},
       {"spring adjacency", 2 * springs * sizeof(gpu::Neighbor)},
       {"coloured springs", springs * sizeof(gpu::ColouredSpring)},
       {"hash-grid points", scene_.sim.self_collision ? n * sizeof(gpu::GridPoint) : 0},
       {"hash-grid buckets", scene_.sim.self_collision ? (buckets + 1) * sizeof(std::uint32_t) : 0},
       {"self-collision anchors", scene_.sim.self_collision ? n * sizeof(glm::vec4) : 0},
+      {"colliders and mesh distance fields", colliderCount(scene_) * sizeof(gpu::Collider)},
   };
   for (const Need& need : needs)
     if (need.bytes > limit)
@@ -165,6 +174,7 @@ void GpuSolver::allocate() {
     s.displacement = gl::Buffer::create(n * sizeof(glm::vec4), nullptr, kUpdatable);
   }
   params_ = gl::Buffer::create(sizeof(gpu::SimParams), nullptr, kUpdatable);
+  point_mass_ = gl::Buffer::create(n * sizeof(gpu::PointMass), nullptr, kUpdatable);
   uploadParams();
   uploadAdjacency();
 
@@ -173,6 +183,7 @@ void GpuSolver::allocate() {
     colliders.push_back({glm::vec4(glm::vec3(s.origin), float(s.radius)), glm::vec4(float(s.friction), 0, 0, 0)});
   for (const PlaneSpec& p : scene_.planes)
     colliders.push_back({glm::vec4(glm::vec3(p.point), float(p.friction)), glm::vec4(glm::vec3(p.normal), 0)});
+  appendMeshColliders(colliders, scene_.meshes);
   colliders_ = gl::Buffer::fromVector(colliders, 0);
   health_ = gl::Buffer::create(sizeof(gpu::Health), nullptr, kUpdatable);
   pick_ = gl::Buffer::create(sizeof(gpu::PickResult), nullptr, kUpdatable);
@@ -258,15 +269,25 @@ void GpuSolver::uploadParams() {
   const ClothSpec& c = scene_.cloth;
   const SimParams& sim = scene_.sim;
   const WindSpec& wind = sim.wind;
-  const int n = c.num_width_points * c.num_height_points;
-  const float mass = float(derived::pointMass(c));
+  const int n = topo_.pointCount();
   const float dt = float(sim.dt());
   const float thickness = float(c.thickness);
+  std::vector<gpu::PointMass> masses(std::size_t(n), gpu::PointMass{});
+  for (std::size_t i = 0; i < masses.size(); ++i) {
+    const float mass = float(derived::pointMass(c, topo_, i));
+    masses[i].weight = glm::vec4(glm::vec3(sim.gravity) * mass, 1.0f / mass);
+    masses[i].drag_area = float(derived::dragArea(wind.drag, c, topo_, i));
+    const auto& stencil = topo_.normal_stencil[i];
+    masses[i].normal_a = stencil[0];
+    masses[i].normal_b = stencil[1];
+    masses[i].normal_c = stencil[2];
+    masses[i].normal_d = stencil[3];
+  }
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // kernels still reading the old values come first
+  point_mass_.upload(masses);
   gpu::SimParams p{};
-  p.weight = glm::vec4(glm::vec3(sim.gravity) * mass, 0.0f);
   p.stiffness = glm::vec4(float(c.ks), float(c.ks), float(derived::bendingStiffness(c)), 0.0f);
   p.wind_velocity = glm::vec4(glm::vec3(wind.velocity), float(wind.turbulence));
-  p.inv_mass = 1.0f / mass;
   p.dt = dt;
   p.dt2 = dt * dt;
   p.keep = float(1.0 - c.damping / 100.0);
@@ -282,14 +303,11 @@ void GpuSolver::uploadParams() {
   p.pair_margin = margin;
   p.steps_per_frame = float(sim.steps_per_frame);
   p.stretch_limit = float(sim.stretch_limit);
-  p.drag_area = float(wind.drag * c.width * c.height / double(n));
   p.noise_scale = float(wind.noise_scale);
   p.noise_speed = float(wind.noise_speed);
   p.sane_bound = float(options_.health.sane_bound);
   p.blow_up_stretch = float(1.0 + options_.health.max_strain);
   p.point_count = std::uint32_t(n);
-  p.grid_width = std::uint32_t(c.num_width_points);
-  p.grid_height = std::uint32_t(c.num_height_points);
   p.bucket_count = bucketCount();
   p.bucket_mask = p.bucket_count - 1;
   p.scan_blocks = (p.bucket_count + gpu::kScanBlock - 1) / gpu::kScanBlock;
@@ -328,10 +346,12 @@ void GpuSolver::uploadAdjacency() {
 }
 
 gl::Defines GpuSolver::sceneDefines() const {
-  return {{"NUM_SPHERES", std::to_string(scene_.spheres.size())},
-          {"NUM_PLANES", std::to_string(scene_.planes.size())},
-          {"SELF_COLLISION", scene_.sim.self_collision ? "1" : "0"},
-          {"WIND", scene_.sim.wind.enabled ? "1" : "0"}};
+  gl::Defines d = {{"NUM_SPHERES", std::to_string(scene_.spheres.size())},
+                   {"NUM_PLANES", std::to_string(scene_.planes.size())},
+                   {"SELF_COLLISION", scene_.sim.self_collision ? "1" : "0"},
+                   {"WIND", scene_.sim.wind.enabled ? "1" : "0"}};
+  if (!scene_.meshes.empty()) d.emplace_back("NUM_MESHES", std::to_string(scene_.meshes.size()));
+  return d;
 }
 
 // Kernels are compiled for this scene, so code for absent features does not exist in them. Kernels

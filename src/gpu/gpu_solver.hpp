@@ -229,6 +229,7 @@ class GpuSolver final : public Solver {
   StateBuffers state_[2];
   int current_ = 0;
   gl::Buffer params_, offsets_, neighbors_, colliders_, health_;
+  gl::Buffer point_mass_;  // PointMass per point, rewritten with the params
   SpringColouring colouring_;
   gl::Buffer coloured_springs_;              // ColouredSpring, enabled springs in colour order
   std::vector<std::uint32_t> colour_start_;  // colour c is coloured_springs_[colour_start_[c] .. [c+1])

@@ -121,7 +121,7 @@ int GpuSolver::dispatchesPerFrame() const {
 }
 
 std::string GpuSolver::passName(PassId pass) const {
-  const bool colliders = !scene_.spheres.empty() || !scene_.planes.empty();
+  const bool colliders = !scene_.spheres.empty() || !scene_.planes.empty() || !scene_.meshes.empty();
   switch (pass) {
     case kForcesIntegrate:
       return std::string("forces+integrate") + (scene_.sim.self_collision ? "+pairs_check"
@@ -177,6 +177,7 @@ std::string GpuSolver::passName(PassId pass) const {
 // every stage binds what it uses; a binding is a cheap state change.
 void GpuSolver::bindShared() const {
   params_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingParams);
+  point_mass_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingPointMass);
   offsets_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingOffsets);
   neighbors_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingNeighbors);
   colliders_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColliders);
@@ -425,10 +426,10 @@ long long GpuSolver::deviceMemoryBytes() const {
   for (const StateBuffers& s : state_)
     total += s.position.size() + s.displacement.size();
   for (const gl::Buffer* b :
-       {&params_,      &offsets_,    &neighbors_,   &colliders_,    &health_,      &grid_points_,
-        &grid_counts_, &grid_start_, &grid_blocks_, &grid_scatter_, &grid_sorted_, &pair_control_,
-        &pair_anchor_, &pair_start_, &pair_list_,   &normals_,      &tangents_,    &vertex_tri_offsets_,
-        &vertex_tris_, &triangles_,  &uvs_,         &pick_})
+       {&params_,      &point_mass_, &offsets_,     &neighbors_,    &colliders_,          &health_,       &grid_points_,
+        &grid_counts_, &grid_start_, &grid_blocks_, &grid_scatter_, &grid_sorted_,        &pair_control_, &pair_anchor_,
+        &pair_start_,  &pair_list_,  &normals_,     &tangents_,     &vertex_tri_offsets_, &vertex_tris_,  &triangles_,
+        &uvs_,         &pick_})
     total += b->size();
   return (long long)total;
 }

@@ -45,6 +45,35 @@ MeshData buildSphereMesh(int latitudes, int longitudes) {
   return mesh;
 }
 
+MeshData buildObstacleMesh(const std::vector<glm::dvec3>& positions, const std::vector<std::uint32_t>& triangles) {
+  MeshData m;
+  std::vector<glm::dvec3> normals(positions.size(), glm::dvec3(0.0));
+  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    const glm::dvec3& a = positions[triangles[t]];
+    const glm::dvec3 face = glm::cross(positions[triangles[t + 1]] - a, positions[triangles[t + 2]] - a);
+    for (int k = 0; k < 3; ++k)
+      normals[triangles[t + std::size_t(k)]] += face;
+  }
+  glm::dvec3 lo = positions.front(), hi = lo;
+  for (const glm::dvec3& p : positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const glm::dvec3 extent = hi - lo;
+  const int u = extent.x >= extent.z ? 0 : 2, v = extent.y >= extent[2 - u] ? 1 : 2 - u;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    const double len = glm::length(normals[i]);
+    const glm::vec3 n = len > 0.0 ? glm::vec3(normals[i] / len) : glm::vec3(0, 1, 0);
+    const glm::vec3 t = glm::normalize(glm::cross(std::fabs(n.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0), n));
+    m.positions.emplace_back(glm::vec3(positions[i]), 1.0f);
+    m.normals.emplace_back(n, 0.0f);
+    m.tangents.emplace_back(t, 1.0f);
+    m.uvs.emplace_back(float(positions[i][u]), float(positions[i][v]));
+  }
+  m.triangles = triangles;
+  return m;
+}
+
 MeshData buildPlaneMesh(const glm::vec3& centre, const glm::vec3& normal, float size) {
   const glm::vec3 n = glm::normalize(normal);
   // Any direction not parallel to n gives the tangent; prefer x so a ground plane's u runs along x.

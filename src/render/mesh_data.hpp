@@ -28,4 +28,8 @@ MeshData buildSphereMesh(int latitudes, int longitudes);
 // UVs are in metres (a texture repeats every metre).
 MeshData buildPlaneMesh(const glm::vec3& centre, const glm::vec3& normal, float size);
 
+// A mesh obstacle as placed in the scene, with area-weighted vertex normals, any tangent across them, and
+// UVs in metres from its two longest bounding-box axes.
+MeshData buildObstacleMesh(const std::vector<glm::dvec3>& positions, const std::vector<std::uint32_t>& triangles);
+
 }  // namespace drape

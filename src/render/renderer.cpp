@@ -1,5 +1,6 @@
 #include "render/renderer.hpp"
 
+#include "core/mesh_obstacle.hpp"
 #include "gl/debug.hpp"
 #include "render/render_bindings.h"
 
@@ -57,10 +58,17 @@ void bindStorage(GLuint binding, GLuint buffer) {
 // The cloth's footprint on a plane: where it lands when it falls flat.
 void includePlaneFootprint(Bounds& bounds, const PlaneSpec& plane, const Topology& topology) {
   const glm::vec3 n = glm::normalize(glm::vec3(plane.normal)), p = glm::vec3(plane.point);
-  const int W = topology.W, H = topology.H;
-  for (int corner : {0, W - 1, (H - 1) * W, H * W - 1}) {
-    const glm::vec3 x = glm::vec3(topology.initial_positions[std::size_t(corner)]);
+  auto include = [&](std::size_t i) {
+    const glm::vec3 x = glm::vec3(topology.initial_positions[i]);
     bounds.include(x - glm::dot(x - p, n) * n);
+  };
+  const int W = topology.W, H = topology.H;
+  if (W > 0) {
+    for (int corner : {0, W - 1, (H - 1) * W, H * W - 1})
+      include(std::size_t(corner));
+  } else {
+    for (std::size_t i = 0; i < topology.initial_positions.size(); ++i)
+      include(i);
   }
 }
 
@@ -84,6 +92,11 @@ Renderer::Renderer(const Scene& scene, const Topology& topology, const RendererO
   }
   for (const PlaneSpec& p : scene.planes)
     includePlaneFootprint(bounds_, p, topology);
+  for (const MeshSpec& m : scene.meshes) {
+    for (const glm::dvec3& x : m.mesh->positions)
+      bounds_.include(glm::vec3(x));
+    obstacles_.push_back(uploadMesh(buildObstacleMesh(m.mesh->positions, m.mesh->triangles)));
+  }
 
   sphere_ = uploadMesh(buildSphereMesh(options.sphere_latitudes, options.sphere_longitudes));
   // Large enough to reach the horizon from any sensible camera position.
@@ -249,6 +262,11 @@ void Renderer::drawColliders(ProgramId id, const Frame& frame, bool depth_only) 
     const glm::mat4 model = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(sphere.origin)), glm::vec3(radius));
     offerModel(program, model, s.collider_colour);
     glDrawElements(GL_TRIANGLES, sphere_.count, GL_UNSIGNED_INT, nullptr);
+  }
+  for (const GpuMesh& obstacle : obstacles_) {
+    bindMesh(obstacle);
+    offerModel(program, glm::mat4(1.0f), s.collider_colour);
+    glDrawElements(GL_TRIANGLES, obstacle.count, GL_UNSIGNED_INT, nullptr);
   }
   // Planes receive shadows but cast none (nothing lies beneath them that could be shadowed).
   if (depth_only) return;

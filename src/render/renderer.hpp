@@ -129,6 +129,7 @@ class Renderer {
   Bounds bounds_;
   GpuMesh sphere_;
   std::vector<GpuMesh> planes_;
+  std::vector<GpuMesh> obstacles_;  // the scene's mesh obstacles, in scene coordinates
   ClothGeometry cloth_;
   gl::VertexArray empty_vao_;
   DepthTarget shadow_;

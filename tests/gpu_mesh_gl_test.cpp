@@ -1,0 +1,124 @@
+// Mesh cloths and mesh obstacles on the GPU: whole runs against the CPU float reference (bit for bit on
+// llvmpipe, as tests/gpu_runs_gl_test.cpp for the grid scenes), two GPU runs with racing work groups
+// bit-identical, no point inside an obstacle, and `render --export`.
+#include "core/mesh_obstacle.hpp"
+#include "gl_fixture.hpp"
+#include "gpu/gpu_solver.hpp"
+#include "gpu_test_support.hpp"
+#include "shell_quote.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace drape {
+namespace {
+
+// Work groups race for the hash grid's counters only with worker threads (see gpu_determinism_gl_test.cpp).
+const bool kThreaded = [] { return setenv("LP_NUM_THREADS", "2", 1) == 0; }();
+
+struct MeshCase {
+  const char* scene;
+  int frames;
+};
+
+void PrintTo(const MeshCase& c, std::ostream* os) {
+  *os << c.scene;
+}
+
+class GpuMeshRun : public GlTest, public ::testing::WithParamInterface<MeshCase> {};
+
+// flag: a mesh cloth (quads, lumped masses, pin box) in wind, with a thin mesh pole, collisions fused into
+// integrate; torus: a grid cloth on a mesh obstacle and a plane, with self-collision (collisions in the
+// self-collision kernel); mannequin: six overlapping capsules.
+TEST_P(GpuMeshRun, StaysWithTheCpuFloatRunAndOutsideEveryObstacle) {
+  const Scene scene = gpu_test::standardScene(GetParam().scene);
+  GpuSolver gpu(scene);
+  CpuSolver<float> cpu(scene);
+  const double size = clothSize(scene.cloth);
+  for (int f = 1; f <= GetParam().frames; ++f) {
+    gpu.stepFrame();
+    cpu.stepFrame();
+    if (f % 10 != 0 && f != GetParam().frames) continue;
+    const auto xg = gpu.readPositions(), xc = cpu.readPositions();
+    ASSERT_TRUE(allFinite(xc)) << "frame " << f;
+    const double bound =
+        gpu_test::bitIdenticalDevice(gpu.contextInfo())
+            ? 0.0
+            : double(gpu.substeps()) * 4.0 * gpu_test::floatUlp(std::max(gpu_test::maxAbs(xc), 1.0)) / size;
+    ASSERT_LE(maxDeviation(xg, xc) / size, bound) << GetParam().scene << " frame " << f;
+  }
+  const auto x = gpu.readPositions();
+  for (const MeshSpec& m : scene.meshes)
+    for (std::size_t i = 0; i < x.size(); ++i)
+      ASSERT_FALSE(insideMesh(*m.mesh, x[i])) << "point " << i << " inside " << m.obj;
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, GpuMeshRun,
+                         ::testing::Values(MeshCase{"flag.json", 45}, MeshCase{"torus.json", 60},
+                                           MeshCase{"mannequin.json", 50}),
+                         [](const ::testing::TestParamInfo<MeshCase>& p) {
+                           std::string name = p.param.scene;
+                           return name.substr(0, name.find('.'));
+                         });
+
+class GpuMeshDeterminism : public GlTest {};
+
+TEST_F(GpuMeshDeterminism, MeshObstacleAndMeshClothRunsAreBitIdentical) {
+  ASSERT_TRUE(kThreaded);
+  for (const char* file : {"torus.json", "flag.json"}) {
+    const Scene scene = gpu_test::standardScene(file);
+    GpuSolver first(scene), second(scene);
+    for (int f = 1; f <= 50; ++f) {
+      first.stepFrame();
+      second.stepFrame();
+    }
+    EXPECT_EQ(gpu_test::changedPoints(first.readPositions(), second.readPositions()), 0) << file;
+    EXPECT_EQ(gpu_test::changedPoints(first.readDisplacements(), second.readDisplacements()), 0) << file;
+  }
+}
+
+class GpuMeshLimits : public GlTest {};
+
+TEST_F(GpuMeshLimits, AMeshBeyondTheBufferLimitIsRefusedBeforeAnyBuffer) {
+  const Scene scene = gpu_test::standardScene("flag.json");
+  try {
+    GpuSolver gpu(scene, {.max_buffer_bytes = 4096});
+    FAIL() << "a 651-point mesh fitted 4 KiB buffers";
+  } catch (const GpuLimitError& e) {
+    EXPECT_NE(std::string(e.what()).find("a 651-point mesh cloth needs"), std::string::npos) << e.what();
+  }
+}
+
+class RenderExport : public GlTest {};
+
+TEST_F(RenderExport, RenderWritesTheUsdaOfTheFramesItDraws) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("drape_render_export_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string cmd = std::string(DRAPE_BINARY) + " render " +
+                          testing::quote(std::string(DRAPE_SOURCE_DIR) + "/scenes/flag.json") +
+                          " --frames 4 --every 2 --size 48x32 --out " + testing::quote((dir / "png").string()) +
+                          " --export " + testing::quote((dir / "flag.usda").string()) + " >/dev/null 2>&1";
+  const int raw = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << cmd;
+  std::ifstream in(dir / "flag.usda");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string usda = text.str();
+  EXPECT_EQ(usda.rfind("#usda 1.0\n", 0), 0u);
+  for (const char* sample : {"\n        0: [", "\n        2: [", "\n        4: ["})
+    EXPECT_NE(usda.find(sample), std::string::npos) << sample;
+  EXPECT_EQ(usda.find("\n        1: ["), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir / "png" / "frame_0004.png"));
+}
+
+}  // namespace
+}  // namespace drape
