@@ -52,7 +52,7 @@ void expectStd430(const char* type, const std::vector<Member>& members, std::siz
 
 TEST(Layout, SimParamsIsStd430) {
   expectStd430("SimParams",
-                MEMBER(SimParams, stiffness, Vec4),
+               {MEMBER(SimParams, stiffness, Vec4),
                 MEMBER(SimParams, wind_velocity, Vec4),
                 MEMBER(SimParams, dt, Scalar),
                 MEMBER(SimParams, dt2, Scalar),
@@ -75,7 +75,7 @@ TEST(Layout, SimParamsIsStd430) {
                 MEMBER(SimParams, blow_up_stretch, Scalar),
                 MEMBER(SimParams, pad0, Scalar)},
                sizeof(SimParams));
-EXPECT_EQ(sizeof(SimParams), 112u);
+  EXPECT_EQ(sizeof(SimParams), 112u);
 }
 
 TEST(Layout, ArrayElementsAreStd430) {

@@ -48,8 +48,8 @@ DRAPE_CONSTANT(uint, kBindingPairAnchor, 24u);        // vec4 per point: positio
 DRAPE_CONSTANT(uint, kBindingPairStart, 25u);         // uint per point + 1: where each point's list starts
 DRAPE_CONSTANT(uint, kBindingPairList, 26u);          // uint per candidate: each point's candidates, ascending
 // Per-point quantities that a mesh cloth does not share between its points (a grid's are all alike).
-DRAPE_CONSTANT(uint, kBindingPointMass, 27u);         // PointMass per point
-DRAPE_CONSTANT(uint, kBindingCount, 28u);             // binding points used: one more than the largest
+DRAPE_CONSTANT(uint, kBindingPointMass, 27u);  // PointMass per point
+DRAPE_CONSTANT(uint, kBindingCount, 28u);      // binding points used: one more than the largest
 
 // Work-group sizes, shared so C++ computes group counts from the same numbers.
 DRAPE_CONSTANT(uint, kLocalSize, 128u);      // per-point and per-bucket kernels
