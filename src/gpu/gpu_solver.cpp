@@ -88,9 +88,7 @@ void GpuSolver::checkLimits() const {
   for (int t = 0; t < kSpringTypeCount; ++t)
     if (enabled_springs_[t]) springs += springCount(c, SpringType(t));
   const std::uint64_t buckets = options_.buckets ? options_.buckets : derived::hashBucketCount(n);
-  GLint64 block = 0;
-  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
-  const std::uint64_t limit = options_.max_buffer_bytes ? options_.max_buffer_bytes : std::uint64_t(block);
+  const std::uint64_t limit = maxBufferBytes();
   const std::string cloth =
       c.mesh ? std::to_string(n) + "-point mesh cloth"
              : std::to_string(c.num_width_points) + "x" + std::to_string(c.num_height_points) + " cloth";
@@ -132,6 +130,13 @@ void GpuSolver::checkLimits() const {
                         "than GL_MAX_COMPUTE_WORK_GROUP_COUNT allows");
 }
 
+std::uint64_t GpuSolver::maxBufferBytes() const {
+  if (options_.max_buffer_bytes) return options_.max_buffer_bytes;
+  GLint64 block = 0;
+  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+  return std::uint64_t(block);
+}
+
 std::uint32_t GpuSolver::bucketCount() const {
   return options_.buckets ? options_.buckets
                           : std::uint32_t(derived::hashBucketCount(std::uint64_t(topo_.pointCount())));
@@ -160,9 +165,7 @@ std::uint64_t GpuSolver::pairCapacityEstimate() const {
       1e-9, std::min(c.width / std::max(1, c.num_width_points - 1), c.height / std::max(1, c.num_height_points - 1)));
   const double reach = 2.0 * c.thickness * (1.0 + options_.pair_margin);
   const double per_point = std::min(1e6, 4.0 * 3.14159265358979 * (reach / spacing) * (reach / spacing));
-  GLint64 block = 0;
-  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
-  const std::uint64_t limit = options_.max_buffer_bytes ? options_.max_buffer_bytes : std::uint64_t(block);
+  const std::uint64_t limit = maxBufferBytes();
   const std::uint64_t wanted = n * std::max<std::uint64_t>(32, std::uint64_t(per_point));
   return std::max<std::uint64_t>(1, std::min({wanted, limit / sizeof(std::uint32_t), std::uint64_t(0xffffffffu)}));
 }

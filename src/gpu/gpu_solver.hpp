@@ -191,6 +191,7 @@ class GpuSolver final : public Solver {
   gl::Defines sceneDefines() const;
   void compilePrograms();
   std::string passName(PassId pass) const;
+  std::uint64_t maxBufferBytes() const;  // GpuSolverOptions::max_buffer_bytes, else GL_MAX_SHADER_STORAGE_BLOCK_SIZE
   std::uint32_t bucketCount() const;
   std::uint32_t scanBlocks() const;
   std::uint32_t pointScanBlocks() const;

@@ -378,10 +378,7 @@ void GpuSolver::growPairList() {
   if (pair_control_.id() == 0) return;
   const gpu::PairState state = pair_control_.download<gpu::PairState>(1)[0];
   if (state.overflow == 0) return;
-  GLint64 block = 0;
-  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
-  const std::uint64_t limit =
-      (options_.max_buffer_bytes ? options_.max_buffer_bytes : std::uint64_t(block)) / sizeof(std::uint32_t);
+  const std::uint64_t limit = maxBufferBytes() / sizeof(std::uint32_t);
   const std::uint64_t wanted = std::min(std::uint64_t(state.total) + state.total / 2, limit);
   const std::uint32_t clear = 0;
   pair_control_.upload(offsetof(gpu::PairState, overflow), sizeof clear, &clear);
