@@ -413,6 +413,75 @@ TEST_F(GpuSolverTest, ABlowUpMadeByTheFramesLastPassIsReportedInThatFrame) {
   EXPECT_EQ(scanned.first_point, g.first_point);
 }
 
+// The frame-late check (what the viewer and `drape simulate` call every frame) reports a blow-up in the
+// frame that made it or the one after, and says which state it checked: the first frame whose immediate
+// check (health(), which waits) fails.
+TEST_F(GpuSolverTest, RecentHealthReportsABlowUpAtMostAFrameLate) {
+  Scene scene = smallScene(10);
+  scene.cloth.ks = 1e7;  // far beyond the explicit bound
+  scene.sim.steps_per_frame = 2;
+  scene.sim.stretch_passes = 0;
+  scene.cloth.pinned = {{0, 0}};
+  const GpuSolverOptions options{.health = {.sane_bound = 1e3}};
+  GpuSolver waiting(scene, options);
+  int first_bad = 0;
+  for (int f = 1; f <= 200 && first_bad == 0; ++f) {
+    waiting.stepFrame();
+    if (!waiting.health().ok()) first_bad = f;
+  }
+  ASSERT_GT(first_bad, 1) << "the case must start sane and blow up";
+
+  GpuSolver late(scene, options);
+  int reported = 0;
+  Health h;
+  for (int f = 1; f <= first_bad + 1 && reported == 0; ++f) {
+    late.stepFrame();
+    h = late.recentHealth();
+    if (!h.ok()) reported = f;
+  }
+  ASSERT_NE(reported, 0) << "not reported within a frame of frame " << first_bad;
+  EXPECT_GE(reported, first_bad);
+  const long long steps = scene.sim.steps_per_frame;
+  EXPECT_TRUE(h.substeps == first_bad * steps || h.substeps == (first_bad + 1) * steps) << h.substeps;
+  EXPECT_EQ(h.flags, waiting.health().flags);
+  // A reset forgets the frames in flight: no stale blow-up afterwards.
+  late.reset();
+  late.stepFrame();
+  EXPECT_TRUE(late.recentHealth().ok());
+}
+
+// A steady-state frame as `drape view` runs it (every substep, the frame-late health check, the normals
+// for drawing) makes the CPU wait for nothing: no buffer read-back, no glFinish, no query result the GPU
+// has not written. On selfCollision the list buffer starts too small, so the frames include list
+// rebuilds, the overflow and the buffer's growth, all decided without a read-back.
+TEST_F(GpuSolverTest, SteadyStateFramesReadNothingBack) {
+  for (const char* name : {"pinned2.json", "sphere.json", "selfCollision.json"}) {
+    SCOPED_TRACE(name);
+    const Scene scene = standardScene(name);
+    GpuSolverOptions options;
+    if (scene.sim.self_collision) options.pair_capacity = 256;
+    GpuSolver gpu(scene, options);
+    const auto frame = [&] {
+      gpu.stepFrame();
+      ASSERT_TRUE(gpu.recentHealth().ok());
+      gpu.computeNormals();
+    };
+    frame();  // the first frame has no older frame to answer for it, and waits
+    gl::DispatchRecorder recorder;
+    for (int f = 0; f < 6; ++f)
+      frame();
+    std::string waits;
+    for (const gl::DispatchRecorder::Wait& w : recorder.waits())
+      if (w.what != "fence") waits += w.what + " ";
+    EXPECT_EQ(waits, "");
+    EXPECT_EQ(int(recorder.dispatches().size()), 6 * (gpu.dispatchesPerFrame() + 1)) << "the frames ran";
+    if (scene.sim.self_collision) {
+      const GpuPairs pairs = gpu.readPairs();
+      EXPECT_GT(pairs.capacity, 256u) << "the overflow grew the list buffer";
+    }
+  }
+}
+
 // Every spring at `factor` times its rest length, every point pinned so that no pass moves any.
 std::pair<Health, Health> stretchedBy(double factor) {
   Scene scene = smallScene(6);

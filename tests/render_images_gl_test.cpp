@@ -294,6 +294,38 @@ TEST_F(RenderImageTest, DrawsStraightFromTheSolverBuffers) {
   EXPECT_GT(changed, 20u);
 }
 
+// A cloth whose blow-up flags are raised is hidden by the vertex shaders, which read the flags on the GPU:
+// the viewer learns of a blow-up a frame late (Solver::recentHealth) and must not draw the garbage
+// meanwhile. Surface and wireframe both; the colliders stay. The draw itself reads nothing back.
+TEST_F(RenderImageTest, AClothWithRaisedFlagsIsNotDrawn) {
+  auto made = std::make_unique<GpuSolver>(sphereScene());
+  GpuSolver& gpu = *made;
+  Stage stage(sphereScene(), std::move(made), 0);
+  for (const Shading shading : {Shading::Phong, Shading::Wireframe}) {
+    RenderSettings settings;
+    settings.shading = shading;
+    ASSERT_GT(count(stage.drawnCloth(settings)), 100u) << "a healthy cloth is drawn";
+  }
+  std::vector<glm::dvec3> x = gpu.topology().initial_positions;
+  const std::vector<glm::dvec3> v(x.size(), glm::dvec3(0));
+  x[7].y = 2e5;  // beyond the sane bound, yet finite: the rest of the cloth would still be drawn
+  gpu.uploadState(x, v, 0);
+  gpu.checkHealth();
+  for (const Shading shading : {Shading::Phong, Shading::Wireframe}) {
+    RenderSettings settings;
+    settings.shading = shading;
+    gl::DispatchRecorder recorder;
+    stage.target.bind();
+    stage.renderer->draw(stage.feed->prepare(), stage.camera, kSize, settings);
+    EXPECT_TRUE(recorder.waits().empty()) << recorder.waits().front().what;
+    EXPECT_EQ(count(stage.drawnCloth(settings)), 0u) << "shading " << int(shading);
+  }
+  ASSERT_FALSE(gpu.health().ok());  // the flags the shaders saw
+  gpu.reset();
+  RenderSettings settings;
+  EXPECT_GT(count(stage.drawnCloth(settings)), 100u) << "drawn again once the flags are cleared";
+}
+
 // The CPU path (explicit upload, normals on the CPU) matches the GPU path: same coverage at the start,
 // and the GPU solver's normals and tangents agree with the CPU's, including the bitangent sign.
 TEST_F(RenderImageTest, CpuFeedMatchesGpuFeed) {

@@ -199,7 +199,10 @@ TEST(ViewerPanel, ABlowUpPausesTheViewerUntilReset) {
   for (int i = 0; i < 3; ++i)
     s.frame(s.away, false);
   EXPECT_EQ(v.clothDraws(), drawn_at_blow_up) << "a blown-up cloth must not be drawn";
-  EXPECT_NE(v.status().find("blow-up at frame " + std::to_string(v.framesSimulated())), std::string::npos)
+  // The check is a frame late on the GPU (Solver::recentHealth): the frame named is the last or the one before.
+  const std::string named = "blow-up at frame ";
+  EXPECT_TRUE(v.status().find(named + std::to_string(v.framesSimulated())) != std::string::npos ||
+              v.status().find(named + std::to_string(v.framesSimulated() - 1)) != std::string::npos)
       << v.status();
   const long long frames = v.framesSimulated();
   s.click(s.control("pause").centre());  // resuming does not step a blown-up cloth

@@ -7,6 +7,7 @@
 #define RENDER_BINDING_NORMALS 1    // vec4 per vertex: xyz unit normal
 #define RENDER_BINDING_TANGENTS 2   // vec4 per vertex: xyz unit tangent along +u, w bitangent sign
 #define RENDER_BINDING_UVS 3        // vec2 per vertex
+#define RENDER_BINDING_HEALTH 4     // uint: the solver's blow-up flags (shared/layout.h Health); nonzero hides
 
 // Texture units, fixed per sampler so each program sets its samplers once.
 #define RENDER_UNIT_TEXTURE 0

@@ -1,6 +1,7 @@
 #include "app/bench.hpp"
 
 #include "core/stability.hpp"
+#include "gl/objects.hpp"
 
 #include <fmt/format.h>
 
@@ -92,25 +93,37 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
   const int frames = run.frames_per_repeat;
   solver->resetTimings();
   int timed_frames = 0;
+  long long waits = 0, fence_waits = 0;
   for (int r = 0; r < o.repeats && run.blew_up.empty(); ++r) {
     double ms = 0;
+    const gl::SyncCounts before = gl::syncCounts();
     for (int f = 0; f < frames; ++f) {
       const auto start = Clock::now();
       solver->stepFrame();
+      // What a real-time loop does on the GPU: the health check a frame late, which waits for nothing.
+      if (gpu && !solver->recentHealth().ok() && run.blew_up.empty()) run.blew_up = fmt::format("frame {}", frame);
       if (gpu && f + 1 == frames) solver->finish();
       ms += msSince(start);
       ++frame;
       if (!gpu && !sane()) break;
     }
+    const gl::SyncCounts after = gl::syncCounts();
+    waits += after.readbacks - before.readbacks + after.finishes - before.finishes - (gpu ? 1 : 0);
+    fence_waits += after.fence_waits - before.fence_waits;
     if (gpu) sane();
     if (!run.blew_up.empty()) break;
     run.repeat_ms.push_back(ms / frames);
     timed_frames += frames;
   }
   run.frame_ms = summarize(run.repeat_ms);
+  if (timed_frames > 0) {
+    run.sync_readbacks_per_frame = double(waits) / timed_frames;
+    run.fence_waits_per_frame = double(fence_waits) / timed_frames;
+  }
   if (run.frame_ms.samples > 0 && run.frame_ms.median > 0)
     run.vertex_substeps_per_s = double(run.points) * run.steps_per_frame / (run.frame_ms.median * 1e-3);
   run.dispatches_per_frame = solver->dispatchesPerFrame();
+  run.dispatches_per_substep = gpu ? int(solver->passes().size()) : 0;
   run.gpu_memory_bytes = solver->deviceMemoryBytes();
   if (!gpu) {
     if (timed_frames > 0) run.passes = passesPerFrame(*solver, timed_frames);
@@ -229,6 +242,9 @@ nlohmann::json benchJson(const BenchReport& r) {
     o["repeat_ms"] = run.repeat_ms;
     o["vertex_substeps_per_s"] = run.vertex_substeps_per_s;
     o["dispatches_per_frame"] = run.dispatches_per_frame;
+    o["dispatches_per_substep"] = run.dispatches_per_substep;
+    o["sync_readbacks_per_frame"] = run.sync_readbacks_per_frame;
+    o["fence_waits_per_frame"] = run.fence_waits_per_frame;
     o["gpu_memory_bytes"] = run.gpu_memory_bytes >= 0 ? nlohmann::json(run.gpu_memory_bytes) : nlohmann::json(nullptr);
     o["pass_timing"] = run.pass_timing;
     o["passes"] = nlohmann::json::array();
@@ -255,16 +271,16 @@ std::string benchMarkdown(const BenchReport& r) {
       r.machine.load_average, r.load_at_end, gpu_label, r.options.warmup, r.options.repeats, r.options.frames,
       r.options.budget_s);
   md +=
-      "| scene | N×N | solver | substeps/frame | ms/frame | vertex-substeps/s | dispatches/frame | GPU memory | note "
-      "|\n";
-  md += "|---|---|---|---|---|---|---|---|---|\n";
+      "| scene | N×N | solver | substeps/frame | ms/frame | vertex-substeps/s | dispatches/substep | dispatches/frame "
+      "| read-backs/frame | GPU memory | note |\n";
+  md += "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const BenchRun& run : r.runs) {
     const std::string scene = std::filesystem::path(run.scene).stem().string();
     std::string solver = run.solver;
     if (run.solver == "gpu" && r.gl && r.gl->software) solver = "gpu (llvmpipe)";
     if (run.threads > 0) solver += fmt::format(" ×{}", run.threads);
     if (!run.skipped.empty()) {
-      md += fmt::format("| {} | {} | {} | {} | – | – | – | – | skipped: {} |\n", scene, run.size, solver,
+      md += fmt::format("| {} | {} | {} | {} | – | – | – | – | – | – | skipped: {} |\n", scene, run.size, solver,
                         run.steps_per_frame, run.skipped);
       continue;
     }
@@ -279,9 +295,12 @@ std::string benchMarkdown(const BenchReport& r) {
     const std::string rate = run.frame_ms.samples > 0 ? fmt::format("{:.3g}", run.vertex_substeps_per_s) : "–";
     const std::string mem =
         run.gpu_memory_bytes >= 0 ? fmt::format("{:.1f} MiB", double(run.gpu_memory_bytes) / (1024.0 * 1024.0)) : "–";
-    const std::string dispatches = run.solver == "gpu" ? std::to_string(run.dispatches_per_frame) : "–";
-    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", scene, run.size, solver, run.steps_per_frame,
-                      ms, rate, dispatches, mem, note);
+    const bool gpu = run.solver == "gpu";
+    const std::string per_substep = gpu ? std::to_string(run.dispatches_per_substep) : "–";
+    const std::string dispatches = gpu ? std::to_string(run.dispatches_per_frame) : "–";
+    const std::string readbacks = gpu ? fmt::format("{:.2g}", run.sync_readbacks_per_frame) : "–";
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", scene, run.size, solver,
+                      run.steps_per_frame, ms, rate, per_substep, dispatches, readbacks, mem, note);
   }
   return md;
 }

@@ -45,7 +45,13 @@ struct BenchRun {
   std::vector<BenchPass> passes;
   std::string pass_timing;  // how the passes were timed
   double vertex_substeps_per_s = 0;
-  int dispatches_per_frame = 0;     // 0 for CPU solvers
+  int dispatches_per_frame = 0;    // 0 for CPU solvers
+  int dispatches_per_substep = 0;  // the substep's passes (GPU), without the once-a-frame ones
+  // Per timed frame, the loop's waits for the GPU besides the one glFinish per repeat that ends the clock
+  // (gl::SyncCounts): read-backs and glFinish, then fence waits (the frame-late health check waiting for
+  // the frame before). The loop checks health as the viewer does, every frame and a frame late.
+  double sync_readbacks_per_frame = 0;
+  double fence_waits_per_frame = 0;
   long long gpu_memory_bytes = -1;  // buffers the GPU solver allocated; -1 for CPU solvers
   double stability_limit = 0;       // the guard's limit for the scene's damping
   double stability_number = 0;      // dt sqrt(k_sum/m) of the resampled scene

@@ -207,8 +207,16 @@ void ImGuiPanel::drawPerformance(const Viewer& viewer) {
   ImGui::Text("%.1f frames/s, %.2f ms per frame", st.fps, st.frame_ms);
   ImGui::Text("simulate %.2f ms, draw %.2f ms", st.simulate_ms, st.draw_ms);
   ImGui::Text("per frame:");
-  for (const ViewerStats::Pass& p : st.passes)
-    ImGui::BulletText("%s: %.3f ms, %.0f calls", p.name.c_str(), p.ms, p.calls_per_frame);
+  for (const ViewerStats::Pass& p : st.passes) {
+    if (st.pass_ms) {
+      ImGui::BulletText("%s: %.3f ms, %.0f calls", p.name.c_str(), p.ms, p.calls_per_frame);
+    } else {
+      ImGui::BulletText("%s: %.0f calls", p.name.c_str(), p.calls_per_frame);
+    }
+  }
+  if (!st.pass_ms)
+    ImGui::TextWrapped(
+        "No pass times: this device has no GPU timer, and timing without one would stall every dispatch.");
   ImGui::TextWrapped("%s", gl::describe(viewer.contextInfo()).c_str());
 }
 

@@ -4,6 +4,7 @@
 #include "app/options.hpp"
 #include "app/solver_factory.hpp"
 #include "gl/context.hpp"
+#include "gl/objects.hpp"
 #include "render/viewer.hpp"
 
 #include <GLFW/glfw3.h>
@@ -49,10 +50,11 @@ void runView(const ViewOptions& o) {
     throw CommandError(kExitNoGl, fmt::format("view: {} (without a display, `drape render` writes images)", e.what()));
   }
   fmt::print(stderr, "view: {}\n", gl::describe(window.info()));
-  // The GPU solver runs in the window's context and times every pass for the panel; where timer
-  // queries work this costs nothing.
+  // The GPU solver runs in the window's context and times every pass for the panel with GPU timestamps,
+  // which costs no wait. Without GPU timers (llvmpipe), timing would drain the pipeline around every
+  // dispatch, so the panel shows dispatch counts only.
   SolverFactory factory({.use_current_context = true});
-  std::unique_ptr<Solver> solver = factory.make(scene, o.solver, {.pass_timing = true});
+  std::unique_ptr<Solver> solver = factory.make(scene, o.solver, {.pass_timing = gl::timerQueriesWork()});
   ViewerOptions options;
   options.renderer.sphere_latitudes = o.latitudes;
   options.renderer.sphere_longitudes = o.longitudes;

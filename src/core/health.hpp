@@ -30,6 +30,7 @@ struct Health {
   static constexpr unsigned kOverstretched = 4u;  // an enabled spring beyond (1 + max_strain) x rest
   unsigned flags = 0;
   long long first_point = -1;  // smallest index of a point that raised a flag (a spring raises both ends)
+  long long substeps = -1;     // Solver::substeps() of the state checked (-1: not said)
   bool ok() const { return flags == 0; }
   std::string describe() const;  // empty while ok, else one line naming every flag and the point
 };

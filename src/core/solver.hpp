@@ -49,7 +49,16 @@ class Solver {
   // The blow-up check (core/health.hpp) on the state after the last pass stepped. The GPU answers from
   // flags its check kernel raised (a few bytes read back, which waits for the GPU); its flags stay
   // raised until reset().
-  virtual Health health() { return scanHealth(topology(), scene().cloth, readPositions(), readDisplacements()); }
+  virtual Health health() {
+    Health h = scanHealth(topology(), scene().cloth, readPositions(), readDisplacements());
+    h.substeps = substeps();
+    return h;
+  }
+  // The same check without making the CPU wait for the device, for loops that run every frame: the
+  // newest answer the device has finished, which on the GPU is that of the frame before the last
+  // stepFrame() (or of the last, when the device is already done with it), so one frame stays in
+  // flight. Health::substeps says which state was checked. The CPU solvers answer for the current state.
+  virtual Health recentHealth() { return health(); }
   // Blocks until every pass given so far has run: stop a clock after this. Nothing to wait for on the CPU.
   virtual void finish() {}
   // Bytes of device (GPU) memory the solver allocated; -1 for a solver whose state is in host memory.

@@ -8,6 +8,20 @@
 #include <optional>
 
 namespace drape::gl {
+
+namespace {
+thread_local DispatchRecorder* t_dispatch_recorder = nullptr;
+thread_local SyncCounts t_sync_counts;
+}  // namespace
+
+// The one place a wait is counted and recorded.
+struct WaitRecording {
+  static void record(long long SyncCounts::*counter, const char* what) {
+    ++(t_sync_counts.*counter);
+    if (t_dispatch_recorder) t_dispatch_recorder->waits_.push_back({what});
+  }
+};
+
 namespace {
 
 void checkRange(const char* what, std::size_t offset, std::size_t bytes, std::size_t size) {
@@ -96,8 +110,18 @@ void Buffer::upload(std::size_t offset, std::size_t bytes, const void* data) {
 void Buffer::downloadBytes(std::size_t offset, std::size_t bytes, void* out) const {
   checkRange("download", offset, bytes, size_);
   if (bytes == 0) return;
+  WaitRecording::record(&SyncCounts::readbacks, "download");
   glGetNamedBufferSubData(id(), static_cast<GLintptr>(offset), static_cast<GLsizeiptr>(bytes), out);
   checkDebugErrors();
+}
+
+Buffer Buffer::createReadMapped(std::size_t bytes) {
+  constexpr GLbitfield kFlags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+  Buffer buffer = create(bytes, nullptr, kFlags);
+  buffer.mapped_ = glMapNamedBufferRange(buffer.id(), 0, GLsizeiptr(std::max<std::size_t>(bytes, 1)), kFlags);
+  checkDebugErrors();
+  if (buffer.mapped_ == nullptr) throw GlError("glMapNamedBufferRange of a persistent read buffer failed");
+  return buffer;
 }
 
 void Buffer::bindBase(GLenum target, GLuint index) const {
@@ -182,8 +206,13 @@ void Program::use() const {
   checkDebugErrors();
 }
 
-namespace {
-thread_local DispatchRecorder* t_dispatch_recorder = nullptr;
+SyncCounts syncCounts() {
+  return t_sync_counts;
+}
+
+void finish() {
+  WaitRecording::record(&SyncCounts::finishes, "finish");
+  glFinish();
 }
 
 DispatchRecorder::DispatchRecorder() : outer_(t_dispatch_recorder) {
@@ -423,6 +452,7 @@ std::vector<std::uint8_t> Framebuffer::readPixelsRGBA() const {
     blitColorTo(resolved.id(), {width_, height_});
     return resolved.readPixelsRGBA();
   }
+  WaitRecording::record(&SyncCounts::readbacks, "readPixels");
   const std::size_t row = static_cast<std::size_t>(width_) * 4;
   std::vector<std::uint8_t> pixels(row * static_cast<std::size_t>(height_));
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -475,6 +505,11 @@ void Query::end() const {
   checkDebugErrors();
 }
 
+void Query::timestamp() const {
+  glQueryCounter(id(), GL_TIMESTAMP);
+  checkDebugErrors();
+}
+
 bool Query::resultAvailable() const {
   GLint available = GL_FALSE;
   glGetQueryObjectiv(id(), GL_QUERY_RESULT_AVAILABLE, &available);
@@ -482,10 +517,52 @@ bool Query::resultAvailable() const {
 }
 
 std::uint64_t Query::result() const {
+  if (!resultAvailable()) WaitRecording::record(&SyncCounts::readbacks, "query");
   GLuint64 value = 0;
   glGetQueryObjectui64v(id(), GL_QUERY_RESULT, &value);
   checkDebugErrors();
   return value;
+}
+
+// ---- Fence
+
+Fence Fence::insert() {
+  Fence fence;
+  fence.sync_ = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  checkDebugErrors();
+  if (fence.sync_ == nullptr) throw GlError("glFenceSync failed");
+  return fence;
+}
+
+Fence::Fence(Fence&& other) noexcept : sync_(std::exchange(other.sync_, nullptr)) {}
+
+Fence& Fence::operator=(Fence&& other) noexcept {
+  if (this != &other) {
+    if (sync_) glDeleteSync(sync_);
+    sync_ = std::exchange(other.sync_, nullptr);
+  }
+  return *this;
+}
+
+Fence::~Fence() {
+  if (sync_) glDeleteSync(sync_);
+}
+
+bool Fence::signalled() const {
+  if (!sync_) return true;
+  // GL_SYNC_FLUSH_COMMANDS_BIT: a fence still in the client's queue would otherwise never signal.
+  return glClientWaitSync(sync_, GL_SYNC_FLUSH_COMMANDS_BIT, 0) != GL_TIMEOUT_EXPIRED;
+}
+
+void Fence::wait() const {
+  if (signalled()) return;
+  WaitRecording::record(&SyncCounts::fence_waits, "fence");
+  constexpr GLuint64 kSecond = 1'000'000'000;
+  for (;;) {
+    const GLenum status = glClientWaitSync(sync_, GL_SYNC_FLUSH_COMMANDS_BIT, kSecond);
+    if (status == GL_ALREADY_SIGNALED || status == GL_CONDITION_SATISFIED) return;
+    if (status == GL_WAIT_FAILED) throw GlError("glClientWaitSync failed");
+  }
 }
 
 }  // namespace drape::gl

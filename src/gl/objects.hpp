@@ -105,6 +105,11 @@ class Buffer {
   }
   void downloadBytes(std::size_t offset, std::size_t bytes, void* out) const;
 
+  // A buffer the GPU writes (copyTo) and the CPU reads through a persistent, coherent mapping: once a
+  // fence placed after the copy has signalled, mapped() holds the data and reading it waits for nothing.
+  static Buffer createReadMapped(std::size_t bytes);
+  const void* mapped() const { return mapped_; }
+
   void bindBase(GLenum target, GLuint index) const;  // GL_SHADER_STORAGE_BUFFER, GL_UNIFORM_BUFFER, ...
   void clear();                                      // every byte to zero, on the GPU
   // GPU-side copy (glCopyNamedBufferSubData); throws std::out_of_range on a bad range.
@@ -113,6 +118,7 @@ class Buffer {
  private:
   UniqueName<BufferDeleter> name_;
   std::size_t size_ = 0;
+  const void* mapped_ = nullptr;  // unmapped by GL when the buffer is deleted
 };
 
 // A linked program with its table of active uniforms. Setting a uniform the program does not have
@@ -267,13 +273,47 @@ class Query {
 
   void begin() const;
   void end() const;
+  void timestamp() const;  // glQueryCounter: the GPU's clock once every command before it has run
   bool resultAvailable() const;
-  std::uint64_t result() const;  // nanoseconds for GL_TIME_ELAPSED; waits until available
+  // Nanoseconds (GL_TIME_ELAPSED: a duration; GL_TIMESTAMP: a time). Waits until available, which is
+  // counted as a synchronous read-back when it was not.
+  std::uint64_t result() const;
 
  private:
   UniqueName<QueryDeleter> name_;
   GLenum target_ = 0;
 };
+
+// A point in the command stream (glFenceSync). Move-only; deletes its sync object.
+class Fence {
+ public:
+  Fence() = default;
+  static Fence insert();  // after every command issued so far
+  Fence(const Fence&) = delete;
+  Fence& operator=(const Fence&) = delete;
+  Fence(Fence&& other) noexcept;
+  Fence& operator=(Fence&& other) noexcept;
+  ~Fence();
+
+  bool empty() const { return sync_ == nullptr; }
+  bool signalled() const;  // polls, never waits
+  // Blocks until the GPU has passed the fence (counted in SyncCounts::fence_waits when it had not yet).
+  void wait() const;
+
+ private:
+  GLsync sync_ = nullptr;
+};
+
+// Every way this thread made the CPU wait for the GPU, counted since it started. A steady-state frame of
+// `drape simulate` or `drape view` adds nothing to `readbacks` or `finishes`: the GPU's answers come a
+// frame late through fences (tests/gpu_solver_gl_test.cpp holds that).
+struct SyncCounts {
+  long long readbacks = 0;    // Buffer::download, Framebuffer::readPixelsRGBA, Query::result not yet available
+  long long finishes = 0;     // gl::finish()
+  long long fence_waits = 0;  // Fence::wait() on a fence the GPU had not yet passed
+};
+SyncCounts syncCounts();
+void finish();  // glFinish, counted: only where a timing or an explicit read asks for it
 
 // Whether GL_TIME_ELAPSED measures compute dispatches on the current context: times one small
 // dispatch and reports whether the result is plausible (>= 1 us). llvmpipe reads a token 1 ns for
@@ -282,9 +322,9 @@ class Query {
 // own probe program.
 bool timerQueriesWork();
 
-// Records every compute dispatch this thread issues through Program::dispatch (or dispatchIndirect) while it lives (the
-// innermost one, when nested): the program's label and work groups. It counts what really reaches GL,
-// so tests can hold a solver's own account of its passes against it.
+// Records every compute dispatch this thread issues through Program::dispatch (or dispatchIndirect), and
+// every synchronous wait of SyncCounts, while it lives (the innermost one, when nested). It counts what
+// really reaches GL, so tests can hold a solver's own account of its passes against it.
 class DispatchRecorder {
  public:
   struct Dispatch {
@@ -292,17 +332,27 @@ class DispatchRecorder {
     glm::uvec3 groups{0};  // 0 for an indirect dispatch: its sizes are in a GPU buffer
     bool indirect = false;
   };
+  struct Wait {
+    std::string what;  // "download", "readPixels", "query", "finish", "fence"
+  };
   DispatchRecorder();
   ~DispatchRecorder();
   DispatchRecorder(const DispatchRecorder&) = delete;
   DispatchRecorder& operator=(const DispatchRecorder&) = delete;
 
   const std::vector<Dispatch>& dispatches() const { return dispatches_; }
-  void clear() { dispatches_.clear(); }
+  // Each synchronous wait of SyncCounts, in order, while the recorder lived.
+  const std::vector<Wait>& waits() const { return waits_; }
+  void clear() {
+    dispatches_.clear();
+    waits_.clear();
+  }
 
  private:
   friend class Program;
+  friend struct WaitRecording;
   std::vector<Dispatch> dispatches_;
+  std::vector<Wait> waits_;
   DispatchRecorder* outer_ = nullptr;
 };
 

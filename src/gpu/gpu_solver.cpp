@@ -189,6 +189,7 @@ void GpuSolver::allocate() {
   appendMeshColliders(colliders, scene_.meshes);
   colliders_ = gl::Buffer::fromVector(colliders, 0);
   health_ = gl::Buffer::create(sizeof(gpu::Health), nullptr, kUpdatable);
+  health_ring_ = gl::Buffer::createReadMapped(kHealthSlots * (sizeof(gpu::Health) + sizeof(gpu::PairState)));
   pick_ = gl::Buffer::create(sizeof(gpu::PickResult), nullptr, kUpdatable);
 
   // Render data: the triangles around each vertex as CSR lists, in ascending triangle order.

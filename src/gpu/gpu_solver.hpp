@@ -40,6 +40,10 @@
 
 namespace drape {
 
+namespace gpu {
+struct PairState;  // glsl/shared/layout.h
+}
+
 struct GpuSolverOptions {
   std::uint32_t buckets = 0;         // self-collision hash buckets, a power of two; 0: one per point, as the CPU grid
   bool timing = false;               // time every pass (GL timer queries; else glFinish + wall clock, which stalls)
@@ -118,6 +122,7 @@ class GpuSolver final : public Solver {
   const gl::Buffer& positionBuffer() const { return state_[current_].position; }
   const gl::Buffer& normalBuffer() const { return normals_; }    // vec4: unit normal, w = 0
   const gl::Buffer& tangentBuffer() const { return tangents_; }  // vec4: unit tangent (+u), w = bitangent sign
+  const gl::Buffer& healthBuffer() const { return health_; }     // gpu::Health: the flags the health pass raised
   void computeNormals();  // once per frame before drawing: area-weighted normals, tangents from UVs
 
   // Mouse dragging. setPosition moves a point and keeps its displacement (x_prev moves with it, so no
@@ -133,9 +138,15 @@ class GpuSolver final : public Solver {
   // replaced since the last check (step() without stepFrame(), uploadState()) is checked first, so the
   // answer is always about the current state. One read-back of a few bytes: it waits for the GPU.
   Health health() override;
+  // No wait in the steady state: each frame's health pass is followed by a GPU copy of its flags (and
+  // of the list build's overflow) into a persistently mapped ring and a fence; this reads the newest
+  // slot whose fence has signalled, waiting only for the frame before the newest if even that one is
+  // still running. A list overflow it finds grows the list buffer, as health() does.
+  Health recentHealth() override;
   void clearHealth();
   void checkHealth();      // the health pass on the current state, as stepFrame() runs it after the last substep
   void finish() override;  // glFinish
+  bool timesPasses() const { return options_.timing; }
   long long deviceMemoryBytes() const override;  // all buffers this solver allocated
   // The #defines the scene's kernels were compiled with (NUM_SPHERES, NUM_PLANES, SELF_COLLISION, WIND).
   const gl::Defines& defines() const { return defines_; }
@@ -179,7 +190,7 @@ class GpuSolver final : public Solver {
     gl::Program normals, pick[2];  // compiled on first use
   };
   struct PendingQuery {
-    PassId pass;
+    PassId pass;  // the pass that ended at this timestamp; kPassCount: a start
     gl::Query query;
   };
 
@@ -199,7 +210,6 @@ class GpuSolver final : public Solver {
   std::uint64_t pairCapacityEstimate() const;
   void allocatePairList(std::uint64_t capacity);
   void invalidatePairs();
-  void growPairList();
 
   void bindShared() const;
   void bindState(int in, int out) const;
@@ -211,9 +221,14 @@ class GpuSolver final : public Solver {
   template <class F>
   void timed(PassId pass, F&& run);
   void dispatchPingPong(PassId pass, const gl::Program& program);
-  void resolveQueries() const;
+  gl::Query takeQuery();  // a timestamp query, recorded now
+  // Adds up the pass times of the timestamps the GPU has written; with `wait`, of all of them.
+  void resolveQueries(bool wait) const;
   void writePoint(std::uint32_t index, const glm::vec4* position, const glm::vec4* displacement);
-  void endFrame() override { checkHealth(); }
+  void endFrame() override;
+  void snapshotHealth();  // after the frame's health pass: copy into the next ring slot, then a fence
+  void forgetSnapshots();
+  void growPairList(const gpu::PairState& state);
 
   // Declared first so it is destroyed last, after every GL object below.
   gl::HeadlessContext owned_context_;
@@ -242,7 +257,17 @@ class GpuSolver final : public Solver {
   gl::Defines defines_;
   bool enabled_springs_[kSpringTypeCount] = {true, true, true};
 
+  static constexpr int kHealthSlots = 2;  // the newest frame and the one before it
+  struct HealthSlot {
+    gl::Fence fence;  // empty: the slot holds nothing yet
+    long long substeps = -1;
+  };
+  gl::Buffer health_ring_;  // kHealthSlots snapshots (gpu_solver_step.cpp), mapped for reading
+  HealthSlot health_slots_[kHealthSlots];
+  int newest_slot_ = -1;
+
   bool timer_queries_ = false;
+  bool timing_break_ = true;  // the next timed dispatch starts a new run of timestamps
   mutable std::vector<PassTiming> timings_;
   mutable std::vector<PendingQuery> pending_;
   mutable std::vector<gl::Query> spare_queries_;

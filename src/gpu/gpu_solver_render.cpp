@@ -7,6 +7,7 @@
 namespace drape {
 
 void GpuSolver::computeNormals() {
+  timing_break_ = true;
   if (programs_.normals.id() == 0) programs_.normals = gl::compileCompute("sim/normals.comp");
   bindShared();
   state_[current_].position.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingPosIn);
@@ -55,6 +56,7 @@ void GpuSolver::releasePoint() {
 }
 
 int GpuSolver::pickPoint(glm::vec3 origin, glm::vec3 direction, float radius) {
+  timing_break_ = true;
   const float length = glm::length(direction);
   if (!(length > 0.0f) || !(radius > 0.0f)) return -1;
   if (programs_.pick[0].id() == 0) {

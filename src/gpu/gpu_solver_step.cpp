@@ -9,10 +9,23 @@ static_assert(drape::gpu::kHealthNonFinite == drape::Health::kNonFinite &&
 #include <algorithm>
 #include <chrono>
 #include <cstddef>
+#include <cstring>
 
 namespace drape {
 
+namespace {
+
+// What the frame-end copy writes into each slot of the health ring.
+struct HealthSnapshot {
+  gpu::Health health;
+  gpu::PairState pairs;
+};
+static_assert(sizeof(HealthSnapshot) == sizeof(gpu::Health) + sizeof(gpu::PairState), "the ring's size (allocate())");
+
+}  // namespace
+
 void GpuSolver::step() {
+  timing_break_ = true;
   forcesIntegrate();
   if (scene_.sim.self_collision) selfCollide();
   limitStretch();
@@ -230,24 +243,21 @@ void GpuSolver::timed(PassId pass, F&& run) {
   if (!options_.timing) {
     run();
   } else if (timer_queries_) {
-    gl::Query query;
-    if (spare_queries_.empty()) {
-      query = gl::Query::create(GL_TIME_ELAPSED);
-    } else {
-      query = std::move(spare_queries_.back());
-      spare_queries_.pop_back();
-    }
-    query.begin();
+    // A GPU timestamp after each dispatch: a pass takes the time since the timestamp before it. Nothing
+    // waits: the results are collected once the GPU has them (resolveQueries).
+    // A new start where the host may have paused between dispatches (a substep, the normals before a
+    // draw), so that the pause is not counted as the next pass's time.
+    if (pending_.empty() || timing_break_) pending_.push_back({kPassCount, takeQuery()});
+    timing_break_ = false;
     run();
-    query.end();
-    pending_.push_back({pass, std::move(query)});
-    if (pending_.size() >= 1024) resolveQueries();  // bounded memory; results are ready long before
+    pending_.push_back({pass, takeQuery()});
+    if (pending_.size() >= 4096) resolveQueries(true);  // bounded memory; results are ready long before
   } else {
     // No GPU timer (llvmpipe): wall clock around the dispatch, with the pipeline drained on both sides.
-    glFinish();
+    gl::finish();
     const auto start = std::chrono::steady_clock::now();
     run();
-    glFinish();
+    gl::finish();
     timing.ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   }
   // Every later pass reads through SSBOs what this one wrote. Shader storage writes are incoherent:
@@ -261,16 +271,36 @@ void GpuSolver::dispatchPingPong(PassId pass, const gl::Program& program) {
   current_ = 1 - current_;
 }
 
-void GpuSolver::resolveQueries() const {
-  for (PendingQuery& p : pending_) {
-    timings_[p.pass].ms += double(p.query.result()) * 1e-6;
-    spare_queries_.push_back(std::move(p.query));
+gl::Query GpuSolver::takeQuery() {
+  gl::Query query;
+  if (spare_queries_.empty()) {
+    query = gl::Query::create(GL_TIMESTAMP);
+  } else {
+    query = std::move(spare_queries_.back());
+    spare_queries_.pop_back();
   }
-  pending_.clear();
+  query.timestamp();
+  return query;
+}
+
+// Timestamps arrive in order, so the available ones are a prefix of pending_. The last one stays as the
+// start of the passes after it.
+void GpuSolver::resolveQueries(bool wait) const {
+  std::size_t done = 0;
+  while (done + 1 < pending_.size() && (wait || pending_[done + 1].query.resultAvailable())) {
+    const PendingQuery& before = pending_[done];
+    const PendingQuery& after = pending_[done + 1];
+    if (after.pass != kPassCount)
+      timings_[after.pass].ms += double(after.query.result() - before.query.result()) * 1e-6;
+    ++done;
+  }
+  for (std::size_t i = 0; i < done; ++i)
+    spare_queries_.push_back(std::move(pending_[i].query));
+  pending_.erase(pending_.begin(), pending_.begin() + std::ptrdiff_t(done));
 }
 
 std::vector<PassTiming> GpuSolver::timings() const {
-  resolveQueries();
+  resolveQueries(false);
   std::vector<PassTiming> out;
   for (int p = 0; p < kPassCount; ++p) {
     if (timings_[p].calls == 0) continue;
@@ -281,7 +311,7 @@ std::vector<PassTiming> GpuSolver::timings() const {
 }
 
 void GpuSolver::resetTimings() {
-  resolveQueries();
+  resolveQueries(false);
   timings_.assign(kPassCount, PassTiming{});
   for (int p = 0; p < kPassCount; ++p)
     timings_[p].name = passName(PassId(p));
@@ -371,18 +401,17 @@ GpuPairs GpuSolver::readPairs() {
   return pairs;
 }
 
-// Called where the host already waits for the GPU (health()): when a list build needed more entries
-// than the buffer holds, a buffer 1.5x that size replaces it and the lists are rebuilt. Until then the
-// points that did not fit were served from the grid, with the same result.
-void GpuSolver::growPairList() {
-  if (pair_control_.id() == 0) return;
-  const gpu::PairState state = pair_control_.download<gpu::PairState>(1)[0];
-  if (state.overflow == 0) return;
+// When a list build needed more entries than the buffer holds, a buffer 1.5x that size replaces it and
+// the lists are rebuilt. Until then the points that did not fit were served from the grid, with the same
+// result. `state` comes from a read-back (health()) or a frame's snapshot (recentHealth()); a snapshot
+// older than the last growth asks for no more than the buffer now holds, so it changes nothing.
+void GpuSolver::growPairList(const gpu::PairState& state) {
+  if (pair_control_.id() == 0 || state.overflow == 0) return;
   const std::uint64_t limit = maxBufferBytes() / sizeof(std::uint32_t);
   const std::uint64_t wanted = std::min(std::uint64_t(state.total) + state.total / 2, limit);
+  if (wanted <= pair_capacity_) return;  // grown already, or as large as allowed: the grid serves the rest
   const std::uint32_t clear = 0;
   pair_control_.upload(offsetof(gpu::PairState, overflow), sizeof clear, &clear);
-  if (wanted <= pair_capacity_) return;  // as large as allowed: the grid keeps serving the rest
   allocatePairList(wanted);
   invalidatePairs();
 }
@@ -399,16 +428,63 @@ void GpuSolver::checkHealth() {
 Health GpuSolver::health() {
   if (!health_checked_) checkHealth();
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  growPairList();
+  if (pair_control_.id() != 0) growPairList(pair_control_.download<gpu::PairState>(1)[0]);
   const gpu::Health h = health_.download<gpu::Health>(1)[0];
   Health out;
   out.flags = h.flags;
   out.first_point = h.flags != 0 ? (long long)h.first_point : -1;
+  out.substeps = substeps_;
+  return out;
+}
+
+void GpuSolver::endFrame() {
+  checkHealth();
+  snapshotHealth();
+}
+
+void GpuSolver::snapshotHealth() {
+  newest_slot_ = (newest_slot_ + 1) % kHealthSlots;
+  HealthSlot& slot = health_slots_[newest_slot_];
+  // The slot's previous fence signalled long ago (it is two frames old); waiting on it keeps the
+  // mapped bytes from being overwritten while a reader could still look at them.
+  slot.fence.wait();
+  const std::size_t at = std::size_t(newest_slot_) * sizeof(HealthSnapshot);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // the copies read what the kernels wrote
+  health_.copyTo(health_ring_, 0, at + offsetof(HealthSnapshot, health), sizeof(gpu::Health));
+  if (pair_control_.id() != 0)
+    pair_control_.copyTo(health_ring_, offsetof(gpu::PairControl, state), at + offsetof(HealthSnapshot, pairs),
+                         sizeof(gpu::PairState));
+  slot.fence = gl::Fence::insert();
+  slot.substeps = substeps_;
+}
+
+void GpuSolver::forgetSnapshots() {
+  for (HealthSlot& slot : health_slots_) {
+    slot.fence.wait();  // a copy still in flight would land in a slot read as fresh
+    slot = HealthSlot{};
+  }
+  newest_slot_ = -1;
+}
+
+Health GpuSolver::recentHealth() {
+  if (newest_slot_ < 0) return health();  // no frame ended since the reset: nothing in flight to spare
+  int slot = newest_slot_;
+  const int older = (slot + kHealthSlots - 1) % kHealthSlots;
+  if (!health_slots_[slot].fence.signalled() && !health_slots_[older].fence.empty()) slot = older;
+  health_slots_[slot].fence.wait();
+  HealthSnapshot snapshot;
+  std::memcpy(&snapshot, static_cast<const std::byte*>(health_ring_.mapped()) + slot * sizeof(HealthSnapshot),
+              sizeof snapshot);
+  if (pair_control_.id() != 0) growPairList(snapshot.pairs);
+  Health out;
+  out.flags = snapshot.health.flags;
+  out.first_point = snapshot.health.flags != 0 ? (long long)snapshot.health.first_point : -1;
+  out.substeps = health_slots_[slot].substeps;
   return out;
 }
 
 void GpuSolver::finish() {
-  glFinish();
+  gl::finish();
 }
 
 void GpuSolver::clearHealth() {
@@ -416,6 +492,7 @@ void GpuSolver::clearHealth() {
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   health_.upload(0, sizeof clean, &clean);
   health_checked_ = false;  // the next health() checks the current state again
+  forgetSnapshots();        // their flags were raised before this
 }
 
 long long GpuSolver::deviceMemoryBytes() const {
@@ -423,10 +500,10 @@ long long GpuSolver::deviceMemoryBytes() const {
   for (const StateBuffers& s : state_)
     total += s.position.size() + s.displacement.size();
   for (const gl::Buffer* b :
-       {&params_,      &point_mass_, &offsets_,     &neighbors_,    &colliders_,          &health_,       &grid_points_,
-        &grid_counts_, &grid_start_, &grid_blocks_, &grid_scatter_, &grid_sorted_,        &pair_control_, &pair_anchor_,
-        &pair_start_,  &pair_list_,  &normals_,     &tangents_,     &vertex_tri_offsets_, &vertex_tris_,  &triangles_,
-        &uvs_,         &pick_})
+       {&health_ring_, &params_,      &point_mass_, &offsets_,     &neighbors_,    &colliders_,          &health_,
+        &grid_points_, &grid_counts_, &grid_start_, &grid_blocks_, &grid_scatter_, &grid_sorted_,        &pair_control_,
+        &pair_anchor_, &pair_start_,  &pair_list_,  &normals_,     &tangents_,     &vertex_tri_offsets_, &vertex_tris_,
+        &triangles_,   &uvs_,         &pick_})
     total += b->size();
   return (long long)total;
 }

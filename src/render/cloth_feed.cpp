@@ -66,7 +66,7 @@ ClothBuffers ClothFeed::prepare() {
   if (upload_) return upload_->uploadFrom(*solver_);
   auto& gpu = static_cast<GpuSolver&>(*solver_);
   gpu.computeNormals();
-  return {gpu.positionBuffer().id(), gpu.normalBuffer().id(), gpu.tangentBuffer().id()};
+  return {gpu.positionBuffer().id(), gpu.normalBuffer().id(), gpu.tangentBuffer().id(), gpu.healthBuffer().id()};
 }
 
 }  // namespace drape

@@ -18,6 +18,7 @@ struct ClothBuffers {
   GLuint positions = 0;  // vec4: xyz position (m)
   GLuint normals = 0;    // vec4: xyz unit normal
   GLuint tangents = 0;   // vec4: xyz unit tangent along +u, w = bitangent sign (B = w * cross(N, T))
+  GLuint health = 0;     // uint blow-up flags first (shared/layout.h Health): nonzero hides the cloth; 0: none
 };
 
 // Area-weighted vertex normals and UV tangents of the cloth's triangles, on the CPU. A point whose

@@ -122,6 +122,8 @@ Renderer::Renderer(const Scene& scene, const Topology& topology, const RendererO
     glVertexArrayElementBuffer(cloth_.spring_vaos[t].id(), cloth_.springs[t].id());
   }
   empty_vao_ = gl::VertexArray::create();
+  const std::uint32_t no_flags[4] = {};
+  no_health_ = gl::Buffer::create(sizeof no_flags, no_flags, 0);
 
   shadow_.depth = gl::Texture::create2D(options.shadow_map_size, options.shadow_map_size, GL_DEPTH_COMPONENT24);
   shadow_.depth.setSampling(GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE);
@@ -249,6 +251,7 @@ void Renderer::drawColliders(ProgramId id, const Frame& frame, bool depth_only) 
   const RenderSettings& s = *frame.settings;
   program.use();
   offerFrame(program, s, frame.view_projection, frame.light_view_projection, frame.eye);
+  bindStorage(RENDER_BINDING_HEALTH, no_health_.id());
   const auto bindMesh = [](const GpuMesh& mesh) {
     bindStorage(RENDER_BINDING_POSITIONS, mesh.positions.id());
     bindStorage(RENDER_BINDING_NORMALS, mesh.normals.id());
@@ -290,6 +293,7 @@ void Renderer::drawCloth(ProgramId id, const ClothBuffers& cloth, const Frame& f
   bindStorage(RENDER_BINDING_NORMALS, cloth.normals);
   bindStorage(RENDER_BINDING_TANGENTS, cloth.tangents);
   bindStorage(RENDER_BINDING_UVS, cloth_.uvs.id());
+  bindStorage(RENDER_BINDING_HEALTH, cloth.health != 0 ? cloth.health : no_health_.id());
   cloth_.triangle_vao.bind();
   glDrawElements(GL_TRIANGLES, cloth_.triangle_count, GL_UNSIGNED_INT, nullptr);
   ++cloth_draws_;
@@ -300,6 +304,7 @@ void Renderer::drawWireframe(const ClothBuffers& cloth, const Frame& frame) {
   program.use();
   program.set("u_view_projection", frame.view_projection);
   bindStorage(RENDER_BINDING_POSITIONS, cloth.positions);
+  bindStorage(RENDER_BINDING_HEALTH, cloth.health != 0 ? cloth.health : no_health_.id());
   for (int t = 0; t < kSpringTypeCount; ++t) {
     if (!frame.settings->springs[t] || cloth_.spring_counts[t] == 0) continue;
     program.set("u_colour", springColour(SpringType(t)));
@@ -366,6 +371,7 @@ std::optional<PickHit> Renderer::pick(const ClothBuffers& cloth, const Camera& c
   bindStorage(RENDER_BINDING_POSITIONS, cloth.positions);
   bindStorage(RENDER_BINDING_NORMALS, cloth.normals);
   bindStorage(RENDER_BINDING_UVS, cloth_.uvs.id());
+  bindStorage(RENDER_BINDING_HEALTH, cloth.health != 0 ? cloth.health : no_health_.id());
   cloth_.triangle_vao.bind();
   glDrawElements(GL_TRIANGLES, cloth_.triangle_count, GL_UNSIGNED_INT, nullptr);
   glBindVertexArray(0);

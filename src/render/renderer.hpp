@@ -132,6 +132,7 @@ class Renderer {
   std::vector<GpuMesh> obstacles_;  // the scene's mesh obstacles, in scene coordinates
   ClothGeometry cloth_;
   gl::VertexArray empty_vao_;
+  gl::Buffer no_health_;  // zero flags, for what has no solver behind it
   DepthTarget shadow_;
   PickTarget pick_;
   long long cloth_draws_ = 0;

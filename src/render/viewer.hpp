@@ -64,6 +64,7 @@ struct ViewerStats {
     double calls_per_frame = 0.0;  // dispatches (GPU) or invocations (CPU)
   };
   std::vector<Pass> passes;  // from the solver's timings
+  bool pass_ms = true;       // Pass::ms measured (the GPU solver times passes only where timer queries work)
 };
 
 class Viewer {
