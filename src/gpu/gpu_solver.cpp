@@ -73,6 +73,7 @@ GpuSolver::GpuSolver(Scene scene, GpuSolverOptions options, gl::HeadlessContext 
   timer_queries_ = options_.timing && gl::timerQueriesWork();
   resetTimings();
   compilePrograms();
+  buildPlan();
   reset();
 }
 
@@ -408,6 +409,7 @@ void GpuSolver::setParams(const ClothSpec& cloth, const SimParams& sim) {
   uploadParams();
   invalidatePairs();  // thickness may have changed, and with it the lists' reach
   if (sceneDefines() != defines_) compilePrograms();
+  buildPlan();              // stretch passes, scheme and spring types change what a substep dispatches
   health_checked_ = false;  // the spring types checked may have changed
 }
 

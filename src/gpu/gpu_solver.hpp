@@ -177,6 +177,22 @@ class GpuSolver final : public Solver {
     kHealth,
     kPassCount
   };
+  enum class Stage { Integrate, SelfCollide, Stretch };
+  // One dispatch of the substep. The plan is worked out once per scene (buildPlan(), again after a live
+  // parameter change): step() runs it, passes() lists it (the -v listing and the bench print that), and
+  // tests/gpu_solver_gl_test.cpp holds it against the dispatches really issued.
+  struct PlannedDispatch {
+    enum class Size { Points, One, Indirect, Springs };
+    PassId pass;
+    Stage stage;
+    const gl::Program* program;
+    Size size;
+    bool ping_pong;                      // reads one copy of the state and writes the other, which then is current
+    std::uint32_t command = 0;           // Indirect: the PairDispatch command pairs_prepare wrote
+    std::uint32_t first = 0, count = 0;  // Springs: one colour's range of the coloured springs
+    bool writes_commands = false;        // a later dispatch reads its indirect arguments (command barrier)
+    bool unless_checked = false;         // only when forces+integrate has not checked the travel (a stage run alone)
+  };
   struct StateBuffers {
     gl::Buffer position;      // vec4 per point
     gl::Buffer displacement;  // vec4 per point, w = pin flag
@@ -194,6 +210,9 @@ class GpuSolver final : public Solver {
     gl::Query query;
   };
 
+  void buildPlan();
+  void runStage(Stage stage);
+  void run(const PlannedDispatch& d);
   void checkLimits() const;
   void allocate();
   void allocateGrid();
@@ -220,7 +239,6 @@ class GpuSolver final : public Solver {
   void dispatchIndirect(PassId pass, const gl::Program& program, std::uint32_t command);
   template <class F>
   void timed(PassId pass, F&& run);
-  void dispatchPingPong(PassId pass, const gl::Program& program);
   gl::Query takeQuery();  // a timestamp query, recorded now
   // Adds up the pass times of the timestamps the GPU has written; with `wait`, of all of them.
   void resolveQueries(bool wait) const;
@@ -254,6 +272,7 @@ class GpuSolver final : public Solver {
   std::uint64_t pair_capacity_ = 0;
   gl::Buffer normals_, tangents_, vertex_tri_offsets_, vertex_tris_, triangles_, uvs_, pick_;
   Programs programs_;
+  std::vector<PlannedDispatch> plan_;
   gl::Defines defines_;
   bool enabled_springs_[kSpringTypeCount] = {true, true, true};
 

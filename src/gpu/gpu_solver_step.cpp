@@ -26,106 +26,122 @@ static_assert(sizeof(HealthSnapshot) == sizeof(gpu::Health) + sizeof(gpu::PairSt
 
 void GpuSolver::step() {
   timing_break_ = true;
-  forcesIntegrate();
-  if (scene_.sim.self_collision) selfCollide();
-  limitStretch();
+  bindShared();
+  for (const PlannedDispatch& d : plan_)
+    run(d);
   ++substeps_;
   health_checked_ = false;
 }
 
 void GpuSolver::forcesIntegrate() {
-  bindShared();
-  if (scene_.sim.wind.enabled)
-    programs_.forces_integrate.setUniform("u_time", float(double(substeps_) * scene_.sim.dt()));
-  dispatchPingPong(kForcesIntegrate, programs_.forces_integrate);
-  pairs_checked_ = scene_.sim.self_collision;
+  runStage(Stage::Integrate);
 }
 
-// The candidate lists are rebuilt on the GPU's own decision (pairs_prepare writes the build's indirect
-// dispatch sizes), so no read-back stalls the substep; when the lists are fresh, the build's dispatches
-// run zero work groups.
 void GpuSolver::selfCollide() {
-  if (!scene_.sim.self_collision) return;
-  bindShared();
-  bindState(current_, 1 - current_);
-  if (!pairs_checked_)
-    dispatch(kPairsCheck, programs_.pairs_check, groupsFor(std::uint64_t(topo_.pointCount()), gpu::kLocalSize));
-  dispatch(kPairsPrepare, programs_.pairs_prepare, {1, 1, 1});
-  glMemoryBarrier(GL_COMMAND_BARRIER_BIT);  // the indirect arguments it wrote
-  dispatchIndirect(kPairsGridCount, programs_.pairs_grid_count, gpu::kPairDispatchPoints);
-  if (gridInOneGroup()) {
-    dispatchIndirect(kGridBuild, programs_.grid_build, gpu::kPairDispatchOne);
-  } else {
-    dispatchIndirect(kGridScan, programs_.grid_scan[0], gpu::kPairDispatchGridBlocks);
-    dispatchIndirect(kGridScanBlocks, programs_.grid_scan[1], gpu::kPairDispatchOne);
-    dispatchIndirect(kGridScanOffsets, programs_.grid_scan[2], gpu::kPairDispatchGridBlocks);
-    dispatchIndirect(kGridScatter, programs_.grid_scatter, gpu::kPairDispatchPoints);
-    dispatchIndirect(kGridRank, programs_.grid_rank, gpu::kPairDispatchPoints);
-  }
-  dispatchIndirect(kPairsCount, programs_.pairs_count, gpu::kPairDispatchPoints);
-  if (pointScanBlocks() == 1) {
-    dispatchIndirect(kPairsScan, programs_.pairs_scan[0], gpu::kPairDispatchOne);
-  } else {
-    dispatchIndirect(kPairsScan, programs_.pairs_scan[0], gpu::kPairDispatchPointBlocks);
-    dispatchIndirect(kPairsScanBlocks, programs_.pairs_scan[1], gpu::kPairDispatchOne);
-    dispatchIndirect(kPairsScanOffsets, programs_.pairs_scan[2], gpu::kPairDispatchPointBlocks);
-  }
-  dispatchIndirect(kPairsFill, programs_.pairs_fill, gpu::kPairDispatchPoints);
-  dispatchPingPong(kSelfCollide, programs_.self_collide);
-  pairs_checked_ = false;
+  runStage(Stage::SelfCollide);
 }
 
 void GpuSolver::limitStretch() {
-  if (scene_.sim.stretch_passes == 0) return;
-  bindShared();
-  if (scene_.sim.stretch_scheme == StretchScheme::Jacobi) {
-    for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass)
-      dispatchPingPong(kLimitStretch, programs_.limit_stretch);
-    return;
-  }
-  // In place on the current state: the springs of one colour share no point, and the storage barrier
-  // after each dispatch lets the next colour see the moved points (CpuSolver::limitStretchColoured).
-  bindState(current_, 1 - current_);
-  coloured_springs_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColouredSprings);
-  const gl::Program& program = programs_.limit_stretch_coloured;
-  for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass)
-    for (std::size_t c = 0; c + 1 < colour_start_.size(); ++c) {
-      const std::uint32_t count = colour_start_[c + 1] - colour_start_[c];
-      if (count == 0) continue;
-      program.setUniform("u_first", colour_start_[c]);
-      program.setUniform("u_count", count);
-      dispatch(kLimitStretchColoured, program, groupsFor(count, gpu::kLocalSize));
-    }
+  runStage(Stage::Stretch);
 }
 
-std::vector<std::string> GpuSolver::passes() const {
-  std::vector<std::string> out{passName(kForcesIntegrate)};
+void GpuSolver::runStage(Stage stage) {
+  bindShared();
+  for (const PlannedDispatch& d : plan_)
+    if (d.stage == stage) run(d);
+}
+
+void GpuSolver::buildPlan() {
+  using Size = PlannedDispatch::Size;
+  plan_.clear();
+  const auto add = [this](PassId pass, Stage stage, const gl::Program& program, Size size, bool ping_pong,
+                          std::uint32_t command = 0) {
+    plan_.push_back({pass, stage, &program, size, ping_pong, command});
+  };
+  add(kForcesIntegrate, Stage::Integrate, programs_.forces_integrate, Size::Points, true);
+  // The candidate lists are rebuilt on the GPU's own decision (pairs_prepare writes the build's indirect
+  // dispatch sizes), so no read-back stalls the substep; when the lists are fresh, the build's dispatches
+  // run zero work groups.
   if (scene_.sim.self_collision) {
-    out.push_back(passName(kPairsPrepare));
-    out.push_back(passName(kPairsGridCount));
+    const Stage stage = Stage::SelfCollide;
+    add(kPairsCheck, stage, programs_.pairs_check, Size::Points, false);
+    plan_.back().unless_checked = true;
+    add(kPairsPrepare, stage, programs_.pairs_prepare, Size::One, false);
+    plan_.back().writes_commands = true;
+    add(kPairsGridCount, stage, programs_.pairs_grid_count, Size::Indirect, false, gpu::kPairDispatchPoints);
     if (gridInOneGroup()) {
-      out.push_back(passName(kGridBuild));
+      add(kGridBuild, stage, programs_.grid_build, Size::Indirect, false, gpu::kPairDispatchOne);
     } else {
-      for (PassId p : {kGridScan, kGridScanBlocks, kGridScanOffsets, kGridScatter, kGridRank})
-        out.push_back(passName(p));
+      add(kGridScan, stage, programs_.grid_scan[0], Size::Indirect, false, gpu::kPairDispatchGridBlocks);
+      add(kGridScanBlocks, stage, programs_.grid_scan[1], Size::Indirect, false, gpu::kPairDispatchOne);
+      add(kGridScanOffsets, stage, programs_.grid_scan[2], Size::Indirect, false, gpu::kPairDispatchGridBlocks);
+      add(kGridScatter, stage, programs_.grid_scatter, Size::Indirect, false, gpu::kPairDispatchPoints);
+      add(kGridRank, stage, programs_.grid_rank, Size::Indirect, false, gpu::kPairDispatchPoints);
     }
-    out.push_back(passName(kPairsCount));
-    out.push_back(passName(kPairsScan));
-    if (pointScanBlocks() > 1) {
-      out.push_back(passName(kPairsScanBlocks));
-      out.push_back(passName(kPairsScanOffsets));
+    add(kPairsCount, stage, programs_.pairs_count, Size::Indirect, false, gpu::kPairDispatchPoints);
+    if (pointScanBlocks() == 1) {
+      add(kPairsScan, stage, programs_.pairs_scan[0], Size::Indirect, false, gpu::kPairDispatchOne);
+    } else {
+      add(kPairsScan, stage, programs_.pairs_scan[0], Size::Indirect, false, gpu::kPairDispatchPointBlocks);
+      add(kPairsScanBlocks, stage, programs_.pairs_scan[1], Size::Indirect, false, gpu::kPairDispatchOne);
+      add(kPairsScanOffsets, stage, programs_.pairs_scan[2], Size::Indirect, false, gpu::kPairDispatchPointBlocks);
     }
-    out.push_back(passName(kPairsFill));
-    out.push_back(passName(kSelfCollide));
+    add(kPairsFill, stage, programs_.pairs_fill, Size::Indirect, false, gpu::kPairDispatchPoints);
+    add(kSelfCollide, stage, programs_.self_collide, Size::Points, true);
   }
   for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass) {
     if (scene_.sim.stretch_scheme == StretchScheme::Jacobi) {
-      out.push_back(passName(kLimitStretch));
+      add(kLimitStretch, Stage::Stretch, programs_.limit_stretch, Size::Points, true);
       continue;
     }
-    for (std::size_t c = 0; c + 1 < colour_start_.size(); ++c)
-      if (colour_start_[c + 1] > colour_start_[c]) out.push_back(passName(kLimitStretchColoured));
+    // In place on the current state: the springs of one colour share no point, and the storage barrier
+    // after each dispatch lets the next colour see the moved points (CpuSolver::limitStretchColoured).
+    for (std::size_t c = 0; c + 1 < colour_start_.size(); ++c) {
+      const std::uint32_t count = colour_start_[c + 1] - colour_start_[c];
+      if (count == 0) continue;
+      add(kLimitStretchColoured, Stage::Stretch, programs_.limit_stretch_coloured, Size::Springs, false);
+      plan_.back().first = colour_start_[c];
+      plan_.back().count = count;
+    }
   }
+}
+
+void GpuSolver::run(const PlannedDispatch& d) {
+  if (d.unless_checked && pairs_checked_) return;
+  const gl::Program& program = *d.program;
+  if (d.pass == kForcesIntegrate && scene_.sim.wind.enabled)
+    program.setUniform("u_time", float(double(substeps_) * scene_.sim.dt()));
+  if (d.size == PlannedDispatch::Size::Springs) {
+    coloured_springs_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColouredSprings);
+    program.setUniform("u_first", d.first);
+    program.setUniform("u_count", d.count);
+  }
+  bindState(current_, 1 - current_);
+  switch (d.size) {
+    case PlannedDispatch::Size::Points:
+      dispatch(d.pass, program, groupsFor(std::uint64_t(topo_.pointCount()), gpu::kLocalSize));
+      break;
+    case PlannedDispatch::Size::One:
+      dispatch(d.pass, program, {1, 1, 1});
+      break;
+    case PlannedDispatch::Size::Springs:
+      dispatch(d.pass, program, groupsFor(d.count, gpu::kLocalSize));
+      break;
+    case PlannedDispatch::Size::Indirect:
+      dispatchIndirect(d.pass, program, d.command);
+      break;
+  }
+  if (d.ping_pong) current_ = 1 - current_;
+  if (d.writes_commands) glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
+  // Integrate checks the travel for the lists when self-collision follows; self-collision consumes it.
+  if (d.pass == kForcesIntegrate) pairs_checked_ = scene_.sim.self_collision;
+  if (d.pass == kSelfCollide) pairs_checked_ = false;
+}
+
+std::vector<std::string> GpuSolver::passes() const {
+  std::vector<std::string> out;
+  for (const PlannedDispatch& d : plan_)
+    if (!d.unless_checked) out.push_back(passName(d.pass));
   return out;
 }
 
@@ -263,12 +279,6 @@ void GpuSolver::timed(PassId pass, F&& run) {
   // Every later pass reads through SSBOs what this one wrote. Shader storage writes are incoherent:
   // without this barrier the next dispatch may still read the old values.
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-}
-
-void GpuSolver::dispatchPingPong(PassId pass, const gl::Program& program) {
-  bindState(current_, 1 - current_);
-  dispatch(pass, program, groupsFor(std::uint64_t(topo_.pointCount()), gpu::kLocalSize));
-  current_ = 1 - current_;
 }
 
 gl::Query GpuSolver::takeQuery() {
