@@ -4,12 +4,14 @@
 #include "app/measure.hpp"
 #include "app/options.hpp"
 #include "app/output.hpp"
+#include "app/progress.hpp"
 #include "app/solver_factory.hpp"
 #include "core/metrics.hpp"
 #include "core/stability.hpp"
 
 #include <fmt/core.h>
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <optional>
@@ -81,14 +83,17 @@ void runSimulate(const SimulateOptions& o) {
   if (o.verbose) fmt::print(stderr, "{}", describePasses(*solver));
   const auto start = std::chrono::steady_clock::now();
   if (exporter) exporter->add(0, solver->readPositions());
+  TerminalProgress progress("simulate: frame", o.frames, ::isatty(STDERR_FILENO));
   for (int f = 0; f < o.frames; ++f) {
     solver->stepFrame();
+    progress.update(f + 1);
     if (exporter && (f + 1) % o.every == 0) exporter->add(f + 1, solver->readPositions());
     // Cheap: a few bytes from the GPU, a scan of the state on the CPU. A garbage run stops here.
     if (const std::string why = solver->health().describe(); !why.empty())
       throw CommandError(kExitBlowUp, fmt::format("{}: blew up at frame {}: {}", scene.path, f + 1, why));
   }
   const Positions x = solver->readPositions();  // also waits for the GPU before the clock stops
+  progress.finish();
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (!allFinite(x))
     throw CommandError(kExitBlowUp,
