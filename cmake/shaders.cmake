@@ -18,7 +18,7 @@
 add_library(drape_shader_source STATIC ${CMAKE_SOURCE_DIR}/src/gl/shader_source.cpp)
 target_include_directories(drape_shader_source PUBLIC ${CMAKE_SOURCE_DIR}/src)
 target_compile_definitions(drape_shader_source PRIVATE DRAPE_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
-target_link_libraries(drape_shader_source PRIVATE drape_warnings)
+target_link_libraries(drape_shader_source PUBLIC drape_core PRIVATE drape_warnings)  # core/data_dir
 
 # drape_gl globbed shader_source.cpp too; it links the library instead of compiling it twice.
 get_target_property(_drape_gl_sources drape_gl SOURCES)

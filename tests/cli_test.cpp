@@ -1,8 +1,13 @@
 // The `drape` command line as a user meets it: runs the real binary as a subprocess.
+#include "app/stability_cases.hpp"
+
 #include "shell_quote.hpp"
 
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 #include <sys/wait.h>
@@ -11,14 +16,19 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
+
+extern char** environ;
 
 namespace {
 
@@ -367,13 +377,13 @@ TEST(Limits, SubstepsPassesAndSizesOnTheCommandLineAreBounded) {
 // ---------------------------------------------------------------------------------------------------
 // Exit statuses and messages, as README.md's "Exit status" section lists them.
 
-TEST(ExitStatus, AnUnknownOrMissingSubcommandIsStatusTwoAndNamed) {
+TEST(ExitStatus, AnUnknownSubcommandIsStatusTwoAndNamed) {
   Result r = run("frobnicate");
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_NE(r.err.find("frobnicate"), std::string::npos) << r.err;
-  r = run("");
-  EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_NE(r.err.find("simulate"), std::string::npos) << "lists the commands: " << r.err;
+  r = run("--threads 2");  // options but no command
+  EXPECT_EQ(r.status, 2) << r.err;
 }
 
 bool hasLongNumber(const std::string& text) {
@@ -466,6 +476,206 @@ TEST(ExitStatus, StabilityAndAccuracyRefuseAnOutThatIsAFile) {
   EXPECT_EQ(
       run("accuracy " + file.string() + " --no-plot --out " + (tempDir() / "a_file").string() + kTinyAccuracy).status,
       2);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The first five minutes: what a new user types before reading anything.
+
+TEST(FirstMinutes, NoArgumentsPrintsTheHelpWithStatusZero) {
+  const Result r = run("");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  for (const char* word : {"Usage", "simulate", "view", "render", "-f SCENE", "--version"})
+    EXPECT_NE(r.out.find(word), std::string::npos) << word << " missing from:\n" << r.out;
+}
+
+TEST(FirstMinutes, VersionIsTheProjectsAndNamesTheDataDirectories) {
+  const Result r = run("--version", "env -u DRAPE_GLSL_DIR -u DRAPE_TEXTURE_DIR");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out.substr(0, r.out.find('\n')), std::string("drape ") + DRAPE_VERSION) << r.out;
+  // The build tree's binary reads the source tree's files.
+  for (const char* dir : {"glsl", "textures", "scenes"})
+    EXPECT_NE(r.out.find(std::string(DRAPE_SOURCE_DIR) + "/" + dir + "\n"), std::string::npos) << dir << ": " << r.out;
+  const Result moved = run("--version", "DRAPE_GLSL_DIR=/elsewhere/glsl");
+  EXPECT_NE(moved.out.find("glsl      /elsewhere/glsl\n"), std::string::npos) << moved.out;
+}
+
+// CS184's viewer is started as `clothsim -f scene/pinned2.json`; drape takes the same words.
+TEST(FirstMinutes, DashFOpensTheViewerOnTheScene) {
+  const std::string no_display = "env -u DISPLAY -u WAYLAND_DISPLAY";
+  Result r = run("-f " + scene("pinned2.json"), no_display);
+  EXPECT_EQ(r.status, 3) << r.err;
+  EXPECT_NE(r.err.find("view:"), std::string::npos) << "the viewer was asked for: " << r.err;
+  EXPECT_NE(r.err.find("drape render"), std::string::npos) << "points to the headless command: " << r.err;
+  // The scene is read (and refused) before any window: -f names the viewer's scene.
+  r = run("-f /nonexistent/scene.json", no_display);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("/nonexistent/scene.json"), std::string::npos) << r.err;
+  // The viewer's own options follow, as CS184's -a and -o do.
+  r = run("-f " + scene("pinned2.json") + " -a 1", no_display);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("latitudes"), std::string::npos) << r.err;
+  r = run("-f");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+TEST(FirstMinutes, StabilityHelpListsEveryCase) {
+  const Result r = run("stability --help");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::vector<drape::StabilityCase> cases = drape::stabilityCases();
+  ASSERT_FALSE(cases.empty());
+  for (const drape::StabilityCase& c : cases)
+    EXPECT_NE(r.out.find(c.name), std::string::npos) << c.name << " missing from:\n" << r.out;
+}
+
+TEST(FirstMinutes, VideoWithoutFfmpegIsOneLineAndStatusOneBeforeAnyWork) {
+  const fs::path dir = freshDir("no_ffmpeg");
+  // drape is started by its full path; only its search for ffmpeg sees this PATH.
+  const Result r = run("render " + scene("sphere.json") + " --frames 1 --out " + quote((dir / "o").string()) +
+                           " --video " + quote((dir / "v.mp4").string()),
+                       "PATH=" + quote((dir / "empty").string()));
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("--video: ffmpeg is not installed"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "o")) << "checked before anything is made";
+}
+
+// A simulate of well over a second: on a terminal it shows its progress, through a pipe nothing.
+const std::string kLongSimulate = "simulate " + scene("selfCollision.json") + " --frames 120 --threads 1";
+
+TEST(FirstMinutes, SimulateThroughAPipeShowsNoProgress) {
+  const auto start = std::chrono::steady_clock::now();
+  const Result r = run(kLongSimulate);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_EQ(r.status, 0) << r.err;
+  ASSERT_GT(seconds, 1.5) << "the run must be long enough that a terminal would show progress";
+  EXPECT_TRUE(r.err.empty()) << "progress noise in a pipe: " << r.err;
+}
+
+TEST(FirstMinutes, SimulateOnATerminalShowsOneUpdatingLine) {
+  if (std::system("command -v script >/dev/null 2>&1") != 0) GTEST_SKIP() << "no script(1) to make a terminal";
+  // script(1) gives drape a terminal; drape's stdout goes to a file, so what script records is stderr.
+  const fs::path dir = freshDir("tty");
+  const std::string inner =
+      std::string(DRAPE_BINARY) + " " + kLongSimulate + " >" + quote((dir / "summary").string()) + " </dev/null";
+  const std::string command =
+      "script -qec " + quote(inner) + " /dev/null >" + quote((dir / "tty").string()) + " 2>&1 </dev/null";
+  ASSERT_EQ(std::system(command.c_str()), 0) << slurp(dir / "tty");
+  const std::string tty = slurp(dir / "tty");
+  EXPECT_NE(tty.find("\rsimulate: frame "), std::string::npos) << tty;
+  EXPECT_NE(tty.find("/120, "), std::string::npos) << tty;
+  EXPECT_NE(tty.find("simulate: frame 120/120"), std::string::npos) << "the last frame is shown: " << tty;
+  EXPECT_EQ(tty.back(), '\n') << "the line is finished, so the shell prompt starts on its own";
+  EXPECT_NE(slurp(dir / "summary").find("max strain"), std::string::npos);
+}
+
+// `accuracy` rewrites its CSV as each run finishes; stopped by a signal, it keeps the runs it finished,
+// each with all its rows. Twenty runs of a tiny cloth, one at a time: the signal comes after the first
+// few and long before the last.
+TEST(FirstMinutes, AnInterruptedAccuracyKeepsEveryFinishedRun) {
+  const fs::path dir = freshDir("interrupted");
+  std::ofstream(dir / "tiny.json") << kTinyScene;
+  const fs::path csv = dir / "out" / "accuracy.csv";
+  std::vector<std::string> args = {DRAPE_BINARY,
+                                   "accuracy",
+                                   (dir / "tiny.json").string(),
+                                   "--out",
+                                   (dir / "out").string(),
+                                   "--no-plot",
+                                   "--jobs",
+                                   "1",
+                                   "--solver",
+                                   "cpu64,cpu",
+                                   "--steps",
+                                   "40,60,80,100,120,140,160,180,200,220",
+                                   "--passes",
+                                   "1",
+                                   "--times",
+                                   "1,2",
+                                   "--reference-factor",
+                                   "2"};
+  std::vector<char*> argv;
+  for (std::string& a : args)
+    argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, (dir / "stdout").c_str(), O_WRONLY | O_CREAT, 0600);
+  posix_spawn_file_actions_addopen(&files, STDERR_FILENO, (dir / "stderr").c_str(), O_WRONLY | O_CREAT, 0600);
+  pid_t pid = 0;
+  ASSERT_EQ(posix_spawn(&pid, argv[0], &files, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&files);
+  // Three finished runs: the CSV then holds the header and their rows.
+  auto runsIn = [](const std::string& text) {
+    std::set<std::string> runs;
+    std::istringstream lines(text);
+    std::string line;
+    std::getline(lines, line);
+    while (std::getline(lines, line)) {
+      std::size_t third = 0;
+      for (int comma = 0; comma < 3 && third != std::string::npos; ++comma)
+        third = line.find(',', third + (comma > 0));
+      runs.insert(line.substr(0, third));
+    }
+    return runs;
+  };
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (runsIn(slurp(csv)).size() < 3 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ::kill(pid, SIGINT);
+  int raw = 0;
+  ASSERT_EQ(::waitpid(pid, &raw, 0), pid);
+  ASSERT_TRUE(WIFSIGNALED(raw) && WTERMSIG(raw) == SIGINT)
+      << "the sweep ended before the signal: " << slurp(dir / "stderr");
+
+  const std::string text = slurp(csv);
+  const std::set<std::string> runs = runsIn(text);
+  EXPECT_GE(runs.size(), 3u) << text;
+  EXPECT_LT(runs.size(), 20u) << "stopped before the end: " << text;
+  // Every run in the file has both its sample times, and every line is whole.
+  for (const std::string& run : runs) {
+    std::size_t rows = 0;
+    for (std::size_t at = text.find("\n" + run + ","); at != std::string::npos;
+         at = text.find("\n" + run + ",", at + 1))
+      ++rows;
+    EXPECT_EQ(rows, 2u) << run << " in:\n" << text;
+  }
+  EXPECT_EQ(text.back(), '\n');
+  EXPECT_TRUE(fs::exists(dir / "out" / "reference.csv"));
+  for (const fs::directory_entry& e : fs::directory_iterator(dir / "out"))
+    EXPECT_EQ(e.path().filename().string().find(".partial"), std::string::npos) << "left behind: " << e.path();
+}
+
+// `cmake --install` puts drape, its shaders, textures and scenes under the prefix, and the installed
+// drape reads its own copies: --version names them, and bench's default scenes come from there.
+// tests/render_cli_gl_test.cpp shows that its shaders are read from there too.
+TEST(Install, TheInstalledDrapeFindsItsDataBesideItself) {
+  const fs::path prefix = freshDir("install") / "prefix";
+  const fs::path build = fs::path(DRAPE_BINARY).parent_path();
+  const std::string install =
+      "cmake --install " + quote(build.string()) + " --prefix " + quote(prefix.string()) + " >/dev/null 2>&1";
+  ASSERT_EQ(std::system(install.c_str()), 0) << install;
+  const fs::path drape = prefix / "bin" / "drape", share = prefix / "share" / "drape";
+  ASSERT_TRUE(fs::exists(drape));
+  for (const char* file : {"glsl/sim/forces_integrate.comp", "textures/fabric.png", "scenes/sphere.json",
+                           "scenes/meshes", "tools/plot_accuracy.py"})
+    EXPECT_TRUE(fs::exists(share / file)) << file;
+  EXPECT_TRUE(fs::exists(prefix / "share" / "doc" / "drape" / "LICENSE"));
+
+  const std::string env = "cd / && env -u DRAPE_GLSL_DIR -u DRAPE_TEXTURE_DIR " + quote(drape.string());
+  const fs::path out = prefix.parent_path() / "version";
+  ASSERT_EQ(std::system((env + " --version >" + quote(out.string())).c_str()), 0);
+  const std::string version = slurp(out);
+  for (const char* dir : {"glsl", "textures", "scenes"})
+    EXPECT_NE(version.find(" " + (share / dir).string() + "\n"), std::string::npos) << version;
+  EXPECT_EQ(version.find(DRAPE_SOURCE_DIR), std::string::npos) << "the source tree is not read: " << version;
+
+  // The default scene of `bench` comes from the installed scenes/, from any directory.
+  const std::string bench =
+      env + " bench --solver cpu --sizes 4 --frames 1 --repeats 1 --warmup 0 >/dev/null 2>" + quote(out.string());
+  EXPECT_EQ(std::system(bench.c_str()), 0) << slurp(out);
 }
 
 }  // namespace

@@ -182,8 +182,77 @@ TEST_F(RenderCliTest, FfmpegGetsHostileNamesAsArgumentsNotAsCommands) {
     return text.str();
   }();
   EXPECT_NE(args.find("\n" + video.string() + "\n"), std::string::npos) << args;
-  EXPECT_NE(args.find("\n" + out.string() + "/frame_*.png\n"), std::string::npos) << args;
   EXPECT_TRUE(fs::exists(video));
+}
+
+// A stand-in ffmpeg that writes, per video, its output's name and then what each input frame is (the
+// target of each numbered link in the input pattern's directory), and makes the video.
+void writeFrameListingFfmpeg(const fs::path& ffmpeg, const fs::path& log) {
+  fs::create_directories(ffmpeg.parent_path());
+  std::ofstream(ffmpeg) << "#!/bin/sh\nprev=\nfor a in \"$@\"; do [ \"$prev\" = -i ] && in=\"$a\"; prev=\"$a\"; "
+                           "last=\"$a\"; done\necho \"video $last\" >> "
+                        << quote(log.string())
+                        << "\nfor f in \"$(dirname \"$in\")\"/*.png; do readlink \"$f\"; done >> "
+                        << quote(log.string()) << "\necho video > \"$last\"\n";
+  fs::permissions(ffmpeg, fs::perms::owner_all);
+}
+
+TEST_F(RenderCliTest, TheVideoHasExactlyTheFramesThisRunWroteOnePerShader) {
+  const fs::path ffmpeg = dir / "bin" / "ffmpeg", log = dir / "ffmpeg.log", out = dir / "frames";
+  writeFrameListingFfmpeg(ffmpeg, log);
+  // An earlier, longer run's frames in the same folders: they must not end up in this run's videos.
+  for (const char* shader : {"toon", "normal"}) {
+    fs::create_directories(out / shader);
+    std::ofstream(out / shader / "frame_0009.png") << "stale";
+  }
+  const Result r = run("render " + scene("sphere.json") + " --frames 4 --every 2 --size 32x32 --shader toon,normal" +
+                           " --out " + quote(out.string()) + " --video " + quote((dir / "v.mp4").string()),
+                       "PATH=" + quote((dir / "bin").string()) + ":\"$PATH\"");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream in(log);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string expected;
+  for (const char* shader : {"toon", "normal"}) {
+    expected += "video " + (dir / ("v_" + std::string(shader) + ".mp4")).string() + "\n";
+    for (const char* frame : {"frame_0000.png", "frame_0002.png", "frame_0004.png"})
+      expected += (out / shader / frame).string() + "\n";
+  }
+  EXPECT_EQ(text.str(), expected);
+  EXPECT_TRUE(fs::exists(dir / "v_toon.mp4"));
+  EXPECT_TRUE(fs::exists(dir / "v_normal.mp4"));
+  EXPECT_FALSE(fs::exists(dir / "v.mp4")) << "several shaders: one video each, none under the plain name";
+}
+
+// The installed drape (cmake --install) compiles the shaders under its prefix: one broken there, and
+// only there, stops its render with that file's name; whole again, the render works from any directory.
+TEST_F(RenderCliTest, TheInstalledDrapeReadsItsOwnShaders) {
+  const fs::path prefix = dir / "prefix";
+  const std::string install = "cmake --install " + quote(fs::path(DRAPE_BINARY).parent_path().string()) + " --prefix " +
+                              quote(prefix.string()) + " >/dev/null 2>&1";
+  ASSERT_EQ(std::system(install.c_str()), 0) << install;
+  const fs::path shader = prefix / "share" / "drape" / "glsl" / "render" / "phong.frag";
+  ASSERT_TRUE(fs::exists(shader));
+  const std::string whole = [&] {
+    std::ifstream in(shader);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+  }();
+  std::ofstream(shader) << "this is not GLSL\n";
+  const std::string env =
+      "cd / && env -u DRAPE_GLSL_DIR -u DRAPE_TEXTURE_DIR " + quote((prefix / "bin" / "drape").string());
+  const std::string args = " render " + scene("sphere.json") + " --frames 0 --size 32x32 --solver cpu --out " +
+                           quote((dir / "o").string()) + " >/dev/null";
+  std::string command = env + args + " 2>" + quote((dir / "err").string());
+  EXPECT_NE(std::system(command.c_str()), 0);
+  std::ifstream broken_err(dir / "err");
+  std::stringstream broken;
+  broken << broken_err.rdbuf();
+  EXPECT_NE(broken.str().find(shader.string()), std::string::npos) << broken.str();
+  std::ofstream(shader) << whole;
+  EXPECT_EQ(std::system(command.c_str()), 0);
+  EXPECT_TRUE(fs::exists(dir / "o" / "frame_0000.png"));
 }
 
 TEST_F(RenderCliTest, AFullDiskIsStatusOneAndLeavesOnlyWholeFrames) {

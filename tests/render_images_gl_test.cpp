@@ -117,6 +117,10 @@ struct Stage {
     renderer = std::make_unique<Renderer>(scene, solver->topology());
     target = gl::Framebuffer::createColorDepth(kSize.x, kSize.y);
     camera.frame(renderer->sceneBounds(), float(kSize.x) / float(kSize.y));
+    // These pictures need room around the scene (a point lifted above the cloth, a displaced surface):
+    // the distance at which the box's enclosing sphere fits, as the camera framed before it fitted the box.
+    const float half_fov = 0.5f * Camera::kFovY;
+    camera.zoom(1.05f * renderer->sceneBounds().radius() / std::sin(half_fov) / camera.distance());
   }
 
   Picture draw(const RenderSettings& settings) {

@@ -1,5 +1,6 @@
 #include "app/accuracy.hpp"
 #include "app/jobs.hpp"
+#include "app/progress.hpp"
 
 #include "app/commands.hpp"
 
@@ -21,6 +22,10 @@ namespace drape {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
 
 // A run to the last sample frame: positions at each sample frame, stopped at the first blow-up.
 struct Trajectory {
@@ -87,24 +92,26 @@ std::string fixed(double v, const char* spec = "{:.4g}") {
 }
 
 // Precision alone: each float run against the double run with the same substeps and passes, which has
-// the same discretisation error.
-void compareWithDouble(AccuracyReport& report, const std::vector<std::vector<Positions>>& states, double size) {
-  for (std::size_t a = 0; a < report.runs.size(); ++a) {
-    AccuracyRun& run = report.runs[a];
-    for (std::size_t b = 0; b < report.runs.size(); ++b) {
-      const AccuracyRun& twin = report.runs[b];
+// the same discretisation error. states[i] is runs[i]'s positions at the sample frames.
+void compareWithDouble(std::vector<AccuracyRun>& runs, const std::vector<const std::vector<Positions>*>& states,
+                       double size) {
+  for (std::size_t a = 0; a < runs.size(); ++a) {
+    AccuracyRun& run = runs[a];
+    for (std::size_t b = 0; b < runs.size(); ++b) {
+      const AccuracyRun& twin = runs[b];
       if (twin.solver != "cpu64" || twin.steps_per_frame != run.steps_per_frame ||
           twin.stretch_passes != run.stretch_passes)
         continue;
-      for (std::size_t i = 0; i < run.samples.size() && i < states[a].size() && i < states[b].size(); ++i)
-        run.samples[i].vs_double = rmsDeviation(states[a][i], states[b][i]) / size;
+      for (std::size_t i = 0; i < run.samples.size() && i < states[a]->size() && i < states[b]->size(); ++i)
+        run.samples[i].vs_double = rmsDeviation((*states[a])[i], (*states[b])[i]) / size;
     }
   }
 }
 
 }  // namespace
 
-AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(const std::string&)>& progress) {
+AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(const std::string&)>& progress,
+                           const std::function<void(const AccuracyReport&)>& finished) {
   AccuracyReport report;
   report.scene = o.scene;
   report.started_at = utcTimestamp();
@@ -183,6 +190,7 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
   struct SweepJob {
     AccuracyRun run;
     std::vector<Positions> states;  // positions at the sample frames
+    bool done = false;
   };
   std::vector<SweepJob> sweep;
   for (int passes : o.stretch_passes)
@@ -200,6 +208,23 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
   report.jobs = jobsFor(o.jobs, cpu_jobs.size());
   report.threads_per_run = threadsPerJob(report.jobs);
   std::mutex say_mutex;
+  std::size_t runs_done = 0;
+  const Clock::time_point sweep_start = Clock::now();
+  // The report with the runs finished so far, in sweep order; called with say_mutex held.
+  auto reportDone = [&] {
+    if (!finished) return;
+    AccuracyReport partial = report;
+    std::vector<const std::vector<Positions>*> states;
+    for (const SweepJob& job : sweep)
+      if (job.done) {
+        partial.runs.push_back(job.run);
+        states.push_back(&job.states);
+      }
+    compareWithDouble(partial.runs, states, clothSize(scene.cloth));
+    partial.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+    finished(partial);
+  };
+  reportDone();  // the references
   auto runOne = [&](SweepJob& job, SolverFactory& maker) {
     AccuracyRun& run = job.run;
     const Scene s = configure(scene, run.steps_per_frame, run.stretch_passes);
@@ -219,8 +244,12 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
         run.samples.push_back(compare(s, solver->topology(), frames[i], traj.at[i], ref[i]));
       job.states = std::move(traj.at);
     }
-    std::string line =
-        fmt::format("{} {} substeps, {} stretch passes: ", run.solver, run.steps_per_frame, run.stretch_passes);
+    std::lock_guard<std::mutex> lock(say_mutex);
+    job.done = true;
+    ++runs_done;
+    std::string line = fmt::format(
+        "{}: {} {} substeps, {} stretch passes: ", progressText(runs_done, sweep.size(), secondsSince(sweep_start)),
+        run.solver, run.steps_per_frame, run.stretch_passes);
     if (!run.skipped.empty())
       line += "skipped (" + run.skipped + ")";
     else if (!run.unstable.empty())
@@ -228,8 +257,8 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
     else if (!run.samples.empty())
       line += fmt::format("error {:.3g} (RMS / size) at t = {:.3g} s, {:.0f} ms per simulated s",
                           run.samples.back().rms_error, run.samples.back().t, run.ms_per_sim_s);
-    std::lock_guard<std::mutex> lock(say_mutex);
     say(line);
+    reportDone();
   };
   say(fmt::format("{} CPU runs, {} at a time ({} solver thread{} each), then {} GPU runs", cpu_jobs.size(), report.jobs,
                   report.threads_per_run, report.threads_per_run == 1 ? "" : "s", gpu_jobs.size()));
@@ -239,13 +268,12 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
   });
   for (std::size_t j : gpu_jobs)
     runOne(sweep[j], factory);
-  std::vector<std::vector<Positions>> states;  // per run, its positions at the sample frames
+  std::vector<const std::vector<Positions>*> states;  // per run, its positions at the sample frames
   for (SweepJob& job : sweep) {
     report.runs.push_back(std::move(job.run));
-    states.push_back(std::move(job.states));
+    states.push_back(&job.states);
   }
-  states.resize(report.runs.size());
-  compareWithDouble(report, states, clothSize(scene.cloth));
+  compareWithDouble(report.runs, states, clothSize(scene.cloth));
   if (const GlInfo* gl = factory.glInfo()) report.gl = *gl;
   report.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
   return report;

@@ -71,8 +71,11 @@ struct AccuracyReport {
   std::vector<AccuracyRun> runs;
 };
 
-AccuracyReport runAccuracy(const AccuracyOptions& options,
-                           const std::function<void(const std::string&)>& progress = {});
+// `progress` gets one line per step, each finished run's line starting with "k/N, elapsed, about T left:".
+// `finished` gets the report so far each time a run finishes (the references, then the runs finished,
+// in the report's order), so that a caller can keep what is done if the sweep is stopped.
+AccuracyReport runAccuracy(const AccuracyOptions& options, const std::function<void(const std::string&)>& progress = {},
+                           const std::function<void(const AccuracyReport&)>& finished = {});
 
 std::string accuracyCsv(const AccuracyReport& report);
 std::string referenceCsv(const AccuracyReport& report);

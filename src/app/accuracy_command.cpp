@@ -5,6 +5,7 @@
 #include "app/options.hpp"
 #include "app/output.hpp"
 #include "app/process.hpp"
+#include "core/data_dir.hpp"
 
 #include <fmt/core.h>
 #include <unistd.h>
@@ -39,7 +40,7 @@ struct AccuracyCommandOptions {
 // The plot needs Debian's matplotlib, which a pyenv python3 on PATH may not see (docs/design.md section 8).
 // DRAPE_PYTHON names another interpreter. No shell: the scene's name and --out reach python as they are.
 void plot(const fs::path& dir, const std::string& title) {
-  const fs::path script = fs::path(DRAPE_SOURCE_DIR) / "tools" / "plot_accuracy.py";
+  const fs::path script = dataDir("tools") / "plot_accuracy.py";
   const char* python_env = std::getenv("DRAPE_PYTHON");
   const std::string python = python_env && *python_env ? python_env : "/usr/bin/python3";
   if (runProcess({python, "-c", "import matplotlib"}, /*quiet=*/true) != 0) {
@@ -94,10 +95,19 @@ void runAccuracyCommand(const AccuracyCommandOptions& c) {
   for (const char* name : {"accuracy.csv", "reference.csv", "accuracy.md", "accuracy.png"})
     checkOutputFile(dir / name);
 
-  const AccuracyReport report = runAccuracy(o, [](const std::string& line) {
-    fmt::print(stderr, "accuracy {}\n", line);
-    std::fflush(stderr);
-  });
+  // The CSV files are rewritten (atomically) as each run finishes: a sweep stopped after an hour, by
+  // Ctrl-C or a lost session, keeps every run it finished.
+  const auto writeCsv = [&dir](const AccuracyReport& so_far) {
+    writeFileAtomically((dir / "accuracy.csv").string(), accuracyCsv(so_far));
+    writeFileAtomically((dir / "reference.csv").string(), referenceCsv(so_far));
+  };
+  const AccuracyReport report = runAccuracy(
+      o,
+      [](const std::string& line) {
+        fmt::print(stderr, "accuracy {}\n", line);
+        std::fflush(stderr);
+      },
+      writeCsv);
   writeFileAtomically((dir / "accuracy.csv").string(), accuracyCsv(report));
   writeFileAtomically((dir / "reference.csv").string(), referenceCsv(report));
   writeFileAtomically((dir / "accuracy.md").string(), accuracyMarkdown(report));

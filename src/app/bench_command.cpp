@@ -4,6 +4,7 @@
 #include "app/commands.hpp"
 #include "app/options.hpp"
 #include "app/output.hpp"
+#include "core/data_dir.hpp"
 #include "gl/context.hpp"
 
 #include <fmt/core.h>
@@ -66,7 +67,7 @@ void runBenchCommand(const BenchCommandOptions& c) {
   // The default scenes are found from any directory; scenes the user names are taken as given.
   if (c.scenes == kDefaultScenes)
     for (std::string& path : o.scenes)
-      if (!std::filesystem::exists(path)) path = std::string(DRAPE_SOURCE_DIR) + "/" + path;
+      if (!std::filesystem::exists(path)) path = (dataDir("scenes") / std::filesystem::path(path).filename()).string();
   o.sizes = c.sizes;
   o.solvers = c.solvers;
   o.threads = c.threads;

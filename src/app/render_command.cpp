@@ -15,10 +15,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <optional>
-#include <string_view>
+#include <vector>
 
 namespace drape {
 
@@ -73,19 +76,62 @@ Image readImage(const gl::Framebuffer& target) {
   return image;
 }
 
-// ffmpeg's image2 glob reads \ as an escape: the directory's own * ? [ ] { } \ must match literally.
-std::string globEscape(const std::string& text) {
+// ffmpeg's image2 pattern reads % as the start of the frame number: the directory's own % must match
+// literally.
+std::string patternEscape(const std::string& text) {
   std::string out;
-  for (char c : text) {
-    if (std::string_view("*?[]{}\\").find(c) != std::string_view::npos) out += '\\';
-    out += c;
-  }
+  for (char c : text)
+    out += c == '%' ? std::string("%%") : std::string(1, c);
   return out;
 }
 
-// No shell: the directory and video names reach ffmpeg as they are. Absolute paths, so that a name
+// The video of each shading model: VIDEO itself for one; VIDEO's stem, the model's name and its
+// extension for several (out.mp4 -> out_phong.mp4, out_toon.mp4).
+std::vector<std::filesystem::path> videoPaths(const std::string& video, const std::vector<Shading>& shadings) {
+  if (shadings.size() == 1) return {video};
+  const std::filesystem::path given(video);
+  std::vector<std::filesystem::path> paths;
+  for (Shading shading : shadings)
+    paths.push_back(given.parent_path() /
+                    (given.stem().string() + "_" + std::string(shadingName(shading)) + given.extension().string()));
+  return paths;
+}
+
+// A fresh directory of numbered links to exactly the frames this run wrote, in order; removed with it.
+// A glob over --out would also take frames an earlier, longer run left there.
+class FrameSequence {
+ public:
+  explicit FrameSequence(const std::vector<std::filesystem::path>& frames) {
+    std::string dir = (std::filesystem::temp_directory_path() / "drape-video.XXXXXX").string();
+    if (!::mkdtemp(dir.data()))
+      throw CommandError(kExitFailure,
+                         fmt::format("--video: cannot make a directory in {}: {}",
+                                     std::filesystem::temp_directory_path().string(), std::strerror(errno)));
+    dir_ = dir;
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      std::error_code error;
+      std::filesystem::create_symlink(std::filesystem::absolute(frames[i]), dir_ / fmt::format("{:06d}.png", i), error);
+      if (error)
+        throw CommandError(kExitFailure, fmt::format("--video: cannot link {} in {}: {}", frames[i].string(),
+                                                     dir_.string(), error.message()));
+    }
+  }
+  ~FrameSequence() {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir_, ignored);
+  }
+  FrameSequence(const FrameSequence&) = delete;
+  FrameSequence& operator=(const FrameSequence&) = delete;
+  std::string pattern() const { return patternEscape(dir_.string()) + "/%06d.png"; }
+
+ private:
+  std::filesystem::path dir_;
+};
+
+// No shell: the frame and video names reach ffmpeg as they are. Absolute paths, so that a name
 // starting with '-' is not an option and one with a ':' is not a protocol (e.g. pipe:).
-void encodeVideo(const std::filesystem::path& dir, const std::string& video, double fps) {
+void encodeVideo(const std::vector<std::filesystem::path>& frames, const std::filesystem::path& video, double fps) {
+  const FrameSequence sequence(frames);
   const std::string output = std::filesystem::absolute(video).string();
   const std::vector<std::string> command = {"ffmpeg",
                                             "-nostdin",
@@ -94,10 +140,10 @@ void encodeVideo(const std::filesystem::path& dir, const std::string& video, dou
                                             "-y",
                                             "-framerate",
                                             fmt::format("{:.6g}", fps),
-                                            "-pattern_type",
-                                            "glob",
+                                            "-start_number",
+                                            "0",
                                             "-i",
-                                            globEscape(std::filesystem::absolute(dir).string()) + "/frame_*.png",
+                                            sequence.pattern(),
                                             "-c:v",
                                             "libx264",
                                             "-pix_fmt",
@@ -106,8 +152,9 @@ void encodeVideo(const std::filesystem::path& dir, const std::string& video, dou
                                             "pad=ceil(iw/2)*2:ceil(ih/2)*2",
                                             output};
   if (const int status = runProcess(command); status != 0)
-    throw CommandError(kExitFailure, fmt::format("--video: ffmpeg failed to write {} (exit status {})", video, status));
-  fmt::print(stderr, "render: wrote {}\n", video);
+    throw CommandError(kExitFailure,
+                       fmt::format("--video: ffmpeg failed to write {} (exit status {})", video.string(), status));
+  fmt::print(stderr, "render: wrote {} ({} frames)\n", video.string(), frames.size());
 }
 
 // An existing --out must be a directory; the directories are made only once everything else is known to
@@ -150,7 +197,10 @@ void runRender(const RenderOptions& o) {
     throw CommandError(kExitFailure, fmt::format("--video: ffmpeg is not installed (apt-get install ffmpeg); "
                                                  "leave out --video to write the PNG frames only"));
   checkOutputDirectory(o.out);
-  if (!o.video.empty()) checkOutputFile(o.video);
+  const std::vector<std::filesystem::path> videos =
+      o.video.empty() ? std::vector<std::filesystem::path>{} : videoPaths(o.video, shadings);
+  for (const std::filesystem::path& video : videos)
+    checkOutputFile(video);
   const ExportFormat export_format =
       o.export_path.empty() ? ExportFormat::Obj : parseExportFormat(o.export_format, o.export_path);
   const Scene scene = loadScene(o.scene);
@@ -173,7 +223,7 @@ void runRender(const RenderOptions& o) {
   const std::vector<std::filesystem::path> dirs = makeOutputDirectories(o, shadings);
   Camera camera;
   const float aspect = float(size.x) / float(size.y);
-  camera.frame(renderer.sceneBounds(), aspect);
+  camera.frame(renderer.framingSubject(), aspect);
   camera.zoom(float(o.zoom));
   RenderSettings settings;
   settings.springs = enabledSprings(scene.cloth);
@@ -181,6 +231,7 @@ void runRender(const RenderOptions& o) {
   const bool interactive = ::isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
   int written = 0;
+  std::vector<std::vector<std::filesystem::path>> frames_written(shadings.size());
   for (int frame = 0; frame <= o.frames; ++frame) {
     if (frame > 0) solver->stepFrame();
     if (frame % o.every != 0) continue;
@@ -199,7 +250,8 @@ void runRender(const RenderOptions& o) {
       settings.shading = shadings[k];
       target.bind();
       renderer.draw(cloth, camera, size, settings);
-      writePng(dirs[k] / fmt::format("frame_{:04d}.png", frame), readImage(target));
+      frames_written[k].push_back(dirs[k] / fmt::format("frame_{:04d}.png", frame));
+      writePng(frames_written[k].back(), readImage(target));
       ++written;
     }
     // On a terminal the line updates in place; in a log only the final line appears.
@@ -216,7 +268,8 @@ void runRender(const RenderOptions& o) {
                                                 "in {} show it",
                                                 scene.path, o.frames, o.out));
   if (exporter) exporter->finish();
-  if (!o.video.empty()) encodeVideo(dirs.front(), o.video, scene.sim.frames_per_sec / o.every);
+  for (std::size_t k = 0; k < videos.size(); ++k)
+    encodeVideo(frames_written[k], videos[k], scene.sim.frames_per_sec / o.every);
 }
 
 }  // namespace
@@ -238,7 +291,9 @@ void addRenderCommand(CLI::App& app) {
       ->check(CLI::IsMember(shaderChoices()));
   cmd->add_option("--size", opts->size, "Image size WIDTHxHEIGHT (default 640x480)");
   cmd->add_option("--solver", opts->solver, "gpu (default), cpu or cpu64")->check(CLI::IsMember(solverNames(false)));
-  cmd->add_option("--video", opts->video, "Also encode the frames into this video with ffmpeg (e.g. out.mp4)");
+  cmd->add_option("--video", opts->video,
+                  "Also encode the frames this run wrote into this video with ffmpeg (e.g. out.mp4; with several "
+                  "shaders one video each, out_SHADER.mp4)");
   cmd->add_option("-a,--latitudes", opts->latitudes, "Sphere latitude rings (default 40)")->check(CLI::Range(2, 1000));
   cmd->add_option("-o,--longitudes", opts->longitudes, "Sphere longitude segments (default 40)")
       ->check(CLI::Range(3, 1000));

@@ -4,12 +4,14 @@
 #include "app/measure.hpp"
 #include "app/options.hpp"
 #include "app/output.hpp"
+#include "app/progress.hpp"
 #include "app/solver_factory.hpp"
 #include "core/metrics.hpp"
 #include "core/stability.hpp"
 
 #include <fmt/core.h>
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <optional>
@@ -86,8 +88,10 @@ void runSimulate(const SimulateOptions& o) {
     const long long frame = (h.substeps + scene.sim.steps_per_frame - 1) / scene.sim.steps_per_frame;
     throw CommandError(kExitBlowUp, fmt::format("{}: blew up at frame {}: {}", scene.path, frame, h.describe()));
   };
+  TerminalProgress progress("simulate: frame", o.frames, ::isatty(STDERR_FILENO));
   for (int f = 0; f < o.frames; ++f) {
     solver->stepFrame();
+    progress.update(f + 1);
     // A frame to be written is checked first: its read-back waits for the GPU anyway, and garbage is
     // never written. Every other frame is checked a frame late (recentHealth), which makes the CPU wait
     // for nothing: a garbage run still stops within a frame of it.
@@ -97,6 +101,7 @@ void runSimulate(const SimulateOptions& o) {
   }
   stopIfBlownUp(solver->health());              // the last frame, which recentHealth may not have seen
   const Positions x = solver->readPositions();  // also waits for the GPU before the clock stops
+  progress.finish();
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (!allFinite(x))
     throw CommandError(kExitBlowUp,

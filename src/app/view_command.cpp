@@ -3,6 +3,7 @@
 #include "app/imgui_panel.hpp"
 #include "app/options.hpp"
 #include "app/solver_factory.hpp"
+#include "core/data_dir.hpp"
 #include "gl/context.hpp"
 #include "gl/objects.hpp"
 #include "render/viewer.hpp"
@@ -28,12 +29,12 @@ struct ViewOptions {
   std::string size = "1280x800";
 };
 
-// The default scene is found from the current directory or, failing that, in the source tree.
+// The default scene is found from the current directory or, failing that, among drape's own scenes.
 std::string resolveScene(const std::string& scene) {
   if (!scene.empty()) return scene;
   const std::filesystem::path local = "scenes/sphere.json";
   if (std::filesystem::exists(local)) return local.string();
-  return (std::filesystem::path(DRAPE_SOURCE_DIR) / local).string();
+  return (dataDir("scenes") / "sphere.json").string();
 }
 
 void runView(const ViewOptions& o) {

@@ -1,5 +1,7 @@
 #include "gl/shader_source.hpp"
 
+#include "core/data_dir.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
@@ -205,12 +207,7 @@ ShaderSource preprocess(const fs::path& file, const Defines& defines, const fs::
 }
 
 fs::path glslRoot() {
-  if (const char* dir = std::getenv("DRAPE_GLSL_DIR"); dir && *dir) return dir;
-#ifdef DRAPE_SOURCE_DIR
-  return fs::path(DRAPE_SOURCE_DIR) / "glsl";
-#else
-  return fs::current_path() / "glsl";
-#endif
+  return dataDir("glsl", "DRAPE_GLSL_DIR");
 }
 
 std::string displayName(const fs::path& file) {

@@ -54,7 +54,7 @@ struct ShaderSource {
 // include cycle, a #version line, an unreadable file or a malformed define name.
 ShaderSource preprocess(const std::filesystem::path& file, const Defines& defines, const std::filesystem::path& root);
 
-// The repository's glsl/ directory: $DRAPE_GLSL_DIR when set, else DRAPE_SOURCE_DIR/glsl.
+// The glsl/ directory: $DRAPE_GLSL_DIR when set, else the installed or the source tree's (core/data_dir.hpp).
 std::filesystem::path glslRoot();
 
 // How a file is named in messages: relative to the source tree when inside it, else as given.

@@ -11,16 +11,66 @@ namespace {
 constexpr float kMaxPitch = 1.55f;  // just short of pi/2, where lookAt's up vector degenerates
 }
 
+Bounds FramingSubject::bounds() const {
+  Bounds b{glm::vec3(1e30f), glm::vec3(-1e30f)};
+  for (const glm::vec3& p : points)
+    b.include(p);
+  for (const glm::vec4& s : spheres) {
+    b.include(glm::vec3(s) - s.w);
+    b.include(glm::vec3(s) + s.w);
+  }
+  return b.min.x <= b.max.x ? b : Bounds{};
+}
+
 void Camera::frame(const Bounds& bounds, float aspect) {
+  FramingSubject corners;
+  for (int corner = 0; corner < 8; ++corner)
+    corners.points.push_back({corner & 1 ? bounds.max.x : bounds.min.x, corner & 2 ? bounds.max.y : bounds.min.y,
+                              corner & 4 ? bounds.max.z : bounds.min.z});
+  frame(corners, aspect);
+}
+
+void Camera::frame(const FramingSubject& subject, float aspect) {
+  const Bounds bounds = subject.bounds();
   target_ = bounds.centre();
   scene_radius_ = std::max(bounds.radius(), 1e-3f);
-  const float half_fov_y = 0.5f * kFovY;
-  const float half_fov_x = std::atan(std::tan(half_fov_y) * std::max(aspect, 1e-3f));
-  // The whole enclosing sphere in view (a tighter fit cuts off the corners nearest the camera), with a
-  // small margin so that the silhouette does not touch the window's edge.
-  distance_ = 1.05f * scene_radius_ / std::sin(std::min(half_fov_x, half_fov_y));
   yaw_ = kDefaultYaw;
   pitch_ = kDefaultPitch;
+  distance_ = 1.0f;
+  // The view's axes for this direction; they do not depend on the distance.
+  const glm::vec3 back = glm::normalize(position() - target_);
+  const glm::vec3 right = glm::normalize(glm::cross(-back, glm::vec3(0.0f, 1.0f, 0.0f)));
+  const glm::vec3 up = glm::cross(right, -back);
+  // A point at (x, y) across the view and z towards the camera is inside the margin seen from
+  // target + (a, b) in the view plane and distance d when |x - a| <= t_x (d - z), t_x = kFill
+  // tan(fov_x / 2), and likewise for y; a sphere of radius r when its centre is r away from each side
+  // plane of that narrowed frustum: t_x (d - z) - |x - a| >= r sqrt(1 + t_x^2). Per axis that is
+  // d >= R - a / t_x and d >= L + a / t_x with R and L the largest right and left terms over the
+  // subject; the least d is (R + L) / 2 at a = t_x (R - L) / 2, which centres the subject in the frame
+  // (a flat cloth seen from above looms larger at its near edge than at its far one).
+  const float t_y = kFill * std::tan(0.5f * kFovY);
+  const float t_x = t_y * std::max(aspect, 1e-3f);
+  const float s_x = std::sqrt(1.0f + t_x * t_x), s_y = std::sqrt(1.0f + t_y * t_y);
+  float right_most = -1e30f, left_most = -1e30f, top_most = -1e30f, bottom_most = -1e30f, nearest = -1e30f;
+  auto fit = [&](const glm::vec3& p, float r) {
+    const glm::vec3 v = p - target_;
+    const float x = glm::dot(v, right), y = glm::dot(v, up), z = glm::dot(v, back);
+    right_most = std::max(right_most, z + (x + r * s_x) / t_x);
+    left_most = std::max(left_most, z + (-x + r * s_x) / t_x);
+    top_most = std::max(top_most, z + (y + r * s_y) / t_y);
+    bottom_most = std::max(bottom_most, z + (-y + r * s_y) / t_y);
+    nearest = std::max(nearest, z + r);
+  };
+  for (const glm::vec3& p : subject.points)
+    fit(p, 0.0f);
+  for (const glm::vec4& s : subject.spheres)
+    fit(glm::vec3(s), s.w);
+  if (nearest < -1e29f) return;  // nothing to frame
+  target_ += 0.5f * t_x * (right_most - left_most) * right + 0.5f * t_y * (top_most - bottom_most) * up;
+  const float distance = std::max(0.5f * (right_most + left_most), 0.5f * (top_most + bottom_most));
+  // The nearest surface stays well beyond the near plane (projection() puts it at 5% of the radius at
+  // most). The shift of the target moved nothing along the view axis, so `nearest` still holds.
+  distance_ = std::max(distance, nearest + 0.2f * scene_radius_);
 }
 
 void Camera::orbit(float d_yaw, float d_pitch) {

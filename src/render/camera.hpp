@@ -4,6 +4,8 @@
 
 #include <glm/glm.hpp>
 
+#include <vector>
+
 namespace drape {
 
 struct Bounds {
@@ -17,6 +19,15 @@ struct Bounds {
   }
 };
 
+// What the default camera frames: points (the cloth at rest, mesh obstacles' vertices, the cloth's
+// footprint on each plane) and spheres. A sphere's own silhouette is framed, not its box: the empty
+// corners of a box around cloth and sphere left the subject a small part of the frame.
+struct FramingSubject {
+  std::vector<glm::vec3> points;
+  std::vector<glm::vec4> spheres;  // centre xyz, radius w
+  Bounds bounds() const;           // of everything; the camera looks at its centre
+};
+
 struct Ray {
   glm::vec3 origin;
   glm::vec3 direction;  // unit
@@ -27,9 +38,13 @@ class Camera {
   static constexpr float kDefaultYaw = 0.35f;    // rad, a little to the right of +z
   static constexpr float kDefaultPitch = 0.45f;  // rad above the horizon
   static constexpr float kFovY = 0.7854f;        // rad (45 degrees)
+  static constexpr float kFill = 0.92f;          // of the half-width and half-height a framed box may reach
 
-  // Looks at `bounds` from the default direction, far enough that its enclosing sphere fits the view
-  // whatever the aspect ratio.
+  // Looks at the centre of the subject's bounds from the default direction, as close as keeps every
+  // point and every sphere inside kFill of the view at this aspect ratio: the subject's wider side
+  // nearly fills the frame.
+  void frame(const FramingSubject& subject, float aspect);
+  // The same for the eight corners of a box.
   void frame(const Bounds& bounds, float aspect);
 
   void orbit(float d_yaw, float d_pitch);  // rad; pitch stays short of the poles

@@ -56,11 +56,12 @@ void bindStorage(GLuint binding, GLuint buffer) {
 }
 
 // The cloth's footprint on a plane: where it lands when it falls flat.
-void includePlaneFootprint(Bounds& bounds, const PlaneSpec& plane, const Topology& topology) {
+void includePlaneFootprint(Bounds& bounds, FramingSubject& subject, const PlaneSpec& plane, const Topology& topology) {
   const glm::vec3 n = glm::normalize(glm::vec3(plane.normal)), p = glm::vec3(plane.point);
   auto include = [&](std::size_t i) {
     const glm::vec3 x = glm::vec3(topology.initial_positions[i]);
     bounds.include(x - glm::dot(x - p, n) * n);
+    subject.points.push_back(x - glm::dot(x - p, n) * n);
   };
   const int W = topology.W, H = topology.H;
   if (W > 0) {
@@ -84,17 +85,22 @@ Renderer::Renderer(const Scene& scene, const Topology& topology, const RendererO
 
   const glm::vec3 first = glm::vec3(topology.initial_positions.front());
   bounds_ = {first, first};
-  for (const glm::dvec3& x : topology.initial_positions)
+  for (const glm::dvec3& x : topology.initial_positions) {
     bounds_.include(glm::vec3(x));
+    subject_.points.push_back(glm::vec3(x));
+  }
   for (const SphereSpec& s : scene.spheres) {
     bounds_.include(glm::vec3(s.origin - s.radius));
     bounds_.include(glm::vec3(s.origin + s.radius));
+    subject_.spheres.push_back(glm::vec4(glm::vec3(s.origin), float(s.radius)));
   }
   for (const PlaneSpec& p : scene.planes)
-    includePlaneFootprint(bounds_, p, topology);
+    includePlaneFootprint(bounds_, subject_, p, topology);
   for (const MeshSpec& m : scene.meshes) {
-    for (const glm::dvec3& x : m.mesh->positions)
+    for (const glm::dvec3& x : m.mesh->positions) {
       bounds_.include(glm::vec3(x));
+      subject_.points.push_back(glm::vec3(x));
+    }
     obstacles_.push_back(uploadMesh(buildObstacleMesh(m.mesh->positions, m.mesh->triangles)));
   }
 

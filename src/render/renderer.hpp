@@ -81,6 +81,8 @@ class Renderer {
   // What the camera frames and the shadow map covers: the cloth at rest, the spheres, and the
   // cloth's footprint on each plane.
   const Bounds& sceneBounds() const { return bounds_; }
+  // What the default camera frames: the same things, with the spheres as spheres (Camera::frame).
+  const FramingSubject& framingSubject() const { return subject_; }
   glm::mat4 lightViewProjection(const Light& light) const;
 
   // Borrowed storage buffers are bound at RENDER_BINDING_* only while drawing; the renderer keeps
@@ -127,6 +129,7 @@ class Renderer {
   ProgramSet programs_;
   TextureSet textures_;
   Bounds bounds_;
+  FramingSubject subject_;
   GpuMesh sphere_;
   std::vector<GpuMesh> planes_;
   std::vector<GpuMesh> obstacles_;  // the scene's mesh obstacles, in scene coordinates

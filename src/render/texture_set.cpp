@@ -1,5 +1,6 @@
 #include "render/texture_set.hpp"
 
+#include "core/data_dir.hpp"
 #include "render/image.hpp"
 
 #include <array>
@@ -47,8 +48,7 @@ gl::Texture loadCube(const std::filesystem::path& dir) {
 }  // namespace
 
 std::filesystem::path textureDir() {
-  if (const char* dir = std::getenv("DRAPE_TEXTURE_DIR"); dir && *dir) return dir;
-  return std::filesystem::path(DRAPE_SOURCE_DIR) / "textures";
+  return dataDir("textures", "DRAPE_TEXTURE_DIR");
 }
 
 TextureSet TextureSet::load(const std::filesystem::path& dir) {

@@ -11,7 +11,7 @@ namespace drape {
 
 enum class HeightMap { Cobblestone, Brick };
 
-// $DRAPE_TEXTURE_DIR when set, else the source tree's textures/.
+// $DRAPE_TEXTURE_DIR when set, else the installed or the source tree's textures/ (core/data_dir.hpp).
 std::filesystem::path textureDir();
 
 struct TextureSet {

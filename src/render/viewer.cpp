@@ -174,7 +174,7 @@ void Viewer::resetCloth() {
 
 void Viewer::resetCamera() {
   const glm::ivec2 size = window_->framebufferSize();
-  camera_.frame(renderer_.sceneBounds(), size.y > 0 ? float(size.x) / float(size.y) : 4.0f / 3.0f);
+  camera_.frame(renderer_.framingSubject(), size.y > 0 ? float(size.x) / float(size.y) : 4.0f / 3.0f);
 }
 
 void Viewer::reloadShaders() {
