@@ -106,6 +106,17 @@ TEST_F(GpuCheck, APackCarryingGlibcADriverOrAMisplacedRuntimeIsRefusedWithEachPr
     EXPECT_NE(r.out.find(problem), std::string::npos) << "expected '" << problem << "' in:\n" << r.out;
 }
 
+TEST_F(GpuCheck, PackNeverReplacesAFolderThatIsNotAPack) {
+  // Checked before the build: a mistyped --pack . or --pack docs must not cost the folder.
+  const fs::path folder = dir_ / "notes";
+  fs::create_directories(folder);
+  std::ofstream(folder / "keep.txt") << "mine";
+  const Result r = run("--pack " + quote(folder.string()));
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("is not a pack"), std::string::npos) << r.out;
+  EXPECT_EQ(slurp(folder / "keep.txt"), "mine");
+}
+
 TEST_F(GpuCheck, TheRunWithoutAPackStopsAtOnceAndStillWritesTheSummary) {
   const fs::path out = dir_ / "results";
   const Result r = run(quote(out.string()), "DRAPE_GPU_PACK=" + quote((dir_ / "absent").string()));
