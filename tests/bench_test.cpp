@@ -110,9 +110,26 @@ TEST(Bench, TinyRunHasEveryFigure) {
   EXPECT_FALSE(j["machine"]["cpu_model"].get<std::string>().empty());
   ASSERT_EQ(j["runs"].size(), 4u);
   for (const auto& run : j["runs"]) {
-    for (const char* key : {"scene", "solver", "size", "points", "steps_per_frame", "frame_ms", "repeat_ms", "passes",
-                            "vertex_substeps_per_s", "dispatches_per_frame", "gpu_memory_bytes", "pass_timing",
-                            "blew_up", "stability_number", "frames_per_repeat"})
+    for (const char* key : {"scene",
+                            "solver",
+                            "size",
+                            "points",
+                            "steps_per_frame",
+                            "frame_ms",
+                            "repeat_ms",
+                            "passes",
+                            "vertex_substeps_per_s",
+                            "dispatches_per_frame",
+                            "dispatches_per_substep",
+                            "gpu_memory_bytes",
+                            "pass_timing",
+                            "sync_readbacks_per_frame",
+                            "fence_waits_per_frame",
+                            "bytes_per_point_substep",
+                            "achieved_gbs",
+                            "blew_up",
+                            "stability_number",
+                            "frames_per_repeat"})
       EXPECT_TRUE(run.contains(key)) << key;
     for (const char* key : {"median", "min", "max", "q1", "q3", "samples"})
       EXPECT_TRUE(run["frame_ms"].contains(key));
@@ -123,6 +140,15 @@ TEST(Bench, TinyRunHasEveryFigure) {
 
 // A bench JSON reads back as the runs it holds, and the before/after table pairs each run with the
 // baseline's run of the same scene, size and solver, pass by pass, with the ratio of the frame times.
+// The share-of-peak column knows a GPU by a name in its renderer string, the more specific name first,
+// and nothing else: llvmpipe's "memory" is the CPU's.
+TEST(Bench, PeakBandwidthByRendererName) {
+  EXPECT_EQ(knownPeakGbs("NVIDIA H200/PCIe/SSE2"), 4800.0);
+  EXPECT_EQ(knownPeakGbs("NVIDIA H100 PCIe/PCIe/SSE2"), 2000.0);
+  EXPECT_EQ(knownPeakGbs("NVIDIA H100 80GB HBM3/PCIe/SSE2"), 3350.0);
+  EXPECT_EQ(knownPeakGbs("llvmpipe (LLVM 15.0.6, 256 bits)"), 0.0);
+}
+
 TEST(Bench, BaselineComparisonPairsRunsAndPasses) {
   BenchOptions o;
   o.scenes = {scenePath("pinned4.json")};

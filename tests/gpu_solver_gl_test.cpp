@@ -482,6 +482,36 @@ TEST_F(GpuSolverTest, SteadyStateFramesReadNothingBack) {
   }
 }
 
+// The traffic model behind the bench's bytes and GB/s columns follows the plan: each Gauss-Seidel stretch
+// pass adds its springs' bytes (the entry, both ends' state read and written: 16 + 4 x 32 per spring,
+// counted here from the topology), so the model is linear in the passes; self-collision adds the list
+// pass, whose candidates come from the last list build the health read saw.
+TEST_F(GpuSolverTest, TheTrafficModelFollowsThePlan) {
+  Scene scene = smallScene(12);
+  const auto bytes = [&](int passes) {
+    scene.sim.stretch_passes = passes;
+    return GpuSolver(scene).bytesPerPointPerSubstep();
+  };
+  const double none = bytes(0), one = bytes(1), two = bytes(2);
+  const Topology topo = buildTopology(scene.cloth);
+  const double per_pass = double(topo.springs.size()) * (sizeof(gpu::ColouredSpring) + 4 * 32) / topo.pointCount();
+  EXPECT_GT(none, 0.0);
+  EXPECT_DOUBLE_EQ(one - none, per_pass);
+  EXPECT_DOUBLE_EQ(two - one, per_pass);
+
+  scene.sim.stretch_passes = 1;
+  scene.sim.self_collision = true;
+  scene.cloth.thickness = 0.1;  // reach 0.3 m over a 9 cm grid: every point has candidates
+  GpuSolver gpu(scene);
+  const double before = gpu.bytesPerPointPerSubstep();
+  gpu.stepFrame();
+  ASSERT_TRUE(gpu.health().ok());
+  const GpuPairs pairs = gpu.readPairs();
+  const double candidates = double(pairs.start.back()) / topo.pointCount();
+  ASSERT_GT(candidates, 0.0);
+  EXPECT_DOUBLE_EQ(gpu.bytesPerPointPerSubstep() - before, candidates * (4 + 16)) << "4-byte index, vec4 gather";
+}
+
 // Every spring at `factor` times its rest length, every point pinned so that no pass moves any.
 std::pair<Health, Health> stretchedBy(double factor) {
   Scene scene = smallScene(6);

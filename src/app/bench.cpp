@@ -116,6 +116,10 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
     timed_frames += frames;
   }
   run.frame_ms = summarize(run.repeat_ms);
+  if (gpu) run.bytes_per_point_substep = solver->bytesPerPointPerSubstep();
+  if (gpu && run.frame_ms.samples > 0 && run.frame_ms.median > 0)
+    run.achieved_gbs =
+        run.bytes_per_point_substep * double(run.points) * run.steps_per_frame / (run.frame_ms.median * 1e-3) / 1e9;
   if (timed_frames > 0) {
     run.sync_readbacks_per_frame = double(waits) / timed_frames;
     run.fence_waits_per_frame = double(fence_waits) / timed_frames;
@@ -177,9 +181,24 @@ BenchReport runBench(const BenchOptions& o, const std::function<void(const std::
           if (progress) progress(fmt::format("[{}/{}] {}", report.runs.size(), total, describeRun(report.runs.back())));
         }
   if (const GlInfo* gl = factory.glInfo()) report.gl = *gl;
+  report.peak_gbs = o.peak_gbs > 0 ? o.peak_gbs : report.gl ? knownPeakGbs(report.gl->renderer) : 0.0;
+  if (report.peak_gbs > 0)
+    for (BenchRun& run : report.runs)
+      if (run.achieved_gbs > 0) run.peak_share = run.achieved_gbs / report.peak_gbs;
   report.wall_s = msSince(start) * 1e-3;
   report.load_at_end = readLoadAverage();
   return report;
+}
+
+double knownPeakGbs(const std::string& renderer) {
+  // Longer names first: "H100 PCIe" before "H100".
+  static const std::pair<const char*, double> kPeaks[] = {
+      {"H200", 4800}, {"H100 PCIe", 2000}, {"H100", 3350},     {"A100-SXM4-80GB", 2039}, {"A100", 1555},
+      {"L40S", 864},  {"L4", 300},         {"RTX 4090", 1008}, {"RTX 3090", 936},
+  };
+  for (const auto& [name, gbs] : kPeaks)
+    if (renderer.find(name) != std::string::npos) return gbs;
+  return 0;
 }
 
 namespace {
@@ -212,6 +231,7 @@ nlohmann::json benchJson(const BenchReport& r) {
                {"timer_queries", r.gl->timer_queries}};
   else
     j["gl"] = nullptr;
+  j["peak_gbs"] = r.peak_gbs > 0 ? nlohmann::json(r.peak_gbs) : nlohmann::json(nullptr);
   j["settings"] = {{"scenes", r.options.scenes},
                    {"sizes", r.options.sizes},
                    {"solvers", r.options.solvers},
@@ -245,6 +265,9 @@ nlohmann::json benchJson(const BenchReport& r) {
     o["dispatches_per_substep"] = run.dispatches_per_substep;
     o["sync_readbacks_per_frame"] = run.sync_readbacks_per_frame;
     o["fence_waits_per_frame"] = run.fence_waits_per_frame;
+    o["bytes_per_point_substep"] = run.bytes_per_point_substep;
+    o["achieved_gbs"] = run.achieved_gbs;
+    o["peak_share"] = run.peak_share > 0 ? nlohmann::json(run.peak_share) : nlohmann::json(nullptr);
     o["gpu_memory_bytes"] = run.gpu_memory_bytes >= 0 ? nlohmann::json(run.gpu_memory_bytes) : nlohmann::json(nullptr);
     o["pass_timing"] = run.pass_timing;
     o["passes"] = nlohmann::json::array();
@@ -266,22 +289,25 @@ std::string benchMarkdown(const BenchReport& r) {
       "Machine: {} ({} logical cores, {:.0f} GiB; load average {} at the start, {} at the end). GPU solver: {}. "
       "CPU solvers: threads as shown after the solver's name.\n"
       "{} warm-up frames, then {} repeats of up to {} frames (fewer where a run would take over {:g} s); ms/frame is "
-      "the median over repeats [min, max].\n\n",
+      "the median over repeats [min, max]. GPU rows: read-backs/frame counts the loop's waits for the GPU "
+      "(docs/design.md, section 4); bytes/point/substep is the solver's traffic model, GB/s that model at the "
+      "median frame time{}.\n\n",
       r.machine.cpu_model, r.machine.logical_cores, double(r.machine.memory_bytes) / (1024.0 * 1024.0 * 1024.0),
       r.machine.load_average, r.load_at_end, gpu_label, r.options.warmup, r.options.repeats, r.options.frames,
-      r.options.budget_s);
+      r.options.budget_s,
+      r.peak_gbs > 0 ? fmt::format(", in brackets as a share of the device's peak of {:g} GB/s", r.peak_gbs) : "");
   md +=
       "| scene | N×N | solver | substeps/frame | ms/frame | vertex-substeps/s | dispatches/substep | dispatches/frame "
-      "| read-backs/frame | GPU memory | note |\n";
-  md += "|---|---|---|---|---|---|---|---|---|---|---|\n";
+      "| read-backs/frame | bytes/point/substep | GB/s (share of peak) | GPU memory | note |\n";
+  md += "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const BenchRun& run : r.runs) {
     const std::string scene = std::filesystem::path(run.scene).stem().string();
     std::string solver = run.solver;
     if (run.solver == "gpu" && r.gl && r.gl->software) solver = "gpu (llvmpipe)";
     if (run.threads > 0) solver += fmt::format(" ×{}", run.threads);
     if (!run.skipped.empty()) {
-      md += fmt::format("| {} | {} | {} | {} | – | – | – | – | – | – | skipped: {} |\n", scene, run.size, solver,
-                        run.steps_per_frame, run.skipped);
+      md += fmt::format("| {} | {} | {} | {} | – | – | – | – | – | – | – | – | skipped: {} |\n", scene, run.size,
+                        solver, run.steps_per_frame, run.skipped);
       continue;
     }
     std::string note;
@@ -299,8 +325,11 @@ std::string benchMarkdown(const BenchReport& r) {
     const std::string per_substep = gpu ? std::to_string(run.dispatches_per_substep) : "–";
     const std::string dispatches = gpu ? std::to_string(run.dispatches_per_frame) : "–";
     const std::string readbacks = gpu ? fmt::format("{:.2g}", run.sync_readbacks_per_frame) : "–";
-    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", scene, run.size, solver,
-                      run.steps_per_frame, ms, rate, per_substep, dispatches, readbacks, mem, note);
+    const std::string bytes = gpu ? fmt::format("{:.0f}", run.bytes_per_point_substep) : "–";
+    std::string gbs = gpu && run.achieved_gbs > 0 ? fmt::format("{:.3g}", run.achieved_gbs) : "–";
+    if (run.peak_share > 0) gbs += fmt::format(" ({:.1f}%)", 100 * run.peak_share);
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", scene, run.size, solver,
+                      run.steps_per_frame, ms, rate, per_substep, dispatches, readbacks, bytes, gbs, mem, note);
   }
   return md;
 }

@@ -22,6 +22,7 @@ struct BenchOptions {
   int warmup = 2;                  // frames run first and not timed (GPU: programs, caches, first dispatches)
   int repeats = 3;                 // timed repeats; median and spread are over these
   double budget_s = 10;            // timed seconds per run: slow runs time fewer frames per repeat (at least 1)
+  double peak_gbs = 0;             // the device's peak memory bandwidth; 0: from knownPeakGbs(renderer), if listed
 };
 
 struct BenchPass {
@@ -52,6 +53,11 @@ struct BenchRun {
   // the frame before). The loop checks health as the viewer does, every frame and a frame late.
   double sync_readbacks_per_frame = 0;
   double fence_waits_per_frame = 0;
+  // GPU: the solver's traffic model (Solver::bytesPerPointPerSubstep), the bandwidth it implies at the
+  // measured frame time, and that as a share of the device's peak (0 where the peak is not known).
+  double bytes_per_point_substep = 0;
+  double achieved_gbs = 0;
+  double peak_share = 0;
   long long gpu_memory_bytes = -1;  // buffers the GPU solver allocated; -1 for CPU solvers
   double stability_limit = 0;       // the guard's limit for the scene's damping
   double stability_number = 0;      // dt sqrt(k_sum/m) of the resampled scene
@@ -64,6 +70,7 @@ struct BenchReport {
   MachineInfo machine;       // load_average as the run started
   std::string load_at_end;   // load average as it ended
   std::optional<GlInfo> gl;  // when a GPU solver ran
+  double peak_gbs = 0;       // what peak_share is a share of: --peak-gbs, else knownPeakGbs(gl->renderer)
   BenchOptions options;
   std::vector<BenchRun> runs;
 };
@@ -72,6 +79,10 @@ struct BenchReport {
 BenchReport runBench(const BenchOptions& options, const std::function<void(const std::string&)>& progress = {});
 BenchRun benchOne(SolverFactory& factory, const Scene& scene, const std::string& scene_name, int size,
                   const std::string& solver, const BenchOptions& options, int threads = 0);
+
+// Peak memory bandwidth (GB/s, the vendors' data sheets) of a few GPUs, by a name in their GL renderer
+// string; 0 for any other (llvmpipe included: its "device memory" is the CPU's).
+double knownPeakGbs(const std::string& renderer);
 
 nlohmann::json benchJson(const BenchReport& report);
 std::string benchMarkdown(const BenchReport& report);

@@ -30,6 +30,7 @@ struct BenchCommandOptions {
   int warmup = 2;
   int repeats = 3;
   double budget_s = 10;
+  double peak_gbs = 0;
   std::string json;
   std::string markdown;
   std::string baseline;
@@ -75,6 +76,7 @@ void runBenchCommand(const BenchCommandOptions& c) {
   o.warmup = c.warmup;
   o.repeats = c.repeats;
   o.budget_s = c.budget_s;
+  o.peak_gbs = c.peak_gbs;
   // Output paths are checked before the runs, which may take minutes, not after them.
   if (!c.json.empty()) checkOutputFile(c.json);
   if (!c.markdown.empty()) checkOutputFile(c.markdown);
@@ -114,6 +116,9 @@ void addBenchCommand(CLI::App& app) {
   cmd->add_option("--budget", c->budget_s, "Timed seconds per run: slow runs time fewer frames per repeat")
       ->check(kPositive)
       ->capture_default_str();
+  cmd->add_option("--peak-gbs", c->peak_gbs,
+                  "The GPU's peak memory bandwidth in GB/s, for the share-of-peak column (default: known GPUs by name)")
+      ->check(kPositive);
   cmd->add_option("--json", c->json, "Write the results as JSON here (default: stdout)");
   cmd->add_option("--markdown", c->markdown, "Write a markdown table of the results here");
   cmd->add_option(

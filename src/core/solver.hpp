@@ -69,6 +69,9 @@ class Solver {
   virtual std::vector<std::string> framePasses() const { return {}; }
   virtual int dispatchesPerFrame() const { return 0; }
   virtual int threads() const { return 0; }  // CPU threads the solver's loops may use; 0 for the GPU
+  // Device memory traffic of one substep per cloth point, in bytes, as a model of what its passes read and
+  // write (GpuSolver says how); 0 where no model exists (the CPU solvers).
+  virtual double bytesPerPointPerSubstep() const { return 0; }
   virtual std::vector<PassTiming> timings() const { return {}; }
   virtual void resetTimings() {}
 

@@ -147,6 +147,12 @@ class GpuSolver final : public Solver {
   void checkHealth();      // the health pass on the current state, as stepFrame() runs it after the last substep
   void finish() override;  // glFinish
   bool timesPasses() const { return options_.timing; }
+  // The model: what each planned dispatch's kernel reads and writes of the buffers, from their layouts
+  // and the cloth's counts (adjacency entries per point, springs per colour, candidates per point as the
+  // last health read saw them), every gather counted as a full read (no cache) and data every point
+  // shares (parameters, colliders) not counted. A substep whose lists are fresh (most: the build runs
+  // zero work groups) moves no list-build bytes, so none are counted.
+  double bytesPerPointPerSubstep() const override;
   long long deviceMemoryBytes() const override;  // all buffers this solver allocated
   // The #defines the scene's kernels were compiled with (NUM_SPHERES, NUM_PLANES, SELF_COLLISION, WIND).
   const gl::Defines& defines() const { return defines_; }
@@ -211,6 +217,7 @@ class GpuSolver final : public Solver {
   };
 
   void buildPlan();
+  double bytesPerPoint(const PlannedDispatch& d) const;
   void runStage(Stage stage);
   void run(const PlannedDispatch& d);
   void checkLimits() const;
@@ -270,6 +277,7 @@ class GpuSolver final : public Solver {
   gl::Buffer grid_points_, grid_counts_, grid_start_, grid_blocks_, grid_scatter_, grid_sorted_;
   gl::Buffer pair_control_, pair_anchor_, pair_start_, pair_list_;
   std::uint64_t pair_capacity_ = 0;
+  std::uint32_t pair_entries_ = 0;  // candidate entries of the last list build, as the last health read saw
   gl::Buffer normals_, tangents_, vertex_tri_offsets_, vertex_tris_, triangles_, uvs_, pick_;
   Programs programs_;
   std::vector<PlannedDispatch> plan_;

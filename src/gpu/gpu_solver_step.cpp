@@ -138,6 +138,33 @@ void GpuSolver::run(const PlannedDispatch& d) {
   if (d.pass == kSelfCollide) pairs_checked_ = false;
 }
 
+double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
+  const double n = double(topo_.pointCount());
+  constexpr double kState = 2 * sizeof(glm::vec4);  // position and displacement (pin flag in w)
+  constexpr double kRange = 2 * sizeof(std::uint32_t);
+  const double entries = double(neighbors_.size() / sizeof(gpu::Neighbor)) / n;  // springs seen from a point
+  const double candidates = double(pair_entries_) / n;
+  switch (d.pass) {
+    case kForcesIntegrate:  // own state and point data, the adjacency, each neighbour's position; new state
+      return kState + sizeof(gpu::PointMass) + kRange + entries * (sizeof(gpu::Neighbor) + sizeof(glm::vec4)) + kState;
+    case kLimitStretch:  // the same gather, each neighbour's displacement too (its pin flag)
+      return kState + kRange + entries * (sizeof(gpu::Neighbor) + kState) + kState;
+    case kLimitStretchColoured:  // per spring: the entry, both ends' state read and written
+      return double(d.count) * (sizeof(gpu::ColouredSpring) + 4 * kState) / n;
+    case kSelfCollide:  // own state, the list, each candidate's position; new state
+      return kState + kRange + candidates * (sizeof(std::uint32_t) + sizeof(glm::vec4)) + kState;
+    default:  // pairs_prepare: one invocation; the list build: zero work groups while the lists are fresh
+      return 0;
+  }
+}
+
+double GpuSolver::bytesPerPointPerSubstep() const {
+  double bytes = 0;
+  for (const PlannedDispatch& d : plan_)
+    if (!d.unless_checked) bytes += bytesPerPoint(d);
+  return bytes;
+}
+
 std::vector<std::string> GpuSolver::passes() const {
   std::vector<std::string> out;
   for (const PlannedDispatch& d : plan_)
@@ -438,7 +465,11 @@ void GpuSolver::checkHealth() {
 Health GpuSolver::health() {
   if (!health_checked_) checkHealth();
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  if (pair_control_.id() != 0) growPairList(pair_control_.download<gpu::PairState>(1)[0]);
+  if (pair_control_.id() != 0) {
+    const gpu::PairState state = pair_control_.download<gpu::PairState>(1)[0];
+    pair_entries_ = state.total;
+    growPairList(state);
+  }
   const gpu::Health h = health_.download<gpu::Health>(1)[0];
   Health out;
   out.flags = h.flags;
@@ -485,7 +516,10 @@ Health GpuSolver::recentHealth() {
   HealthSnapshot snapshot;
   std::memcpy(&snapshot, static_cast<const std::byte*>(health_ring_.mapped()) + slot * sizeof(HealthSnapshot),
               sizeof snapshot);
-  if (pair_control_.id() != 0) growPairList(snapshot.pairs);
+  if (pair_control_.id() != 0) {
+    pair_entries_ = snapshot.pairs.total;
+    growPairList(snapshot.pairs);
+  }
   Health out;
   out.flags = snapshot.health.flags;
   out.first_point = snapshot.health.flags != 0 ? (long long)snapshot.health.first_point : -1;
