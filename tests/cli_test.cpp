@@ -604,9 +604,19 @@ TEST(FirstMinutes, AnInterruptedAccuracyKeepsEveryFinishedRun) {
   posix_spawn_file_actions_addopen(&files, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, (dir / "stdout").c_str(), O_WRONLY | O_CREAT, 0600);
   posix_spawn_file_actions_addopen(&files, STDERR_FILENO, (dir / "stderr").c_str(), O_WRONLY | O_CREAT, 0600);
+  // SIGINT at its default in the child: a test binary started in the background by a non-interactive
+  // shell (tools/test's sanitizer shards) ignores SIGINT, and a spawned child would inherit that.
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  sigset_t interrupt;
+  sigemptyset(&interrupt);
+  sigaddset(&interrupt, SIGINT);
+  posix_spawnattr_setsigdefault(&attributes, &interrupt);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGDEF);
   pid_t pid = 0;
-  ASSERT_EQ(posix_spawn(&pid, argv[0], &files, nullptr, argv.data(), environ), 0);
+  ASSERT_EQ(posix_spawn(&pid, argv[0], &files, &attributes, argv.data(), environ), 0);
   posix_spawn_file_actions_destroy(&files);
+  posix_spawnattr_destroy(&attributes);
   // Three finished runs: the CSV then holds the header and their rows.
   auto runsIn = [](const std::string& text) {
     std::set<std::string> runs;
