@@ -22,6 +22,7 @@ struct PassCase {
   bool self_contacts;          // the state has points that the self-collision pass moves, else it is nudged
   bool overstretched;          // the state has springs beyond the stretch limit, else it is nudged
   bool self_collision = true;  // false: turned off, so the collisions fuse into the integrate kernel
+  GpuPath path = GpuPath::Auto;
 };
 
 // Test names and CTest listings show the case's name instead of its bytes.
@@ -94,7 +95,8 @@ TEST_P(GpuPassTest, EachPassMatchesTheCpuFloatPassWhereItMovesPoints) {
     if (gpu_test::changedPoints(integrated, probe.readPositions()) > 0) break;
     cpu.step();
   }
-  GpuSolver gpu(scene);
+  GpuSolver gpu(scene, {.path = c.path});
+  ASSERT_EQ(gpu.oneDispatch(), c.path == GpuPath::OneDispatch) << gpu.oneDispatchMisfit();
   const Topology& topo = cpu.topology();
   auto cpuState = [&] { return Stage{cpu.readPositions(), cpu.readDisplacements()}; };
   auto runGpu = [&](const Stage& in, void (GpuSolver::*stage)()) {
@@ -119,6 +121,13 @@ TEST_P(GpuPassTest, EachPassMatchesTheCpuFloatPassWhereItMovesPoints) {
   }
   const Stage after_integrate = cpuState();
   compare(gpu.passes().front().c_str(), start, after_integrate, runGpu(start, &GpuSolver::forcesIntegrate));
+  if (gpu.oneDispatch()) {  // and the whole substep in its one dispatch
+    CpuSolver<float> whole = cpu;
+    whole.setState(start.x, start.v);
+    whole.step();
+    compare("one substep", start, Stage{whole.readPositions(), whole.readDisplacements()},
+            runGpu(start, &GpuSolver::step));
+  }
 
   // self-collision (+ collide).
   Stage before_stretch = after_integrate;
@@ -150,16 +159,21 @@ TEST_P(GpuPassTest, EachPassMatchesTheCpuFloatPassWhereItMovesPoints) {
 // the floor after ~66 (falling flat, so nothing is overstretched there: that input is nudged), the
 // vertical selfCollision cloth lands at once and folds onto itself within ~20 frames. Only that cloth
 // touches itself; the others' self-collision input is nudged.
-INSTANTIATE_TEST_SUITE_P(Scenes, GpuPassTest,
-                         ::testing::Values(PassCase{"pinned2", "pinned2.json", 10, false, true},
-                                           PassCase{"pinned4", "pinned4.json", 10, false, true},
-                                           PassCase{"sphere", "sphere.json", 48, false, true},
-                                           PassCase{"plane", "plane.json", 65, false, false},
-                                           PassCase{"sphere_no_self", "sphere.json", 48, false, true, false},
-                                           PassCase{"plane_no_self", "plane.json", 65, false, false, false},
-                                           PassCase{"wind", "wind.json", 10, false, true},
-                                           PassCase{"selfCollision", "selfCollision.json", 60, true, true}),
-                         [](const ::testing::TestParamInfo<PassCase>& param) { return std::string(param.param.name); });
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, GpuPassTest,
+    ::testing::Values(PassCase{"pinned2", "pinned2.json", 10, false, true},
+                      PassCase{"pinned4", "pinned4.json", 10, false, true},
+                      PassCase{"sphere", "sphere.json", 48, false, true},
+                      PassCase{"plane", "plane.json", 65, false, false},
+                      PassCase{"sphere_no_self", "sphere.json", 48, false, true, false},
+                      PassCase{"plane_no_self", "plane.json", 65, false, false, false},
+                      PassCase{"wind", "wind.json", 10, false, true},
+                      PassCase{"pinned2_one", "pinned2.json", 10, false, true, true, GpuPath::OneDispatch},
+                      PassCase{"sphere_one", "sphere.json", 48, false, true, false, GpuPath::OneDispatch},
+                      PassCase{"plane_one", "plane.json", 65, false, false, false, GpuPath::OneDispatch},
+                      PassCase{"wind_one", "wind.json", 10, false, true, true, GpuPath::OneDispatch},
+                      PassCase{"selfCollision", "selfCollision.json", 60, true, true}),
+    [](const ::testing::TestParamInfo<PassCase>& param) { return std::string(param.param.name); });
 
 // The plane response's GLSL twin against physics::collidePlane<float>, case by case, including the
 // band below the plane where the crossing parameter has to be clamped (tests/physics_test.cpp works

@@ -61,6 +61,9 @@ bool compareRuns(GpuSolver& gpu, CpuSolver<float>& cpu, int frames, const char* 
 struct RunCase {
   const char* name;
   const char* scene;
+  GpuPath path = GpuPath::Auto;
+  bool no_self_collision = false;  // turned off (the one-dispatch path runs none)
+  bool jacobi = false;             // the Jacobi stretch scheme instead of the scene's Gauss-Seidel
 };
 
 // Test names and CTest listings show the case's name instead of its bytes.
@@ -72,8 +75,13 @@ class GpuRunTest : public GlTest, public ::testing::WithParamInterface<RunCase> 
 
 // One simulated second: 90 frames of 30 substeps.
 TEST_P(GpuRunTest, OneSecondStaysWithTheCpuFloatRun) {
-  const Scene scene = gpu_test::standardScene(GetParam().scene);
-  GpuSolver gpu(scene);
+  const RunCase c = GetParam();
+  Scene scene = gpu_test::standardScene(c.scene);
+  if (c.no_self_collision) scene.sim.self_collision = false;
+  if (c.jacobi) scene.sim.stretch_scheme = StretchScheme::Jacobi;
+  GpuSolver gpu(scene, {.path = c.path});
+  ASSERT_EQ(gpu.oneDispatch(), c.path == GpuPath::OneDispatch) << gpu.oneDispatchMisfit();
+  if (gpu.oneDispatch()) EXPECT_EQ(gpu.dispatchesPerFrame(), 2) << "the frame's dispatch and the health check";
   CpuSolver<float> cpu(scene);
   compareRuns(gpu, cpu, int(scene.sim.frames_per_sec), GetParam().name);
 }
@@ -81,7 +89,15 @@ TEST_P(GpuRunTest, OneSecondStaysWithTheCpuFloatRun) {
 INSTANTIATE_TEST_SUITE_P(Scenes, GpuRunTest,
                          ::testing::Values(RunCase{"pinned2", "pinned2.json"}, RunCase{"pinned4", "pinned4.json"},
                                            RunCase{"sphere", "sphere.json"}, RunCase{"plane", "plane.json"},
-                                           RunCase{"wind", "wind.json"}),
+                                           RunCase{"wind", "wind.json"},
+                                           // The one-dispatch path: a frame in one work group, same bits.
+                                           RunCase{"pinned2_one", "pinned2.json", GpuPath::OneDispatch},
+                                           RunCase{"pinned4_one", "pinned4.json", GpuPath::OneDispatch},
+                                           RunCase{"sphere_one", "sphere.json", GpuPath::OneDispatch, true},
+                                           RunCase{"plane_one", "plane.json", GpuPath::OneDispatch, true},
+                                           RunCase{"wind_one", "wind.json", GpuPath::OneDispatch},
+                                           RunCase{"jacobi_one", "pinned2.json", GpuPath::OneDispatch, false, true},
+                                           RunCase{"jacobi", "pinned2.json", GpuPath::General, false, true}),
                          [](const ::testing::TestParamInfo<RunCase>& param) { return std::string(param.param.name); });
 
 double closestPair(const std::vector<glm::dvec3>& x) {

@@ -803,6 +803,67 @@ TEST_F(GpuSolverTest, EveryBundledSceneDispatchesExactlyItsPassList) {
   }
 }
 
+// The one-dispatch path: where it applies, a frame is one dispatch of one_group.comp, then the health check;
+// step() alone is one dispatch too. The bundled scenes without self-collision all fit (50x50 and the flag).
+TEST_F(GpuSolverTest, TheOneDispatchPathRunsAFrameInOneDispatch) {
+  for (const char* name : {"pinned2.json", "pinned4.json", "wind.json", "flag.json"}) {
+    SCOPED_TRACE(name);
+    GpuSolver gpu(standardScene(name), {.path = GpuPath::OneDispatch});
+    ASSERT_TRUE(gpu.oneDispatch()) << gpu.oneDispatchMisfit();
+    EXPECT_EQ(gpu.name(), "gpu-onedispatch");
+    EXPECT_EQ(gpu.dispatchesPerFrame(), 2);
+    EXPECT_DOUBLE_EQ(gpu.dispatchesPerSubstep(), 1.0 / gpu.scene().sim.steps_per_frame);
+    for (int frame = 0; frame < 2; ++frame)
+      EXPECT_EQ(recordFrame(gpu), (Strings{"one_group.comp", "health.comp"})) << "frame " << frame;
+    gl::DispatchRecorder recorder;
+    gpu.step();
+    EXPECT_EQ(recorder.dispatches().size(), 1u);
+    // The substep's phases, as the -v listing shows them: forces, then the 12 stretch colours.
+    EXPECT_EQ(gpu.passes().size(), 13u);
+  }
+}
+
+TEST_F(GpuSolverTest, TheOneDispatchPathIsChosenWhereItFitsAndSaysWhyNot) {
+  // On llvmpipe the automatic choice is the general path (one work group runs on one thread).
+  GpuSolver automatic(standardScene("pinned2.json"));
+  EXPECT_EQ(automatic.oneDispatch(), !automatic.contextInfo().software);
+  EXPECT_FALSE(GpuSolver(standardScene("pinned2.json"), {.path = GpuPath::General}).oneDispatch());
+  // Self-collision: the general path only, and forcing the other is an error that says so.
+  try {
+    GpuSolver forced(standardScene("sphere.json"), {.path = GpuPath::OneDispatch});
+    ADD_FAILURE() << "a self-colliding scene was accepted on the one-dispatch path";
+  } catch (const GpuLimitError& e) {
+    EXPECT_NE(std::string(e.what()).find("self-collision"), std::string::npos) << e.what();
+  }
+  // Too many points for one work group's shared memory (12 bytes each: 256x256 needs 768 KiB).
+  try {
+    GpuSolver forced(smallScene(256), {.path = GpuPath::OneDispatch});
+    ADD_FAILURE() << "a 256x256 cloth was accepted on the one-dispatch path";
+  } catch (const GpuLimitError& e) {
+    EXPECT_NE(std::string(e.what()).find("GL_MAX_COMPUTE_SHARED_MEMORY_SIZE"), std::string::npos) << e.what();
+  }
+  // A live change to self-collision moves a forced solver to the general path and back, state kept.
+  Scene scene = standardScene("pinned2.json");
+  GpuSolver gpu(scene, {.path = GpuPath::OneDispatch});
+  CpuSolver<float> cpu(scene);
+  gpu.stepFrame();
+  cpu.stepFrame();
+  scene.sim.self_collision = true;
+  gpu.setParams(scene.cloth, scene.sim);
+  cpu.setParams(scene.cloth, scene.sim);
+  EXPECT_FALSE(gpu.oneDispatch());
+  gpu.stepFrame();
+  cpu.stepFrame();
+  scene.sim.self_collision = false;
+  gpu.setParams(scene.cloth, scene.sim);
+  cpu.setParams(scene.cloth, scene.sim);
+  EXPECT_TRUE(gpu.oneDispatch());
+  gpu.stepFrame();
+  cpu.stepFrame();
+  if (gpu_test::bitIdenticalDevice(gpu.contextInfo()))
+    EXPECT_EQ(gpu_test::changedPoints(gpu.readPositions(), cpu.readPositions()), 0);
+}
+
 // The --verbose listing's lines "  N. PASS" or "  N. PASS xK", split at the per-frame heading.
 struct VerboseListing {
   int per_substep = -1, per_frame = -1;

@@ -83,6 +83,9 @@ TEST(Layout, ArrayElementsAreStd430) {
                {MEMBER(ColouredSpring, a, Scalar), MEMBER(ColouredSpring, b, Scalar),
                 MEMBER(ColouredSpring, rest, Scalar), MEMBER(ColouredSpring, pad0, Scalar)},
                sizeof(ColouredSpring));
+  expectStd430("ColourPartner", {MEMBER(ColourPartner, other, Scalar), MEMBER(ColourPartner, rest, Scalar)},
+               sizeof(ColourPartner));
+  EXPECT_EQ(sizeof(ColourPartner), 8u);
   expectStd430("Neighbor", {MEMBER(Neighbor, index_type, Scalar), MEMBER(Neighbor, rest, Scalar)}, sizeof(Neighbor));
   EXPECT_EQ(sizeof(Neighbor), 8u) << "8-byte stride: std430 does not pad scalar structs to 16";
   EXPECT_EQ(kNeighborIndexMask, (1u << kNeighborIndexBits) - 1);
@@ -129,12 +132,12 @@ TEST(Layout, PerPointArraysHaveTheStridesTheKernelsAssume) {
 
 TEST(Layout, BindingPointsAreDistinct) {
   const uint bindings[] = {
-      kBindingParams,    kBindingPosIn,      kBindingDispIn,           kBindingPosOut,      kBindingDispOut,
-      kBindingOffsets,   kBindingNeighbors,  kBindingColliders,        kBindingGridPoints,  kBindingGridCounts,
-      kBindingGridStart, kBindingGridBlocks, kBindingGridScatter,      kBindingGridSorted,  kBindingHealth,
-      kBindingNormals,   kBindingTangents,   kBindingVertexTriOffsets, kBindingVertexTris,  kBindingTriangles,
-      kBindingUvs,       kBindingPick,       kBindingColouredSprings,  kBindingPairControl, kBindingPairAnchor,
-      kBindingPairStart, kBindingPairList,   kBindingPointMass};
+      kBindingParams,    kBindingPosIn,      kBindingDispIn,           kBindingPosOut,        kBindingDispOut,
+      kBindingOffsets,   kBindingNeighbors,  kBindingColliders,        kBindingGridPoints,    kBindingGridCounts,
+      kBindingGridStart, kBindingGridBlocks, kBindingGridScatter,      kBindingGridSorted,    kBindingHealth,
+      kBindingNormals,   kBindingTangents,   kBindingVertexTriOffsets, kBindingVertexTris,    kBindingTriangles,
+      kBindingUvs,       kBindingPick,       kBindingColouredSprings,  kBindingPairControl,   kBindingPairAnchor,
+      kBindingPairStart, kBindingPairList,   kBindingPointMass,        kBindingColourPartners};
   EXPECT_EQ(kBindingCount, std::size(bindings)) << "kBindingCount is one more than the largest binding point";
   std::vector<bool> used(64, false);
   for (uint b : bindings) {

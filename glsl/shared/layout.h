@@ -49,7 +49,10 @@ DRAPE_CONSTANT(uint, kBindingPairStart, 25u);         // uint per point + 1: whe
 DRAPE_CONSTANT(uint, kBindingPairList, 26u);          // uint per candidate: each point's candidates, ascending
 // Per-point quantities that a mesh cloth does not share between its points (a grid's are all alike).
 DRAPE_CONSTANT(uint, kBindingPointMass, 27u);  // PointMass per point
-DRAPE_CONSTANT(uint, kBindingCount, 28u);      // binding points used: one more than the largest
+// The one-dispatch path (glsl/sim/one_group.comp): per spring colour and point, the point's spring of
+// that colour, if any (ColourPartner, colour-major).
+DRAPE_CONSTANT(uint, kBindingColourPartners, 28u);
+DRAPE_CONSTANT(uint, kBindingCount, 29u);  // binding points used: one more than the largest
 
 // Work-group sizes, shared so C++ computes group counts from the same numbers.
 DRAPE_CONSTANT(uint, kLocalSize, 128u);      // per-point and per-bucket kernels
@@ -116,6 +119,14 @@ struct ColouredSpring {
   uint b;      // other end
   float rest;  // m
   uint pad0;
+};
+
+// A point's spring of one colour, seen from the point (the one-dispatch path's Gauss-Seidel stretch): springs
+// of a colour share no point, so each point has at most one. 8 bytes.
+DRAPE_CONSTANT(uint, kNoPartner, 0xffffffffu);
+struct ColourPartner {
+  uint other;  // the spring's other end; kNoPartner: the point has no spring of this colour
+  float rest;  // m
 };
 
 // What a point does not share with the others on a mesh cloth: its weight and inverse mass, and its wind

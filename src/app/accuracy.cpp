@@ -204,7 +204,7 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
       }
   std::vector<std::size_t> cpu_jobs, gpu_jobs;
   for (std::size_t j = 0; j < sweep.size(); ++j)
-    (sweep[j].run.solver == "gpu" ? gpu_jobs : cpu_jobs).push_back(j);
+    (isGpuSolver(sweep[j].run.solver) ? gpu_jobs : cpu_jobs).push_back(j);
   report.jobs = jobsFor(o.jobs, cpu_jobs.size());
   report.threads_per_run = threadsPerJob(report.jobs);
   std::mutex say_mutex;
@@ -335,7 +335,7 @@ std::string cell(const AccuracyRun* run, double (*figure)(const AccuracyRun&, co
 }
 
 std::string solverLabel(const AccuracyReport& r, const std::string& solver) {
-  if (solver == "gpu" && r.gl && r.gl->software) return "gpu (llvmpipe)";
+  if (isGpuSolver(solver) && r.gl && r.gl->software) return solver + " (llvmpipe)";
   if (solver == "cpu") return "cpu (float, displacement)";
   if (solver == "cpu-xprev") return "cpu-xprev (float, x_prev)";
   if (solver == "cpu64") return "cpu64 (double)";

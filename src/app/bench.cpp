@@ -29,8 +29,9 @@ std::vector<BenchPass> passesPerFrame(const Solver& solver, int frames) {
 // The GPU's pass times come from a second solver with timing on: per-pass timing may stall the
 // pipeline (glFinish where timer queries do not work), which must not leak into the frame times.
 // One warm-up frame is enough here: the programs are already compiled and cached by the first solver.
-std::vector<BenchPass> timeGpuPasses(SolverFactory& factory, const Scene& scene, int warmup, int frames) {
-  std::unique_ptr<Solver> solver = factory.make(scene, "gpu", {.pass_timing = true});
+std::vector<BenchPass> timeGpuPasses(SolverFactory& factory, const Scene& scene, const std::string& name, int warmup,
+                                     int frames) {
+  std::unique_ptr<Solver> solver = factory.make(scene, name, {.pass_timing = true});
   for (int f = 0; f < std::min(warmup, 1); ++f)
     solver->stepFrame();
   solver->finish();
@@ -64,7 +65,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
     run.skipped = e.what();
     return run;
   }
-  const bool gpu = solver_name == "gpu";
+  const bool gpu = isGpuSolver(solver_name);
   run.threads = solver->threads();
   int frame = 0;
   auto sane = [&] {
@@ -127,14 +128,14 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
   if (run.frame_ms.samples > 0 && run.frame_ms.median > 0)
     run.vertex_substeps_per_s = double(run.points) * run.steps_per_frame / (run.frame_ms.median * 1e-3);
   run.dispatches_per_frame = solver->dispatchesPerFrame();
-  run.dispatches_per_substep = gpu ? int(solver->passes().size()) : 0;
+  run.dispatches_per_substep = gpu ? solver->dispatchesPerSubstep() : 0;
   run.gpu_memory_bytes = solver->deviceMemoryBytes();
   if (!gpu) {
     if (timed_frames > 0) run.passes = passesPerFrame(*solver, timed_frames);
     run.pass_timing = fmt::format("wall clock per pass, {} thread{}", run.threads, run.threads == 1 ? "" : "s");
   } else if (run.blew_up.empty()) {
     solver.reset();
-    run.passes = timeGpuPasses(factory, scene, o.warmup, frames);
+    run.passes = timeGpuPasses(factory, scene, solver_name, o.warmup, frames);
     const GlInfo* gl = factory.glInfo();
     run.pass_timing = gl && gl->timer_queries ? "GL timer queries" : "wall clock around glFinish per pass";
   }
@@ -172,11 +173,11 @@ BenchReport runBench(const BenchOptions& o, const std::function<void(const std::
   SolverFactory factory({.skip_unavailable = true});
   std::size_t total = 0;
   for (const std::string& solver : o.solvers)
-    total += o.scenes.size() * o.sizes.size() * (solver == "gpu" ? 1 : o.threads.size());
+    total += o.scenes.size() * o.sizes.size() * (isGpuSolver(solver) ? 1 : o.threads.size());
   for (std::size_t s = 0; s < scenes.size(); ++s)
     for (int size : o.sizes)
       for (const std::string& solver : o.solvers)
-        for (int threads : solver == "gpu" ? std::vector<int>{0} : o.threads) {
+        for (int threads : isGpuSolver(solver) ? std::vector<int>{0} : o.threads) {
           report.runs.push_back(benchOne(factory, scenes[s], o.scenes[s], size, solver, o, threads));
           if (progress) progress(fmt::format("[{}/{}] {}", report.runs.size(), total, describeRun(report.runs.back())));
         }
@@ -303,7 +304,7 @@ std::string benchMarkdown(const BenchReport& r) {
   for (const BenchRun& run : r.runs) {
     const std::string scene = std::filesystem::path(run.scene).stem().string();
     std::string solver = run.solver;
-    if (run.solver == "gpu" && r.gl && r.gl->software) solver = "gpu (llvmpipe)";
+    if (isGpuSolver(run.solver) && r.gl && r.gl->software) solver += " (llvmpipe)";
     if (run.threads > 0) solver += fmt::format(" ×{}", run.threads);
     if (!run.skipped.empty()) {
       md += fmt::format("| {} | {} | {} | {} | – | – | – | – | – | – | – | – | skipped: {} |\n", scene, run.size,
@@ -321,8 +322,11 @@ std::string benchMarkdown(const BenchReport& r) {
     const std::string rate = run.frame_ms.samples > 0 ? fmt::format("{:.3g}", run.vertex_substeps_per_s) : "–";
     const std::string mem =
         run.gpu_memory_bytes >= 0 ? fmt::format("{:.1f} MiB", double(run.gpu_memory_bytes) / (1024.0 * 1024.0)) : "–";
-    const bool gpu = run.solver == "gpu";
-    const std::string per_substep = gpu ? std::to_string(run.dispatches_per_substep) : "–";
+    const bool gpu = isGpuSolver(run.solver);
+    // A fraction where one dispatch runs a frame's substeps: 1/30, not 0.0333.
+    const std::string per_substep = !gpu                              ? "–"
+                                    : run.dispatches_per_substep >= 1 ? fmt::format("{:g}", run.dispatches_per_substep)
+                                                                      : fmt::format("1/{}", run.steps_per_frame);
     const std::string dispatches = gpu ? std::to_string(run.dispatches_per_frame) : "–";
     const std::string readbacks = gpu ? fmt::format("{:.2g}", run.sync_readbacks_per_frame) : "–";
     const std::string bytes = gpu ? fmt::format("{:.0f}", run.bytes_per_point_substep) : "–";

@@ -46,8 +46,8 @@ struct BenchRun {
   std::vector<BenchPass> passes;
   std::string pass_timing;  // how the passes were timed
   double vertex_substeps_per_s = 0;
-  int dispatches_per_frame = 0;    // 0 for CPU solvers
-  int dispatches_per_substep = 0;  // the substep's passes (GPU), without the once-a-frame ones
+  int dispatches_per_frame = 0;       // 0 for CPU solvers
+  double dispatches_per_substep = 0;  // GPU: Solver::dispatchesPerSubstep (1/substeps on the one-dispatch path)
   // Per timed frame, the loop's waits for the GPU besides the one glFinish per repeat that ends the clock
   // (gl::SyncCounts): read-backs and glFinish, then fence waits (the frame-late health check waiting for
   // the frame before). The loop checks health as the viewer does, every frame and a frame late.

@@ -52,7 +52,7 @@ std::vector<BenchRun> readBaseline(const std::string& path) {
 // Without a context every GPU run would be skipped and the command would look like a success: fail
 // before any work instead (status 3), as --solver gpu does everywhere else.
 void requireGlIfAsked(const std::vector<std::string>& solvers) {
-  if (std::find(solvers.begin(), solvers.end(), "gpu") == solvers.end()) return;
+  if (std::none_of(solvers.begin(), solvers.end(), isGpuSolver)) return;
   try {
     [[maybe_unused]] const gl::HeadlessContext probe = gl::HeadlessContext::create();
   } catch (const gl::ContextError& e) {

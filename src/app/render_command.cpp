@@ -290,7 +290,10 @@ void addRenderCommand(CLI::App& app) {
   addListOption(cmd, "--shader", opts->shader, "Shading models, comma-separated, or all")
       ->check(CLI::IsMember(shaderChoices()));
   cmd->add_option("--size", opts->size, "Image size WIDTHxHEIGHT (default 640x480)");
-  cmd->add_option("--solver", opts->solver, "gpu (default), cpu or cpu64")->check(CLI::IsMember(solverNames(false)));
+  cmd->add_option(
+         "--solver", opts->solver,
+         "gpu (default; the path chosen for the device), gpu-general or gpu-onedispatch (forced), cpu or cpu64")
+      ->check(CLI::IsMember(solverNames(false)));
   cmd->add_option("--video", opts->video,
                   "Also encode the frames this run wrote into this video with ffmpeg (e.g. out.mp4; with several "
                   "shaders one video each, out_SHADER.mp4)");

@@ -118,7 +118,8 @@ void addSimulateCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("simulate", "Run a scene headless and print a summary");
   cmd->add_option("scene", opts->scene, "Scene JSON file")->required();
   cmd->add_option("--frames", opts->frames, "Frames to simulate")->check(kNonNegative);
-  cmd->add_option("--solver", opts->solver, "cpu (float), cpu64 (double) or gpu")
+  cmd->add_option("--solver", opts->solver,
+                  "cpu (float), cpu64 (double), gpu (the path chosen for the device), gpu-general or gpu-onedispatch")
       ->check(CLI::IsMember(solverNames(false)))
       ->capture_default_str();
   cmd->add_option("--out", opts->out, "Write the final positions as JSON [[x,y,z],...]");

@@ -14,10 +14,16 @@ const std::vector<SolverKind>& solverKinds() {
   static const std::vector<SolverKind> kinds = {
       {"cpu", "CPU reference in float, the GPU's arithmetic", false},
       {"cpu64", "CPU reference in double", false},
-      {"gpu", "OpenGL 4.5 compute shaders", false},
+      {"gpu", "OpenGL 4.5 compute shaders, the path chosen for the device", false},
+      {"gpu-general", "the GPU's general path: a dispatch per pass and substep", false},
+      {"gpu-onedispatch", "the GPU's one-dispatch path: a frame in one work group (small cloths)", false},
       {"cpu-xprev", "CPU float with CS184's x_prev form of Verlet (its round-off, measured)", true},
   };
   return kinds;
+}
+
+bool isGpuSolver(const std::string& name) {
+  return name == "gpu" || name == "gpu-general" || name == "gpu-onedispatch";
 }
 
 std::vector<std::string> solverNames(bool with_measurement_only) {
@@ -38,7 +44,7 @@ std::unique_ptr<Solver> SolverFactory::make(const Scene& scene, const std::strin
   if (name == "cpu-xprev")
     return std::make_unique<CpuSolver<float>>(
         scene, CpuSolverOptions{.form = VerletForm::PreviousPosition, .threads = request.threads});
-  if (name == "gpu") return makeGpu(scene, request);
+  if (isGpuSolver(name)) return makeGpu(scene, name, request);
   throw CommandError(kExitBadInput,
                      fmt::format("--solver: unknown solver '{}' ({})", name, fmt::join(solverNames(true), ", ")));
 }
@@ -48,7 +54,8 @@ void SolverFactory::unavailable(int status, const std::string& why) {
   throw CommandError(status, why);
 }
 
-std::unique_ptr<Solver> SolverFactory::makeGpu(const Scene& scene, const SolverRequest& request) {
+std::unique_ptr<Solver> SolverFactory::makeGpu(const Scene& scene, const std::string& name,
+                                               const SolverRequest& request) {
   if (!options_.use_current_context) {
     if (!no_context_.empty()) unavailable(kExitNoGl, no_context_);
     if (!context_) {
@@ -66,6 +73,9 @@ std::unique_ptr<Solver> SolverFactory::makeGpu(const Scene& scene, const SolverR
   }
   GpuSolverOptions options;
   options.timing = request.pass_timing;
+  options.path = name == "gpu-general"       ? GpuPath::General
+                 : name == "gpu-onedispatch" ? GpuPath::OneDispatch
+                                             : GpuPath::Auto;
   std::unique_ptr<GpuSolver> solver;
   try {
     solver = std::make_unique<GpuSolver>(scene, options);
@@ -84,7 +94,12 @@ std::string describePasses(const Solver& solver) {
   const std::vector<std::string> passes = solver.passes(), frame_passes = solver.framePasses();
   const int substeps = solver.scene().sim.steps_per_frame;
   std::string out;
-  if (solver.dispatchesPerFrame() > 0) {
+  if (solver.dispatchesPerSubstep() > 0 && solver.dispatchesPerSubstep() < 1) {
+    out = fmt::format("{}: 1 dispatch runs the {} substeps of a frame, {} per frame", solver.name(), substeps,
+                      solver.dispatchesPerFrame());
+    out += frame_passes.empty() ? "\n" : fmt::format(" (then {} once per frame)\n", frame_passes.size());
+    out += "  each substep in that dispatch:\n";
+  } else if (solver.dispatchesPerFrame() > 0) {
     out = fmt::format("{}: {} dispatches per substep, {} per frame ({} substeps", solver.name(), passes.size(),
                       solver.dispatchesPerFrame(), substeps);
     out += frame_passes.empty() ? ")\n" : fmt::format(", then {} once per frame)\n", frame_passes.size());

@@ -24,11 +24,14 @@ struct SolverKind {
 
 // "cpu"        CpuSolver<float>, displacement form (the GPU's arithmetic)
 // "cpu64"      CpuSolver<double>
-// "gpu"        GpuSolver (OpenGL 4.5 compute)
+// "gpu"        GpuSolver (OpenGL 4.5 compute), the path chosen per device (GpuPath::Auto)
+// "gpu-general", "gpu-onedispatch"  GpuSolver forced onto one path (GpuPath)
 // "cpu-xprev"  CpuSolver<float>, x_prev form (CS184's; measured for its round-off): measurement only
 const std::vector<SolverKind>& solverKinds();
 // The names for CLI::IsMember: every solver, or those that `simulate`, `render` and `view` run.
 std::vector<std::string> solverNames(bool with_measurement_only);
+// "gpu" or one of its forced paths.
+bool isGpuSolver(const std::string& name);
 
 // A solver that cannot run here (no GL 4.5 context, a grid beyond the GPU's limits), for a factory made
 // with skip_unavailable: the measurement commands record the run as skipped with this reason.
@@ -73,7 +76,7 @@ class SolverFactory {
   const GlInfo* glInfo() const { return gl_info_.renderer.empty() ? nullptr : &gl_info_; }
 
  private:
-  std::unique_ptr<Solver> makeGpu(const Scene& scene, const SolverRequest& request);
+  std::unique_ptr<Solver> makeGpu(const Scene& scene, const std::string& name, const SolverRequest& request);
   [[noreturn]] void unavailable(int status, const std::string& why);  // throws SkippedRun or CommandError
 
   SolverFactoryOptions options_;

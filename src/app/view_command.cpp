@@ -78,7 +78,10 @@ void addViewCommand(CLI::App& app) {
   cmd->add_option("-o,--longitudes", opts->longitudes, "Sphere longitude segments (default 40)")
       ->check(CLI::Range(3, 1000));
   cmd->add_option("--shader", opts->shader, "Shading model: " + shadingNames());
-  cmd->add_option("--solver", opts->solver, "gpu (default), cpu or cpu64")->check(CLI::IsMember(solverNames(false)));
+  cmd->add_option(
+         "--solver", opts->solver,
+         "gpu (default; the path chosen for the device), gpu-general or gpu-onedispatch (forced), cpu or cpu64")
+      ->check(CLI::IsMember(solverNames(false)));
   auto* frames =
       cmd->add_option("--frames", opts->frames, "Simulate N frames, then close (with --screenshot: save the last)")
           ->check(kPositive);

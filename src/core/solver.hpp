@@ -28,7 +28,9 @@ class Solver {
   virtual const Topology& topology() const = 0;
 
   virtual void step() = 0;  // one substep: the passes of docs/design.md section 2, in order
-  void stepFrame() {
+  // One frame: steps_per_frame substeps, then what runs once per frame. A solver may run the substeps
+  // together (the GPU's one-dispatch path), with the same result as step() that often.
+  virtual void stepFrame() {
     for (int s = 0; s < scene().sim.steps_per_frame; ++s)
       step();
     endFrame();
@@ -68,6 +70,9 @@ class Solver {
   // Passes dispatched once per frame, after the last substep's (stepFrame()).
   virtual std::vector<std::string> framePasses() const { return {}; }
   virtual int dispatchesPerFrame() const { return 0; }
+  // Dispatches per substep: passes().size() where each pass is a dispatch of its own, less where one
+  // dispatch runs several substeps (1 / steps_per_frame for the GPU's one-dispatch path); 0 on the CPU.
+  virtual double dispatchesPerSubstep() const { return 0; }
   virtual int threads() const { return 0; }  // CPU threads the solver's loops may use; 0 for the GPU
   // Device memory traffic of one substep per cloth point, in bytes, as a model of what its passes read and
   // write (GpuSolver says how); 0 where no model exists (the CPU solvers).

@@ -259,6 +259,10 @@ void Program::setUniform(const char* name, float value) const {
   glProgramUniform1f(id(), locate(name, GL_FLOAT), value);
   checkDebugErrors();
 }
+void Program::setUniform(const char* name, double value) const {
+  glProgramUniform1d(id(), locate(name, GL_DOUBLE), value);
+  checkDebugErrors();
+}
 void Program::setUniform(const char* name, bool value) const {
   glProgramUniform1i(id(), locate(name, GL_BOOL), value ? 1 : 0);
   checkDebugErrors();

@@ -149,6 +149,7 @@ class Program {
   void setUniform(const char* name, int value) const;
   void setUniform(const char* name, unsigned value) const;
   void setUniform(const char* name, float value) const;
+  void setUniform(const char* name, double value) const;  // a GLSL double (GL 4.0)
   void setUniform(const char* name, bool value) const;
   void setUniform(const char* name, const glm::vec2& value) const;
   void setUniform(const char* name, const glm::vec3& value) const;

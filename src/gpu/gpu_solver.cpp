@@ -73,6 +73,7 @@ GpuSolver::GpuSolver(Scene scene, GpuSolverOptions options, gl::HeadlessContext 
   timer_queries_ = options_.timing && gl::timerQueriesWork();
   resetTimings();
   compilePrograms();
+  choosePath(true);
   buildPlan();
   reset();
 }
@@ -395,6 +396,77 @@ void GpuSolver::compilePrograms() {
   }
 }
 
+// Shared memory holds 12 bytes of position per point and a pin bit; registers hold the rest. More than a
+// few points per invocation would spill registers, so a cloth needs about as many invocations as
+// points / kMaxPointsPerInvocation.
+namespace {
+constexpr std::uint32_t kMaxPointsPerInvocation = 8;
+
+std::uint64_t oneGroupSharedBytes(std::uint64_t points) {
+  return 12 * points + 4 * ((points + 31) / 32);
+}
+}  // namespace
+
+std::string GpuSolver::oneDispatchMisfit() const {
+  if (scene_.sim.self_collision) return "the scene has self-collision, which only the general path runs";
+  GLint shared = 0, invocations = 0, size_x = 0;
+  glGetIntegerv(GL_MAX_COMPUTE_SHARED_MEMORY_SIZE, &shared);
+  glGetIntegerv(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS, &invocations);
+  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_SIZE, 0, &size_x);
+  const std::uint64_t n = std::uint64_t(topo_.pointCount());
+  if (oneGroupSharedBytes(n) > std::uint64_t(shared))
+    return std::to_string(n) + " points need " + std::to_string(oneGroupSharedBytes(n)) +
+           " bytes of shared memory, more than GL_MAX_COMPUTE_SHARED_MEMORY_SIZE (" + std::to_string(shared) + ")";
+  const std::uint64_t lanes = std::uint64_t(std::min(invocations, size_x));
+  if (n > lanes * kMaxPointsPerInvocation)
+    return std::to_string(n) + " points are more than " + std::to_string(kMaxPointsPerInvocation) +
+           " per invocation of the largest work group (" + std::to_string(lanes) + " invocations)";
+  return "";
+}
+
+void GpuSolver::choosePath(bool constructing) {
+  const std::string misfit = oneDispatchMisfit();
+  if (constructing && options_.path == GpuPath::OneDispatch && !misfit.empty())
+    throw GpuLimitError("gpu solver: the one-dispatch path does not fit: " + misfit);
+  // Forced, it still gives way to the general path when a live change (self-collision on) makes it misfit.
+  one_group_ = misfit.empty() &&
+               (options_.path == GpuPath::OneDispatch || (options_.path == GpuPath::Auto && !context_info_.software));
+  if (!one_group_) {
+    colour_partners_ = gl::Buffer();
+    return;
+  }
+  GLint invocations = 0, size_x = 0;
+  glGetIntegerv(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS, &invocations);
+  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_SIZE, 0, &size_x);
+  const std::uint32_t n = std::uint32_t(topo_.pointCount());
+  // As many invocations as points up to the limit, a whole number of 32-wide warps.
+  group_size_ = std::min<std::uint32_t>((n + 31) / 32 * 32, std::uint32_t(std::min(invocations, size_x)));
+  gl::Defines d = defines_;
+  d.emplace_back("GROUP_SIZE", std::to_string(group_size_));
+  d.emplace_back("GROUP_POINTS", std::to_string(n));
+  if (d != one_group_defines_) {
+    programs_.one_group = gl::compileCompute("sim/one_group.comp", d);
+    one_group_defines_ = d;
+  }
+  uploadColourPartners();
+}
+
+// Per colour and point, the point's spring of that colour (at most one: springs of a colour share no
+// point), for the one-dispatch kernel's Gauss-Seidel stretch seen from each point.
+void GpuSolver::uploadColourPartners() {
+  const std::size_t n = std::size_t(topo_.pointCount());
+  const std::size_t colours = std::size_t(colouring_.colourCount());
+  std::vector<gpu::ColourPartner> partners(std::max<std::size_t>(colours * n, 1), {gpu::kNoPartner, 0.0f});
+  for (std::size_t c = 0; c < colours; ++c)
+    for (std::uint32_t k = colouring_.start[c]; k < colouring_.start[c + 1]; ++k) {
+      const Spring& s = topo_.springs[colouring_.springs[k]];
+      if (!enabled_springs_[int(s.type)]) continue;
+      partners[c * n + s.a] = {s.b, float(s.rest)};
+      partners[c * n + s.b] = {s.a, float(s.rest)};
+    }
+  colour_partners_ = gl::Buffer::fromVector(partners, 0);
+}
+
 void GpuSolver::setParams(const ClothSpec& cloth, const SimParams& sim) {
   applyLiveParams(scene_, cloth, sim);
   bool springs_changed = false;
@@ -409,6 +481,7 @@ void GpuSolver::setParams(const ClothSpec& cloth, const SimParams& sim) {
   uploadParams();
   invalidatePairs();  // thickness may have changed, and with it the lists' reach
   if (sceneDefines() != defines_) compilePrograms();
+  choosePath(false);        // self-collision or the spring types may have changed whether it fits
   buildPlan();              // stretch passes, scheme and spring types change what a substep dispatches
   health_checked_ = false;  // the spring types checked may have changed
 }

@@ -44,7 +44,15 @@ namespace gpu {
 struct PairState;  // glsl/shared/layout.h
 }
 
+// How a substep is dispatched. General: the plan of dispatches above, any cloth. OneDispatch: every
+// substep of a frame in one work group with the positions in shared memory (glsl/sim/one_group.comp),
+// for cloths that fit one work group and need no self-collision. Auto: OneDispatch where it fits, on a
+// hardware GPU; on a software renderer (llvmpipe) the general path, which spreads a frame over its
+// threads where one work group runs on one (measured in README.md, "GPU paths").
+enum class GpuPath { Auto, General, OneDispatch };
+
 struct GpuSolverOptions {
+  GpuPath path = GpuPath::Auto;
   std::uint32_t buckets = 0;         // self-collision hash buckets, a power of two; 0: one per point, as the CPU grid
   bool timing = false;               // time every pass (GL timer queries; else glFinish + wall clock, which stalls)
   HealthLimits health{};             // what health() reports as a blow-up
@@ -89,11 +97,17 @@ class GpuSolver final : public Solver {
   GpuSolver(const GpuSolver&) = delete;
   GpuSolver& operator=(const GpuSolver&) = delete;
 
-  std::string name() const override { return "gpu"; }
+  // "gpu", or the forced path's name ("gpu-general", "gpu-onedispatch"), as the solver factory calls them.
+  std::string name() const override {
+    return options_.path == GpuPath::General       ? "gpu-general"
+           : options_.path == GpuPath::OneDispatch ? "gpu-onedispatch"
+                                                   : "gpu";
+  }
   const Scene& scene() const override { return scene_; }
   const Topology& topology() const override { return topo_; }
 
   void step() override;
+  void stepFrame() override;  // one dispatch on the one-dispatch path, else Solver::stepFrame
   void reset() override;
   void setParams(const ClothSpec& cloth, const SimParams& sim) override;
   std::vector<glm::dvec3> readPositions() override;
@@ -102,6 +116,10 @@ class GpuSolver final : public Solver {
   std::vector<std::string> passes() const override;
   std::vector<std::string> framePasses() const override { return {passName(kHealth)}; }
   int dispatchesPerFrame() const override;
+  double dispatchesPerSubstep() const override;
+  // Whether this scene runs on the one-dispatch path (GpuPath), and, when it cannot, why not ("" if it can).
+  bool oneDispatch() const { return one_group_; }
+  std::string oneDispatchMisfit() const;
   std::vector<PassTiming> timings() const override;
   void resetTimings() override;
 
@@ -178,6 +196,7 @@ class GpuSolver final : public Solver {
     kSelfCollide,
     kLimitStretch,
     kLimitStretchColoured,
+    kOneGroup,
     kNormals,
     kPick,
     kHealth,
@@ -208,6 +227,7 @@ class GpuSolver final : public Solver {
     gl::Program pairs_check, pairs_prepare, pairs_grid_count, pairs_count, pairs_scan[3], pairs_fill;
     gl::Program grid_build, grid_scan[3], grid_scatter, grid_rank;
     gl::Program limit_stretch, limit_stretch_coloured;
+    gl::Program one_group;  // the one-dispatch path, compiled when it is chosen
     gl::Program health;
     gl::Program normals, pick[2];  // compiled on first use
   };
@@ -217,6 +237,11 @@ class GpuSolver final : public Solver {
   };
 
   void buildPlan();
+  void choosePath(bool constructing);  // GpuSolverOptions::path for this scene: one_group_, its kernel and table
+  void uploadColourPartners();
+  // The one-dispatch kernel: `substeps` substeps of the phases in `phases` (bit 0 forces + integrate
+  // (+ collide), bit 1 the stretch passes).
+  void runOneGroup(std::uint32_t substeps, std::uint32_t phases);
   double bytesPerPoint(const PlannedDispatch& d) const;
   void runStage(Stage stage);
   void run(const PlannedDispatch& d);
@@ -274,6 +299,10 @@ class GpuSolver final : public Solver {
   SpringColouring colouring_;
   gl::Buffer coloured_springs_;              // ColouredSpring, enabled springs in colour order
   std::vector<std::uint32_t> colour_start_;  // colour c is coloured_springs_[colour_start_[c] .. [c+1])
+  bool one_group_ = false;                   // the one-dispatch path runs this scene
+  std::uint32_t group_size_ = 0;             // its invocations
+  gl::Buffer colour_partners_;               // its ColourPartner table (Gauss-Seidel stretch)
+  gl::Defines one_group_defines_;            // what its kernel was compiled with
   gl::Buffer grid_points_, grid_counts_, grid_start_, grid_blocks_, grid_scatter_, grid_sorted_;
   gl::Buffer pair_control_, pair_anchor_, pair_start_, pair_list_;
   std::uint64_t pair_capacity_ = 0;

@@ -26,23 +26,64 @@ static_assert(sizeof(HealthSnapshot) == sizeof(gpu::Health) + sizeof(gpu::PairSt
 
 void GpuSolver::step() {
   timing_break_ = true;
-  bindShared();
-  for (const PlannedDispatch& d : plan_)
-    run(d);
+  if (one_group_) {
+    runOneGroup(1, 3);
+  } else {
+    bindShared();
+    for (const PlannedDispatch& d : plan_)
+      run(d);
+  }
   ++substeps_;
   health_checked_ = false;
 }
 
+void GpuSolver::stepFrame() {
+  if (!one_group_) {
+    Solver::stepFrame();
+    return;
+  }
+  timing_break_ = true;
+  const int substeps = scene_.sim.steps_per_frame;
+  runOneGroup(std::uint32_t(substeps), 3);
+  substeps_ += substeps;
+  health_checked_ = false;
+  endFrame();
+}
+
+void GpuSolver::runOneGroup(std::uint32_t substeps, std::uint32_t phases) {
+  bindShared();
+  colour_partners_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColourPartners);
+  const gl::Program& program = programs_.one_group;
+  program.setUniform("u_substeps", substeps);
+  program.setUniform("u_phases", phases);
+  program.setUniform("u_stretch_passes", std::uint32_t(scene_.sim.stretch_passes));
+  const bool coloured = scene_.sim.stretch_scheme == StretchScheme::GaussSeidel;
+  program.setUniform("u_colours", coloured ? std::uint32_t(colouring_.colourCount()) : 0u);
+  if (scene_.sim.wind.enabled) {
+    program.setUniform("u_first_substep", double(substeps_));
+    program.setUniform("u_dt", scene_.sim.dt());
+  }
+  // In place: the work group reads the whole state before it writes any of it.
+  bindState(current_, 1 - current_);
+  dispatch(kOneGroup, program, {1, 1, 1});
+}
+
 void GpuSolver::forcesIntegrate() {
-  runStage(Stage::Integrate);
+  if (one_group_)
+    runOneGroup(1, 1);
+  else
+    runStage(Stage::Integrate);
 }
 
 void GpuSolver::selfCollide() {
-  runStage(Stage::SelfCollide);
+  runStage(Stage::SelfCollide);  // nothing on the one-dispatch path, which runs no self-collision
 }
 
 void GpuSolver::limitStretch() {
-  runStage(Stage::Stretch);
+  if (one_group_)
+    runOneGroup(1, 2);
+  else
+    runStage(Stage::Stretch);
 }
 
 void GpuSolver::runStage(Stage stage) {
@@ -58,6 +99,10 @@ void GpuSolver::buildPlan() {
                           std::uint32_t command = 0) {
     plan_.push_back({pass, stage, &program, size, ping_pong, command});
   };
+  if (one_group_) {  // the frame's one dispatch (runOneGroup), not a list per substep
+    add(kOneGroup, Stage::Integrate, programs_.one_group, Size::One, false);
+    return;
+  }
   add(kForcesIntegrate, Stage::Integrate, programs_.forces_integrate, Size::Points, true);
   // The candidate lists are rebuilt on the GPU's own decision (pairs_prepare writes the build's indirect
   // dispatch sizes), so no read-back stalls the substep; when the lists are fresh, the build's dispatches
@@ -151,6 +196,17 @@ double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
       return kState + kRange + entries * (sizeof(gpu::Neighbor) + kState) + kState;
     case kLimitStretchColoured:  // per spring: the entry, both ends' state read and written
       return double(d.count) * (sizeof(gpu::ColouredSpring) + 4 * kState) / n;
+    case kOneGroup: {  // per substep: the adjacency, the stretch table; the state once per frame
+      // Positions are gathered from shared memory, not device memory. The state (and the weight, kept in
+      // registers) is read and written once per dispatch, a frame of steps_per_frame substeps.
+      const double frame = kState + sizeof(glm::vec4) + kState;
+      double substep = kRange + entries * sizeof(gpu::Neighbor);
+      if (scene_.sim.wind.enabled) substep += sizeof(gpu::PointMass);
+      const bool coloured = scene_.sim.stretch_scheme == StretchScheme::GaussSeidel;
+      const double stretch =
+          coloured ? colouring_.colourCount() * sizeof(gpu::ColourPartner) : kRange + entries * sizeof(gpu::Neighbor);
+      return frame / scene_.sim.steps_per_frame + substep + scene_.sim.stretch_passes * stretch;
+    }
     case kSelfCollide:  // own state, the list, each candidate's position; new state
       return kState + kRange + candidates * (sizeof(std::uint32_t) + sizeof(glm::vec4)) + kState;
     default:  // pairs_prepare: one invocation; the list build: zero work groups while the lists are fresh
@@ -167,13 +223,28 @@ double GpuSolver::bytesPerPointPerSubstep() const {
 
 std::vector<std::string> GpuSolver::passes() const {
   std::vector<std::string> out;
+  if (one_group_) {  // the phases of the one dispatch, each substep
+    const bool colliders = !scene_.spheres.empty() || !scene_.planes.empty() || !scene_.meshes.empty();
+    out.push_back(std::string("in-group forces+integrate") + (colliders ? "+collide" : ""));
+    const bool coloured = scene_.sim.stretch_scheme == StretchScheme::GaussSeidel;
+    for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass)
+      for (int c = 0; c < (coloured ? colouring_.colourCount() : 1); ++c)
+        out.push_back(coloured ? "in-group limit_stretch_colour" : "in-group limit_stretch");
+    return out;
+  }
   for (const PlannedDispatch& d : plan_)
     if (!d.unless_checked) out.push_back(passName(d.pass));
   return out;
 }
 
 int GpuSolver::dispatchesPerFrame() const {
+  if (one_group_) return 1 + int(framePasses().size());
   return int(passes().size()) * scene_.sim.steps_per_frame + int(framePasses().size());
+}
+
+double GpuSolver::dispatchesPerSubstep() const {
+  if (one_group_) return 1.0 / double(scene_.sim.steps_per_frame);
+  return double(passes().size());
 }
 
 std::string GpuSolver::passName(PassId pass) const {
@@ -217,6 +288,8 @@ std::string GpuSolver::passName(PassId pass) const {
       return "limit_stretch";
     case kLimitStretchColoured:
       return "limit_stretch_colour";
+    case kOneGroup:
+      return "one_group";
     case kNormals:
       return "normals";
     case kPick:

@@ -1,0 +1,227 @@
+// The one-dispatch path: every substep of a frame in one work group, the positions in shared memory
+// (docs/design.md section 4, "The one-dispatch path"). For cloths that fit (GpuSolver::oneDispatchMisfit):
+// on a real GPU a 50x50 frame of 30 substeps is then one dispatch of some microseconds of work instead of
+// 30 x 13 dispatches, each a launch and a storage barrier. The phases of a substep are those of the general path's kernels, with the
+// same pure functions in the same order, so the results are the same bits: forces + integrate (+ collide)
+// as forces_integrate.comp, then the stretch passes as limit_stretch_coloured.comp (Gauss-Seidel, one
+// colour after another) or limit_stretch.comp (Jacobi). A work-group barrier takes the place of each
+// storage barrier between the general path's dispatches.
+//
+// Each invocation owns the points lid, lid + GROUP_SIZE, ...: their displacements and pin flags stay in
+// registers for the whole frame, their positions in `sx`, which every invocation reads.
+#define STATE_IN_PLACE
+#include "common.glsl"
+#include "physics.glsl"
+#include "collide.glsl"
+
+#if SELF_COLLISION
+#error "the one-dispatch path has no self-collision phase: GpuSolver runs such scenes on the general path"
+#endif
+#ifndef GROUP_SIZE
+#define GROUP_SIZE 128  // invocations; the solver sets it (and GROUP_POINTS) per cloth
+#endif
+#ifndef GROUP_POINTS
+#define GROUP_POINTS 256  // the cloth's points
+#endif
+#define PER_INVOCATION ((GROUP_POINTS + GROUP_SIZE - 1) / GROUP_SIZE)
+
+layout(local_size_x = GROUP_SIZE) in;
+
+layout(std430, binding = kBindingPointMass) readonly buffer PointMassBuffer {
+  PointMass pointMass[];
+};
+layout(std430, binding = kBindingColourPartners) readonly buffer ColourPartnersBuffer {
+  ColourPartner colourPartners[];  // colour c, point i: colourPartners[c * GROUP_POINTS + i]
+};
+
+uniform uint u_substeps;        // substeps this dispatch runs
+uniform uint u_phases;          // bit 0: forces + integrate (+ collide); bit 1: the stretch passes (tests run one)
+uniform uint u_stretch_passes;  // SimParams::stretch_passes
+uniform uint u_colours;         // spring colours; 0: the Jacobi stretch scheme
+#if WIND
+// Time as the CPU computes it, float(double(substep) * dt), needs the double product.
+uniform double u_first_substep;  // substeps taken before this dispatch
+uniform double u_dt;             // s, SimParams::dt() in double
+#endif
+
+// vec3 in three floats, not vec3[] (which std430-like layouts may pad to 16 bytes): 12 bytes a point is
+// what lets 50x50 fit in 32 KiB, the least a GL 4.3 device has.
+shared float sx[3 * GROUP_POINTS];
+shared uint sPinned[(GROUP_POINTS + 31) / 32];
+
+vec3 loadX(uint i) {
+  return vec3(sx[3u * i], sx[3u * i + 1u], sx[3u * i + 2u]);
+}
+
+void storeX(uint i, vec3 x) {
+  sx[3u * i] = x.x;
+  sx[3u * i + 1u] = x.y;
+  sx[3u * i + 2u] = x.z;
+}
+
+bool pinnedAt(uint j) {
+  return ((sPinned[j >> 5u] >> (j & 31u)) & 1u) != 0u;
+}
+
+// barrier() alone orders shared memory for compute shaders in GLSL 4.30+; memoryBarrierShared() says so
+// to any compiler that reads the older rules.
+void syncGroup() {
+  memoryBarrierShared();
+  barrier();
+}
+
+#if WIND
+vec3 pointNormal(PointMass m) {
+  return gridNormal(loadX(m.normal_a), loadX(m.normal_b), loadX(m.normal_c), loadX(m.normal_d));
+}
+#endif
+
+// forces_integrate.comp's body for one point, reading the neighbours from shared memory.
+// `weight` is PointMass::weight, held in registers for the frame.
+vec3 forcesIntegrate(uint i, inout vec3 v, float pin, vec4 weight, float time) {
+  precise vec3 x = loadX(i);
+  if (pin != 0.0) {
+    v = vec3(0.0);
+    return x;
+  }
+  precise vec3 f = weight.xyz;
+  for (uint e = offsets[i]; e < offsets[i + 1u]; ++e) {
+    Neighbor nb = neighbors[e];
+    f += springForce(x, loadX(neighborIndex(nb)), nb.rest, params.stiffness[neighborType(nb)]);
+  }
+#if WIND
+  PointMass m = pointMass[i];
+  precise vec3 air =
+      windVelocity(x, time, params.wind_velocity.xyz, params.wind_velocity.w, params.noise_scale, params.noise_speed);
+  f += windForce(pointNormal(m), v / params.dt, air, m.drag_area);
+#endif
+  precise vec3 vn = integrateVerlet(v, f * weight.w, params.dt2, params.keep);
+  x += vn;
+#if COLLIDERS
+  collideObjects(x, vn);
+#endif
+  v = vn;
+  return x;
+}
+
+// limit_stretch_coloured.comp seen from one end: point i's spring of colour c moves i by exactly what the
+// per-spring kernel gives that end (the end with the larger index takes -ca when the shares are equal).
+// False where i has no spring of the colour: then it is not touched at all (x + 0 would turn -0 into +0).
+bool stretchColoured(uint i, uint c, out vec3 corr) {
+  corr = vec3(0.0);
+  ColourPartner p = colourPartners[c * uint(GROUP_POINTS) + i];
+  if (p.other == kNoPartner) return false;
+  bool pinned_j = pinnedAt(p.other);
+  float share_i = stretchShare(false, pinned_j);
+  precise vec3 xi = loadX(i);
+  precise vec3 xj = loadX(p.other);
+  float share_j = stretchShare(pinned_j, false);
+  if (i > p.other && share_i == share_j) {
+    precise vec3 cj = stretchCorrection(xj, xi, p.rest, params.stretch_limit, share_j);
+    corr = -cj;
+  } else {
+    corr = stretchCorrection(xi, xj, p.rest, params.stretch_limit, share_i);
+  }
+  return true;
+}
+
+// limit_stretch.comp's average for one point.
+vec3 stretchJacobi(uint i) {
+  precise vec3 x = loadX(i);
+  precise vec3 sum = vec3(0.0);
+  int violated = 0;
+  for (uint e = offsets[i]; e < offsets[i + 1u]; ++e) {
+    Neighbor nb = neighbors[e];
+    uint j = neighborIndex(nb);
+    float share = stretchShare(false, pinnedAt(j));
+    vec3 c = stretchCorrection(x, loadX(j), nb.rest, params.stretch_limit, share);
+    if (c != vec3(0.0)) {
+      sum += c;
+      ++violated;
+    }
+  }
+  precise vec3 c = violated > 0 ? sum / float(violated) : vec3(0.0);
+  return c;
+}
+
+void main() {
+  const uint lid = gl_LocalInvocationID.x;
+  vec3 v[PER_INVOCATION];
+  float pin[PER_INVOCATION];
+  vec4 weight[PER_INVOCATION];
+  for (uint k = 0u; k < PER_INVOCATION; ++k) {
+    uint i = lid + k * GROUP_SIZE;
+    v[k] = vec3(0.0);
+    pin[k] = 0.0;
+    weight[k] = vec4(0.0);
+    if (i >= GROUP_POINTS) continue;
+    storeX(i, posIn[i].xyz);
+    v[k] = dispIn[i].xyz;
+    pin[k] = dispIn[i].w;
+    weight[k] = pointMass[i].weight;
+  }
+  for (uint w = lid; w < (GROUP_POINTS + 31) / 32; w += GROUP_SIZE) {
+    uint bits = 0u;
+    for (uint b = 0u; b < 32u && w * 32u + b < GROUP_POINTS; ++b)
+      bits |= (isPinned(dispIn[w * 32u + b]) ? 1u : 0u) << b;
+    sPinned[w] = bits;
+  }
+  syncGroup();
+
+  for (uint s = 0u; s < u_substeps; ++s) {
+    if ((u_phases & 1u) != 0u) {
+      float time = 0.0;
+#if WIND
+      time = float((u_first_substep + double(s)) * u_dt);
+#endif
+      // Jacobi, as the general path's ping-pong: every force reads the positions before the substep.
+      vec3 x_new[PER_INVOCATION];
+      for (uint k = 0u; k < PER_INVOCATION; ++k) {
+        uint i = lid + k * GROUP_SIZE;
+        if (i < GROUP_POINTS) x_new[k] = forcesIntegrate(i, v[k], pin[k], weight[k], time);
+      }
+      syncGroup();
+      for (uint k = 0u; k < PER_INVOCATION; ++k) {
+        uint i = lid + k * GROUP_SIZE;
+        if (i < GROUP_POINTS) storeX(i, x_new[k]);
+      }
+      syncGroup();
+    }
+    if ((u_phases & 2u) == 0u) continue;
+    for (uint pass = 0u; pass < u_stretch_passes; ++pass) {
+      // Gauss-Seidel: colour after colour; Jacobi (u_colours == 0): one round.
+      uint rounds = max(u_colours, 1u);
+      for (uint c = 0u; c < rounds; ++c) {
+        vec3 corr[PER_INVOCATION];
+        bool moves[PER_INVOCATION];
+        for (uint k = 0u; k < PER_INVOCATION; ++k) {
+          uint i = lid + k * GROUP_SIZE;
+          corr[k] = vec3(0.0);
+          moves[k] = i < GROUP_POINTS && pin[k] == 0.0;
+          if (!moves[k]) continue;
+          if (u_colours > 0u)
+            moves[k] = stretchColoured(i, c, corr[k]);
+          else
+            corr[k] = stretchJacobi(i);
+        }
+        syncGroup();
+        for (uint k = 0u; k < PER_INVOCATION; ++k) {
+          uint i = lid + k * GROUP_SIZE;
+          if (!moves[k]) continue;
+          precise vec3 x = loadX(i) + corr[k];
+          storeX(i, x);
+          precise vec3 vc = v[k] + corr[k];  // x_prev stays where it was
+          v[k] = vc;
+        }
+        syncGroup();
+      }
+    }
+  }
+
+  for (uint k = 0u; k < PER_INVOCATION; ++k) {
+    uint i = lid + k * GROUP_SIZE;
+    if (i >= GROUP_POINTS) continue;
+    posIn[i] = vec4(loadX(i), 1.0);
+    dispIn[i] = vec4(v[k], pin[k]);
+  }
+}
