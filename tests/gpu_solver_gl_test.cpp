@@ -422,32 +422,37 @@ TEST_F(GpuSolverTest, RecentHealthReportsABlowUpAtMostAFrameLate) {
   scene.sim.steps_per_frame = 2;
   scene.sim.stretch_passes = 0;
   scene.cloth.pinned = {{0, 0}};
-  const GpuSolverOptions options{.health = {.sane_bound = 1e3}};
-  GpuSolver waiting(scene, options);
-  int first_bad = 0;
-  for (int f = 1; f <= 200 && first_bad == 0; ++f) {
-    waiting.stepFrame();
-    if (!waiting.health().ok()) first_bad = f;
-  }
-  ASSERT_GT(first_bad, 1) << "the case must start sane and blow up";
+  // On both paths: the one-dispatch path checks health inside its frame's dispatch.
+  for (const GpuPath path : {GpuPath::General, GpuPath::OneDispatch}) {
+    SCOPED_TRACE(path == GpuPath::General ? "general path" : "one-dispatch path");
+    const GpuSolverOptions options{.path = path, .health = {.sane_bound = 1e3}};
+    GpuSolver waiting(scene, options);
+    int first_bad = 0;
+    for (int f = 1; f <= 200 && first_bad == 0; ++f) {
+      waiting.stepFrame();
+      if (!waiting.health().ok()) first_bad = f;
+    }
+    ASSERT_EQ(waiting.oneDispatch(), path == GpuPath::OneDispatch);
+    ASSERT_GT(first_bad, 1) << "the case must start sane and blow up";
 
-  GpuSolver late(scene, options);
-  int reported = 0;
-  Health h;
-  for (int f = 1; f <= first_bad + 1 && reported == 0; ++f) {
+    GpuSolver late(scene, options);
+    int reported = 0;
+    Health h;
+    for (int f = 1; f <= first_bad + 1 && reported == 0; ++f) {
+      late.stepFrame();
+      h = late.recentHealth();
+      if (!h.ok()) reported = f;
+    }
+    ASSERT_NE(reported, 0) << "not reported within a frame of frame " << first_bad;
+    EXPECT_GE(reported, first_bad);
+    const long long steps = scene.sim.steps_per_frame;
+    EXPECT_TRUE(h.substeps == first_bad * steps || h.substeps == (first_bad + 1) * steps) << h.substeps;
+    EXPECT_EQ(h.flags, waiting.health().flags);
+    // A reset forgets the frames in flight: no stale blow-up afterwards.
+    late.reset();
     late.stepFrame();
-    h = late.recentHealth();
-    if (!h.ok()) reported = f;
+    EXPECT_TRUE(late.recentHealth().ok());
   }
-  ASSERT_NE(reported, 0) << "not reported within a frame of frame " << first_bad;
-  EXPECT_GE(reported, first_bad);
-  const long long steps = scene.sim.steps_per_frame;
-  EXPECT_TRUE(h.substeps == first_bad * steps || h.substeps == (first_bad + 1) * steps) << h.substeps;
-  EXPECT_EQ(h.flags, waiting.health().flags);
-  // A reset forgets the frames in flight: no stale blow-up afterwards.
-  late.reset();
-  late.stepFrame();
-  EXPECT_TRUE(late.recentHealth().ok());
 }
 
 // A steady-state frame as `drape view` runs it (every substep, the frame-late health check, the normals
@@ -455,10 +460,11 @@ TEST_F(GpuSolverTest, RecentHealthReportsABlowUpAtMostAFrameLate) {
 // has not written. On selfCollision the list buffer starts too small, so the frames include list
 // rebuilds, the overflow and the buffer's growth, all decided without a read-back.
 TEST_F(GpuSolverTest, SteadyStateFramesReadNothingBack) {
-  for (const char* name : {"pinned2.json", "sphere.json", "selfCollision.json"}) {
+  for (const char* name : {"pinned2.json", "sphere.json", "selfCollision.json", "wind.json"}) {
     SCOPED_TRACE(name);
     const Scene scene = standardScene(name);
     GpuSolverOptions options;
+    if (std::string(name) == "wind.json") options.path = GpuPath::OneDispatch;
     if (scene.sim.self_collision) options.pair_capacity = 256;
     GpuSolver gpu(scene, options);
     const auto frame = [&] {
@@ -803,18 +809,19 @@ TEST_F(GpuSolverTest, EveryBundledSceneDispatchesExactlyItsPassList) {
   }
 }
 
-// The one-dispatch path: where it applies, a frame is one dispatch of one_group.comp, then the health check;
-// step() alone is one dispatch too. The bundled scenes without self-collision all fit (50x50 and the flag).
+// The one-dispatch path: where it applies, a frame is one dispatch of one_group.comp, the health check
+// included; step() alone is one dispatch too. The bundled scenes without self-collision all fit (50x50 and the flag).
 TEST_F(GpuSolverTest, TheOneDispatchPathRunsAFrameInOneDispatch) {
   for (const char* name : {"pinned2.json", "pinned4.json", "wind.json", "flag.json"}) {
     SCOPED_TRACE(name);
     GpuSolver gpu(standardScene(name), {.path = GpuPath::OneDispatch});
     ASSERT_TRUE(gpu.oneDispatch()) << gpu.oneDispatchMisfit();
     EXPECT_EQ(gpu.name(), "gpu-onedispatch");
-    EXPECT_EQ(gpu.dispatchesPerFrame(), 2);
+    EXPECT_EQ(gpu.dispatchesPerFrame(), 1);
+    EXPECT_TRUE(gpu.framePasses().empty());
     EXPECT_DOUBLE_EQ(gpu.dispatchesPerSubstep(), 1.0 / gpu.scene().sim.steps_per_frame);
     for (int frame = 0; frame < 2; ++frame)
-      EXPECT_EQ(recordFrame(gpu), (Strings{"one_group.comp", "health.comp"})) << "frame " << frame;
+      EXPECT_EQ(recordFrame(gpu), (Strings{"one_group.comp"})) << "frame " << frame;
     gl::DispatchRecorder recorder;
     gpu.step();
     EXPECT_EQ(recorder.dispatches().size(), 1u);

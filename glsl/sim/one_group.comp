@@ -1,11 +1,11 @@
 // The one-dispatch path: every substep of a frame in one work group, the positions in shared memory
 // (docs/design.md section 4, "The one-dispatch path"). For cloths that fit (GpuSolver::oneDispatchMisfit):
 // on a real GPU a 50x50 frame of 30 substeps is then one dispatch of some microseconds of work instead of
-// 30 x 13 dispatches, each a launch and a storage barrier. The phases of a substep are those of the general path's kernels, with the
-// same pure functions in the same order, so the results are the same bits: forces + integrate (+ collide)
-// as forces_integrate.comp, then the stretch passes as limit_stretch_coloured.comp (Gauss-Seidel, one
-// colour after another) or limit_stretch.comp (Jacobi). A work-group barrier takes the place of each
-// storage barrier between the general path's dispatches.
+// 30 x 13 dispatches, each a launch and a storage barrier. The phases of a substep are those of the general path's
+// kernels, with the same pure functions in the same order, so the results are the same bits: forces + integrate (+
+// collide) as forces_integrate.comp, then the stretch passes as limit_stretch_coloured.comp (Gauss-Seidel, one colour
+// after another) or limit_stretch.comp (Jacobi). A work-group barrier takes the place of each storage barrier between
+// the general path's dispatches.
 //
 // Each invocation owns the points lid, lid + GROUP_SIZE, ...: their displacements and pin flags stay in
 // registers for the whole frame, their positions in `sx`, which every invocation reads.
@@ -13,6 +13,7 @@
 #include "common.glsl"
 #include "physics.glsl"
 #include "collide.glsl"
+#include "health.glsl"
 
 #if SELF_COLLISION
 #error "the one-dispatch path has no self-collision phase: GpuSolver runs such scenes on the general path"
@@ -38,6 +39,7 @@ uniform uint u_substeps;        // substeps this dispatch runs
 uniform uint u_phases;          // bit 0: forces + integrate (+ collide); bit 1: the stretch passes (tests run one)
 uniform uint u_stretch_passes;  // SimParams::stretch_passes
 uniform uint u_colours;         // spring colours; 0: the Jacobi stretch scheme
+uniform bool u_check_health;    // end with health.comp's check of the last state (a frame), so a frame is one dispatch
 #if WIND
 // Time as the CPU computes it, float(double(substep) * dt), needs the double product.
 uniform double u_first_substep;  // substeps taken before this dispatch
@@ -221,7 +223,19 @@ void main() {
   for (uint k = 0u; k < PER_INVOCATION; ++k) {
     uint i = lid + k * GROUP_SIZE;
     if (i >= GROUP_POINTS) continue;
-    posIn[i] = vec4(loadX(i), 1.0);
+    vec3 x = loadX(i);
+    if (u_check_health) {
+      uint flags = stateHealth(x, v[k]);
+      for (uint e = offsets[i]; e < offsets[i + 1u]; ++e) {
+        Neighbor nb = neighbors[e];
+        if (springBlownUp(x, loadX(neighborIndex(nb)), nb.rest)) {
+          flags |= kHealthOverstretched;
+          break;
+        }
+      }
+      raiseHealth(flags, i);
+    }
+    posIn[i] = vec4(x, 1.0);
     dispIn[i] = vec4(v[k], pin[k]);
   }
 }

@@ -114,7 +114,10 @@ class GpuSolver final : public Solver {
   std::vector<glm::dvec3> readDisplacements() override;
   long long substeps() const override { return substeps_; }
   std::vector<std::string> passes() const override;
-  std::vector<std::string> framePasses() const override { return {passName(kHealth)}; }
+  // The one-dispatch path checks health inside its dispatch.
+  std::vector<std::string> framePasses() const override {
+    return one_group_ ? std::vector<std::string>{} : std::vector<std::string>{passName(kHealth)};
+  }
   int dispatchesPerFrame() const override;
   double dispatchesPerSubstep() const override;
   // Whether this scene runs on the one-dispatch path (GpuPath), and, when it cannot, why not ("" if it can).
@@ -241,7 +244,8 @@ class GpuSolver final : public Solver {
   void uploadColourPartners();
   // The one-dispatch kernel: `substeps` substeps of the phases in `phases` (bit 0 forces + integrate
   // (+ collide), bit 1 the stretch passes).
-  void runOneGroup(std::uint32_t substeps, std::uint32_t phases);
+  // With `check_health`, the health check of health.comp on the last state, in the same dispatch.
+  void runOneGroup(std::uint32_t substeps, std::uint32_t phases, bool check_health);
   double bytesPerPoint(const PlannedDispatch& d) const;
   void runStage(Stage stage);
   void run(const PlannedDispatch& d);

@@ -27,7 +27,7 @@ static_assert(sizeof(HealthSnapshot) == sizeof(gpu::Health) + sizeof(gpu::PairSt
 void GpuSolver::step() {
   timing_break_ = true;
   if (one_group_) {
-    runOneGroup(1, 3);
+    runOneGroup(1, 3, false);
   } else {
     bindShared();
     for (const PlannedDispatch& d : plan_)
@@ -44,18 +44,19 @@ void GpuSolver::stepFrame() {
   }
   timing_break_ = true;
   const int substeps = scene_.sim.steps_per_frame;
-  runOneGroup(std::uint32_t(substeps), 3);
+  runOneGroup(std::uint32_t(substeps), 3, true);  // the health check too: the whole frame is one dispatch
   substeps_ += substeps;
-  health_checked_ = false;
-  endFrame();
+  health_checked_ = true;
+  snapshotHealth();
 }
 
-void GpuSolver::runOneGroup(std::uint32_t substeps, std::uint32_t phases) {
+void GpuSolver::runOneGroup(std::uint32_t substeps, std::uint32_t phases, bool check_health) {
   bindShared();
   colour_partners_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColourPartners);
   const gl::Program& program = programs_.one_group;
   program.setUniform("u_substeps", substeps);
   program.setUniform("u_phases", phases);
+  program.setUniform("u_check_health", check_health);
   program.setUniform("u_stretch_passes", std::uint32_t(scene_.sim.stretch_passes));
   const bool coloured = scene_.sim.stretch_scheme == StretchScheme::GaussSeidel;
   program.setUniform("u_colours", coloured ? std::uint32_t(colouring_.colourCount()) : 0u);
@@ -70,7 +71,7 @@ void GpuSolver::runOneGroup(std::uint32_t substeps, std::uint32_t phases) {
 
 void GpuSolver::forcesIntegrate() {
   if (one_group_)
-    runOneGroup(1, 1);
+    runOneGroup(1, 1, false);
   else
     runStage(Stage::Integrate);
 }
@@ -81,7 +82,7 @@ void GpuSolver::selfCollide() {
 
 void GpuSolver::limitStretch() {
   if (one_group_)
-    runOneGroup(1, 2);
+    runOneGroup(1, 2, false);
   else
     runStage(Stage::Stretch);
 }
@@ -238,7 +239,7 @@ std::vector<std::string> GpuSolver::passes() const {
 }
 
 int GpuSolver::dispatchesPerFrame() const {
-  if (one_group_) return 1 + int(framePasses().size());
+  if (one_group_) return 1;
   return int(passes().size()) * scene_.sim.steps_per_frame + int(framePasses().size());
 }
 
