@@ -23,6 +23,7 @@ struct PassCase {
   bool overstretched;          // the state has springs beyond the stretch limit, else it is nudged
   bool self_collision = true;  // false: turned off, so the collisions fuse into the integrate kernel
   GpuPath path = GpuPath::Auto;
+  int size = 0;  // resampled to size x size points (0: as the scene has it)
 };
 
 // Test names and CTest listings show the case's name instead of its bytes.
@@ -80,6 +81,7 @@ TEST_P(GpuPassTest, EachPassMatchesTheCpuFloatPassWhereItMovesPoints) {
   const PassCase c = GetParam();
   Scene scene = gpu_test::standardScene(c.scene);
   scene.sim.self_collision = scene.sim.self_collision && c.self_collision;
+  if (c.size > 0) scene.cloth.num_width_points = scene.cloth.num_height_points = c.size;
   const bool colliders = !scene.spheres.empty() || !scene.planes.empty();
   CpuSolver<float> cpu(scene);
   for (int f = 0; f < c.frames; ++f)
@@ -161,18 +163,20 @@ TEST_P(GpuPassTest, EachPassMatchesTheCpuFloatPassWhereItMovesPoints) {
 // touches itself; the others' self-collision input is nudged.
 INSTANTIATE_TEST_SUITE_P(
     Scenes, GpuPassTest,
-    ::testing::Values(PassCase{"pinned2", "pinned2.json", 10, false, true},
-                      PassCase{"pinned4", "pinned4.json", 10, false, true},
-                      PassCase{"sphere", "sphere.json", 48, false, true},
-                      PassCase{"plane", "plane.json", 65, false, false},
-                      PassCase{"sphere_no_self", "sphere.json", 48, false, true, false},
-                      PassCase{"plane_no_self", "plane.json", 65, false, false, false},
-                      PassCase{"wind", "wind.json", 10, false, true},
-                      PassCase{"pinned2_one", "pinned2.json", 10, false, true, true, GpuPath::OneDispatch},
-                      PassCase{"sphere_one", "sphere.json", 48, false, true, false, GpuPath::OneDispatch},
-                      PassCase{"plane_one", "plane.json", 65, false, false, false, GpuPath::OneDispatch},
-                      PassCase{"wind_one", "wind.json", 10, false, true, true, GpuPath::OneDispatch},
-                      PassCase{"selfCollision", "selfCollision.json", 60, true, true}),
+    ::testing::Values(
+        PassCase{"pinned2", "pinned2.json", 10, false, true}, PassCase{"pinned4", "pinned4.json", 10, false, true},
+        PassCase{"sphere", "sphere.json", 48, false, true}, PassCase{"plane", "plane.json", 65, false, false},
+        PassCase{"sphere_no_self", "sphere.json", 48, false, true, false},
+        PassCase{"plane_no_self", "plane.json", 65, false, false, false},
+        PassCase{"wind", "wind.json", 10, false, true},
+        PassCase{"pinned2_one", "pinned2.json", 10, false, true, true, GpuPath::OneDispatch},
+        PassCase{"sphere_one", "sphere.json", 48, false, true, false, GpuPath::OneDispatch},
+        PassCase{"plane_one", "plane.json", 65, false, false, false, GpuPath::OneDispatch},
+        PassCase{"wind_one", "wind.json", 10, false, true, true, GpuPath::OneDispatch},
+        // Self-collision in the work group's own grid, at 32x32 (llvmpipe's 32 KiB of shared memory).
+        PassCase{"sphere_self_one", "sphere.json", 48, false, false, true, GpuPath::OneDispatch, 32},
+        PassCase{"selfCollision_one", "selfCollision.json", 60, false, false, true, GpuPath::OneDispatch, 32},
+        PassCase{"selfCollision", "selfCollision.json", 60, true, true}),
     [](const ::testing::TestParamInfo<PassCase>& param) { return std::string(param.param.name); });
 
 // The plane response's GLSL twin against physics::collidePlane<float>, case by case, including the

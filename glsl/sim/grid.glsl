@@ -12,6 +12,7 @@
 // grid_rank.comp).
 #pragma once
 
+#include "cells.glsl"
 #include "common.glsl"
 #include "physics.glsl"
 
@@ -39,20 +40,6 @@ layout(std430, binding = kBindingGridScatter) GRID_MEMORY buffer GridScatterBuff
 layout(std430, binding = kBindingGridSorted) GRID_MEMORY buffer GridSortedBuffer {
   uint gridSorted[];
 };
-
-// HashGrid::cellOf: a product with the host-rounded reciprocal. GLSL allows a division 2.5 ulp of
-// error, which would move points on a cell border to the neighbouring cell; a product is exact-rounded.
-// Clamped to +-2^30 cells, NaN to cell 0, as on the CPU: GLSL leaves the conversion of a non-finite or
-// out-of-range float undefined, and a blown-up cloth reaches this before the frame's health check.
-int clampCell(float q) {
-  const float kLimit = 1073741824.0;
-  return isnan(q) ? 0 : int(clamp(q, -kLimit, kLimit));
-}
-
-ivec3 cellOf(vec3 p, float inv_cell_size) {
-  precise vec3 q = floor(p * inv_cell_size);
-  return ivec3(clampCell(q.x), clampCell(q.y), clampCell(q.z));
-}
 
 ivec3 gridCell(uint i) {
   GridPoint g = gridPoints[i];

@@ -1,14 +1,16 @@
 // The one-dispatch path: every substep of a frame in one work group, the positions in shared memory
 // (docs/design.md section 4, "The one-dispatch path"). For cloths that fit (GpuSolver::oneDispatchMisfit):
 // on a real GPU a 50x50 frame of 30 substeps is then one dispatch of some microseconds of work instead of
-// 30 x 13 dispatches, each a launch and a storage barrier. The phases of a substep are those of the general path's
-// kernels, with the same pure functions in the same order, so the results are the same bits: forces + integrate (+
-// collide) as forces_integrate.comp, then the stretch passes as limit_stretch_coloured.comp (Gauss-Seidel, one colour
-// after another) or limit_stretch.comp (Jacobi). A work-group barrier takes the place of each storage barrier between
-// the general path's dispatches.
+// 30 x 13 dispatches, each a launch and a storage barrier. The phases of a substep are those of the
+// general path's kernels, with the same pure functions in the same order, so the results are the same
+// bits: forces + integrate (+ collide) as forces_integrate.comp, self-collision (+ collide) as
+// self_collide.comp over a grid of its own in shared memory, the stretch passes as
+// limit_stretch_coloured.comp (Gauss-Seidel, one colour after another) or limit_stretch.comp (Jacobi),
+// and at the end of a frame health.comp's check. A work-group barrier takes the place of each storage
+// barrier between the general path's dispatches.
 //
-// Each invocation owns the points lid, lid + GROUP_SIZE, ...: their displacements and pin flags stay in
-// registers for the whole frame, their positions in `sx`, which every invocation reads.
+// Each invocation owns the points lid, lid + GROUP_SIZE, ...: their displacements, pin flags and weights
+// stay in registers for the whole frame, their positions in `sx`, which every invocation reads.
 #define STATE_IN_PLACE
 #include "common.glsl"
 #include "physics.glsl"
@@ -16,7 +18,7 @@
 #include "health.glsl"
 
 #if SELF_COLLISION
-#error "the one-dispatch path has no self-collision phase: GpuSolver runs such scenes on the general path"
+#include "cells.glsl"
 #endif
 #ifndef GROUP_SIZE
 #define GROUP_SIZE 128  // invocations; the solver sets it (and GROUP_POINTS) per cloth
@@ -25,6 +27,9 @@
 #define GROUP_POINTS 256  // the cloth's points
 #endif
 #define PER_INVOCATION ((GROUP_POINTS + GROUP_SIZE - 1) / GROUP_SIZE)
+#ifndef GROUP_BUCKETS
+#define GROUP_BUCKETS 128  // the in-group grid's buckets: a power of two, at most GROUP_SIZE
+#endif
 
 layout(local_size_x = GROUP_SIZE) in;
 
@@ -35,8 +40,10 @@ layout(std430, binding = kBindingColourPartners) readonly buffer ColourPartnersB
   ColourPartner colourPartners[];  // colour c, point i: colourPartners[c * GROUP_POINTS + i]
 };
 
-uniform uint u_substeps;        // substeps this dispatch runs
-uniform uint u_phases;          // bit 0: forces + integrate (+ collide); bit 1: the stretch passes (tests run one)
+uniform uint u_substeps;  // substeps this dispatch runs
+// Bit 0: forces + integrate (+ collide without self-collision); bit 1: the stretch passes; bit 2:
+// self-collision + collide. Tests run one at a time.
+uniform uint u_phases;
 uniform uint u_stretch_passes;  // SimParams::stretch_passes
 uniform uint u_colours;         // spring colours; 0: the Jacobi stretch scheme
 uniform bool u_check_health;    // end with health.comp's check of the last state (a frame), so a frame is one dispatch
@@ -60,6 +67,14 @@ void storeX(uint i, vec3 x) {
   sx[3u * i + 1u] = x.y;
   sx[3u * i + 2u] = x.z;
 }
+
+#if SELF_COLLISION
+// The self-collision grid of cell edge 2 * thickness, rebuilt every substep in shared memory: bucket b
+// holds sGridPoints[sGridStart[b] .. sGridStart[b + 1]) in arrival order (atomics: any order; the sums
+// pick their terms in ascending index, so the order never shows).
+shared uint sGridStart[GROUP_BUCKETS + 1];
+shared uint sGridPoints[GROUP_POINTS];
+#endif
 
 bool pinnedAt(uint j) {
   return ((sPinned[j >> 5u] >> (j & 31u)) & 1u) != 0u;
@@ -99,7 +114,7 @@ vec3 forcesIntegrate(uint i, inout vec3 v, float pin, vec4 weight, float time) {
 #endif
   precise vec3 vn = integrateVerlet(v, f * weight.w, params.dt2, params.keep);
   x += vn;
-#if COLLIDERS
+#if COLLIDERS && !SELF_COLLISION
   collideObjects(x, vn);
 #endif
   v = vn;
@@ -146,6 +161,82 @@ vec3 stretchJacobi(uint i) {
   return c;
 }
 
+#if SELF_COLLISION
+ivec3 orderCell(vec3 p) {
+  return cellOf(p, params.inv_cell_size);
+}
+
+uint bucketOf(ivec3 cell) {
+  return hashCell(cell) & uint(GROUP_BUCKETS - 1);
+}
+
+// Counting sort of the points into the buckets of their cells: counts by shared atomics, an inclusive
+// scan (Hillis-Steele: log2(GROUP_BUCKETS) rounds, one bucket per invocation), then each point to its
+// slot. Every invocation calls it (it has barriers).
+void buildGroupGrid(uint lid) {
+  uint bucket[PER_INVOCATION], slot[PER_INVOCATION];
+  if (lid <= GROUP_BUCKETS) sGridStart[lid] = 0u;
+  syncGroup();
+  for (uint k = 0u; k < PER_INVOCATION; ++k) {
+    uint i = lid + k * GROUP_SIZE;
+    if (i >= GROUP_POINTS) continue;
+    bucket[k] = bucketOf(orderCell(loadX(i)));
+    slot[k] = atomicAdd(sGridStart[bucket[k]], 1u);
+  }
+  syncGroup();
+  uint count = lid < GROUP_BUCKETS ? sGridStart[lid] : 0u;
+  uint sum = count;
+  for (uint offset = 1u; offset < GROUP_BUCKETS; offset <<= 1u) {
+    uint before = lid < GROUP_BUCKETS && lid >= offset ? sGridStart[lid - offset] : 0u;
+    syncGroup();
+    sum += before;
+    if (lid < GROUP_BUCKETS) sGridStart[lid] = sum;
+    syncGroup();
+  }
+  if (lid < GROUP_BUCKETS) sGridStart[lid] = sum - count;  // exclusive
+  if (lid == 0u) sGridStart[GROUP_BUCKETS] = GROUP_POINTS;
+  syncGroup();
+  for (uint k = 0u; k < PER_INVOCATION; ++k) {
+    uint i = lid + k * GROUP_SIZE;
+    if (i < GROUP_POINTS) sGridPoints[sGridStart[bucket[k]] + slot[k]] = i;
+  }
+  syncGroup();
+}
+
+// The smallest index above `after` (any when after < 0) of a point in cell n, other than i, with a
+// nonzero term; -1 if none. Buckets hold a few points, so the repeated scans cost little.
+int nextInCell(uint i, vec3 x, ivec3 n, int after) {
+  uint bucket = bucketOf(n);
+  int best = -1;
+  for (uint s = sGridStart[bucket]; s < sGridStart[bucket + 1u]; ++s) {
+    uint j = sGridPoints[s];
+    if (j == i || int(j) <= after || (best >= 0 && int(j) >= best)) continue;
+    vec3 xj = loadX(j);
+    if (orderCell(xj) != n || selfCollisionCorrection(x, xj, params.thickness) == vec3(0.0)) continue;
+    best = int(j);
+  }
+  return best;
+}
+
+// self_collide.comp's sum for one point: the terms in the order of the 27-cell query, ascending index
+// within a cell (forEachOrderedPair in src/cpu/collision_pairs.hpp).
+vec3 selfCollisionOf(uint i) {
+  precise vec3 x = loadX(i);
+  ivec3 cell_i = orderCell(x);
+  precise vec3 sum = vec3(0.0);
+  int count = 0;
+  for (int order = 0; order < 27; ++order) {
+    ivec3 n = cell_i + ivec3(order % 3 - 1, (order / 3) % 3 - 1, order / 9 - 1);
+    for (int j = nextInCell(i, x, n, -1); j >= 0; j = nextInCell(i, x, n, j)) {
+      sum += selfCollisionCorrection(x, loadX(uint(j)), params.thickness);
+      ++count;
+    }
+  }
+  precise vec3 c = count > 0 ? sum / (float(count) * params.steps_per_frame) : vec3(0.0);
+  return c;
+}
+#endif
+
 void main() {
   const uint lid = gl_LocalInvocationID.x;
   vec3 v[PER_INVOCATION];
@@ -189,6 +280,31 @@ void main() {
       }
       syncGroup();
     }
+#if SELF_COLLISION
+    if ((u_phases & 4u) != 0u) {
+      buildGroupGrid(lid);
+      // Jacobi, as self_collide.comp: every sum reads the positions before the pass.
+      vec3 corr[PER_INVOCATION];
+      for (uint k = 0u; k < PER_INVOCATION; ++k) {
+        uint i = lid + k * GROUP_SIZE;
+        corr[k] = vec3(0.0);
+        if (i < GROUP_POINTS && pin[k] == 0.0) corr[k] = selfCollisionOf(i);
+      }
+      syncGroup();
+      for (uint k = 0u; k < PER_INVOCATION; ++k) {
+        uint i = lid + k * GROUP_SIZE;
+        if (i >= GROUP_POINTS) continue;
+        precise vec3 x = loadX(i) + corr[k];
+        precise vec3 vc = v[k] + corr[k];  // x_prev stays where it was
+#if COLLIDERS
+        if (pin[k] == 0.0) collideObjects(x, vc);
+#endif
+        storeX(i, x);
+        v[k] = vc;
+      }
+      syncGroup();
+    }
+#endif
     if ((u_phases & 2u) == 0u) continue;
     for (uint pass = 0u; pass < u_stretch_passes; ++pass) {
       // Gauss-Seidel: colour after colour; Jacobi (u_colours == 0): one round.

@@ -50,12 +50,3 @@ uint gatherCandidates(uint i, bool write, uint first) {
   return found;
 }
 #endif
-
-// Where j lies around i in the 27-cell query of a grid of cell edge 2 * thickness (0..26, z then y then
-// x), or -1 outside it: the order in which a point's self-collision sum visits its terms
-// (cellOrder in src/cpu/collision_pairs.hpp).
-int cellOrder(ivec3 cell_i, ivec3 cell_j) {
-  ivec3 d = cell_j - cell_i;
-  if (any(lessThan(d, ivec3(-1))) || any(greaterThan(d, ivec3(1)))) return -1;
-  return (d.z + 1) * 9 + (d.y + 1) * 3 + (d.x + 1);
-}

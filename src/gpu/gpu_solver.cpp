@@ -396,31 +396,45 @@ void GpuSolver::compilePrograms() {
   }
 }
 
-// Shared memory holds 12 bytes of position per point and a pin bit; registers hold the rest. More than a
-// few points per invocation would spill registers, so a cloth needs about as many invocations as
-// points / kMaxPointsPerInvocation.
+// Shared memory holds 12 bytes of position per point and a pin bit, and with self-collision the in-group
+// grid (a bucket start per bucket, an index per point); registers hold the rest. More than a few points
+// per invocation would spill registers, so a cloth needs about as many invocations as points /
+// kMaxPointsPerInvocation.
 namespace {
 constexpr std::uint32_t kMaxPointsPerInvocation = 8;
 
-std::uint64_t oneGroupSharedBytes(std::uint64_t points) {
-  return 12 * points + 4 * ((points + 31) / 32);
+std::uint64_t oneGroupSharedBytes(std::uint64_t points, std::uint64_t buckets, bool self_collision) {
+  const std::uint64_t state = 12 * points + 4 * ((points + 31) / 32);
+  return self_collision ? state + 4 * (buckets + 1) + 4 * points : state;
 }
 }  // namespace
 
-std::string GpuSolver::oneDispatchMisfit() const {
-  if (scene_.sim.self_collision) return "the scene has self-collision, which only the general path runs";
-  GLint shared = 0, invocations = 0, size_x = 0;
-  glGetIntegerv(GL_MAX_COMPUTE_SHARED_MEMORY_SIZE, &shared);
+// As many invocations as points up to the limit, a whole number of 32-wide warps.
+std::uint32_t GpuSolver::oneGroupSize() const {
+  GLint invocations = 0, size_x = 0;
   glGetIntegerv(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS, &invocations);
   glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_SIZE, 0, &size_x);
+  const std::uint32_t n = std::uint32_t(topo_.pointCount());
+  return std::min<std::uint32_t>((n + 31) / 32 * 32, std::uint32_t(std::min(invocations, size_x)));
+}
+
+// One bucket per invocation for the scan: the largest power of two not above the group size.
+std::uint32_t GpuSolver::oneGroupBuckets() const {
+  return std::bit_floor(std::max<std::uint32_t>(oneGroupSize(), 1));
+}
+
+std::string GpuSolver::oneDispatchMisfit() const {
+  GLint shared = 0;
+  glGetIntegerv(GL_MAX_COMPUTE_SHARED_MEMORY_SIZE, &shared);
   const std::uint64_t n = std::uint64_t(topo_.pointCount());
-  if (oneGroupSharedBytes(n) > std::uint64_t(shared))
-    return std::to_string(n) + " points need " + std::to_string(oneGroupSharedBytes(n)) +
-           " bytes of shared memory, more than GL_MAX_COMPUTE_SHARED_MEMORY_SIZE (" + std::to_string(shared) + ")";
-  const std::uint64_t lanes = std::uint64_t(std::min(invocations, size_x));
-  if (n > lanes * kMaxPointsPerInvocation)
+  const std::uint64_t need = oneGroupSharedBytes(n, oneGroupBuckets(), scene_.sim.self_collision);
+  if (need > std::uint64_t(shared))
+    return std::to_string(n) + " points need " + std::to_string(need) + " bytes of shared memory" +
+           (scene_.sim.self_collision ? " with self-collision" : "") +
+           ", more than GL_MAX_COMPUTE_SHARED_MEMORY_SIZE (" + std::to_string(shared) + ")";
+  if (n > std::uint64_t(oneGroupSize()) * kMaxPointsPerInvocation)
     return std::to_string(n) + " points are more than " + std::to_string(kMaxPointsPerInvocation) +
-           " per invocation of the largest work group (" + std::to_string(lanes) + " invocations)";
+           " per invocation of the largest work group (" + std::to_string(oneGroupSize()) + " invocations)";
   return "";
 }
 
@@ -435,15 +449,10 @@ void GpuSolver::choosePath(bool constructing) {
     colour_partners_ = gl::Buffer();
     return;
   }
-  GLint invocations = 0, size_x = 0;
-  glGetIntegerv(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS, &invocations);
-  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_SIZE, 0, &size_x);
-  const std::uint32_t n = std::uint32_t(topo_.pointCount());
-  // As many invocations as points up to the limit, a whole number of 32-wide warps.
-  group_size_ = std::min<std::uint32_t>((n + 31) / 32 * 32, std::uint32_t(std::min(invocations, size_x)));
   gl::Defines d = defines_;
-  d.emplace_back("GROUP_SIZE", std::to_string(group_size_));
-  d.emplace_back("GROUP_POINTS", std::to_string(n));
+  d.emplace_back("GROUP_SIZE", std::to_string(oneGroupSize()));
+  d.emplace_back("GROUP_POINTS", std::to_string(topo_.pointCount()));
+  d.emplace_back("GROUP_BUCKETS", std::to_string(oneGroupBuckets()));
   if (d != one_group_defines_) {
     programs_.one_group = gl::compileCompute("sim/one_group.comp", d);
     one_group_defines_ = d;

@@ -45,10 +45,10 @@ struct PairState;  // glsl/shared/layout.h
 }
 
 // How a substep is dispatched. General: the plan of dispatches above, any cloth. OneDispatch: every
-// substep of a frame in one work group with the positions in shared memory (glsl/sim/one_group.comp),
-// for cloths that fit one work group and need no self-collision. Auto: OneDispatch where it fits, on a
-// hardware GPU; on a software renderer (llvmpipe) the general path, which spreads a frame over its
-// threads where one work group runs on one (measured in README.md, "GPU paths").
+// substep of a frame in one work group with the positions (and the self-collision grid) in shared memory
+// (glsl/sim/one_group.comp), for cloths that fit it. Auto: OneDispatch where it fits, on a hardware GPU;
+// on a software renderer (llvmpipe) the general path, which spreads a frame over its threads where one
+// work group runs on one (measured in README.md, "GPU paths").
 enum class GpuPath { Auto, General, OneDispatch };
 
 struct GpuSolverOptions {
@@ -242,6 +242,8 @@ class GpuSolver final : public Solver {
   void buildPlan();
   void choosePath(bool constructing);  // GpuSolverOptions::path for this scene: one_group_, its kernel and table
   void uploadColourPartners();
+  std::uint32_t oneGroupSize() const;     // the one-dispatch kernel's invocations
+  std::uint32_t oneGroupBuckets() const;  // its in-group self-collision grid's buckets
   // The one-dispatch kernel: `substeps` substeps of the phases in `phases` (bit 0 forces + integrate
   // (+ collide), bit 1 the stretch passes).
   // With `check_health`, the health check of health.comp on the last state, in the same dispatch.
@@ -304,7 +306,6 @@ class GpuSolver final : public Solver {
   gl::Buffer coloured_springs_;              // ColouredSpring, enabled springs in colour order
   std::vector<std::uint32_t> colour_start_;  // colour c is coloured_springs_[colour_start_[c] .. [c+1])
   bool one_group_ = false;                   // the one-dispatch path runs this scene
-  std::uint32_t group_size_ = 0;             // its invocations
   gl::Buffer colour_partners_;               // its ColourPartner table (Gauss-Seidel stretch)
   gl::Defines one_group_defines_;            // what its kernel was compiled with
   gl::Buffer grid_points_, grid_counts_, grid_start_, grid_blocks_, grid_scatter_, grid_sorted_;

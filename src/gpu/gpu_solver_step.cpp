@@ -15,6 +15,10 @@ namespace drape {
 
 namespace {
 
+// The phases of one_group.comp's substep (u_phases).
+constexpr std::uint32_t kIntegratePhase = 1, kStretchPhase = 2, kSelfCollidePhase = 4;
+constexpr std::uint32_t kAllPhases = kIntegratePhase | kStretchPhase | kSelfCollidePhase;
+
 // What the frame-end copy writes into each slot of the health ring.
 struct HealthSnapshot {
   gpu::Health health;
@@ -27,7 +31,7 @@ static_assert(sizeof(HealthSnapshot) == sizeof(gpu::Health) + sizeof(gpu::PairSt
 void GpuSolver::step() {
   timing_break_ = true;
   if (one_group_) {
-    runOneGroup(1, 3, false);
+    runOneGroup(1, kAllPhases, false);
   } else {
     bindShared();
     for (const PlannedDispatch& d : plan_)
@@ -44,7 +48,7 @@ void GpuSolver::stepFrame() {
   }
   timing_break_ = true;
   const int substeps = scene_.sim.steps_per_frame;
-  runOneGroup(std::uint32_t(substeps), 3, true);  // the health check too: the whole frame is one dispatch
+  runOneGroup(std::uint32_t(substeps), kAllPhases, true);  // the health check too: the whole frame is one dispatch
   substeps_ += substeps;
   health_checked_ = true;
   snapshotHealth();
@@ -71,18 +75,21 @@ void GpuSolver::runOneGroup(std::uint32_t substeps, std::uint32_t phases, bool c
 
 void GpuSolver::forcesIntegrate() {
   if (one_group_)
-    runOneGroup(1, 1, false);
+    runOneGroup(1, kIntegratePhase, false);
   else
     runStage(Stage::Integrate);
 }
 
 void GpuSolver::selfCollide() {
-  runStage(Stage::SelfCollide);  // nothing on the one-dispatch path, which runs no self-collision
+  if (one_group_)
+    runOneGroup(1, kSelfCollidePhase, false);
+  else
+    runStage(Stage::SelfCollide);
 }
 
 void GpuSolver::limitStretch() {
   if (one_group_)
-    runOneGroup(1, 2, false);
+    runOneGroup(1, kStretchPhase, false);
   else
     runStage(Stage::Stretch);
 }
@@ -198,8 +205,8 @@ double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
     case kLimitStretchColoured:  // per spring: the entry, both ends' state read and written
       return double(d.count) * (sizeof(gpu::ColouredSpring) + 4 * kState) / n;
     case kOneGroup: {  // per substep: the adjacency, the stretch table; the state once per frame
-      // Positions are gathered from shared memory, not device memory. The state (and the weight, kept in
-      // registers) is read and written once per dispatch, a frame of steps_per_frame substeps.
+      // Positions are gathered from shared memory, not device memory; self-collision's grid lives there too. The state
+      // (and the weight, kept in registers) is read and written once per dispatch, a frame of steps_per_frame substeps.
       const double frame = kState + sizeof(glm::vec4) + kState;
       double substep = kRange + entries * sizeof(gpu::Neighbor);
       if (scene_.sim.wind.enabled) substep += sizeof(gpu::PointMass);
@@ -226,7 +233,9 @@ std::vector<std::string> GpuSolver::passes() const {
   std::vector<std::string> out;
   if (one_group_) {  // the phases of the one dispatch, each substep
     const bool colliders = !scene_.spheres.empty() || !scene_.planes.empty() || !scene_.meshes.empty();
-    out.push_back(std::string("in-group forces+integrate") + (colliders ? "+collide" : ""));
+    const bool self = scene_.sim.self_collision;
+    out.push_back(std::string("in-group forces+integrate") + (colliders && !self ? "+collide" : ""));
+    if (self) out.push_back(std::string("in-group self_collide") + (colliders ? "+collide" : ""));
     const bool coloured = scene_.sim.stretch_scheme == StretchScheme::GaussSeidel;
     for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass)
       for (int c = 0; c < (coloured ? colouring_.colourCount() : 1); ++c)
