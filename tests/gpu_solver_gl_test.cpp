@@ -871,6 +871,39 @@ TEST_F(GpuSolverTest, TheOneDispatchPathIsChosenWhereItFitsAndSaysWhyNot) {
     EXPECT_EQ(gpu_test::changedPoints(gpu.readPositions(), cpu.readPositions()), 0);
 }
 
+// The pin flag rides in the positions' w as well as the displacements' (the Jacobi stretch limit gathers
+// only positions): every pass, reset, upload and the mouse's hold and release keep the two equal.
+TEST_F(GpuSolverTest, ThePinFlagRidesInThePositionsW) {
+  for (const GpuPath path : {GpuPath::General, GpuPath::OneDispatch}) {
+    SCOPED_TRACE(path == GpuPath::General ? "general path" : "one-dispatch path");
+    Scene scene = standardScene("pinned2.json");
+    scene.sim.stretch_scheme = StretchScheme::Jacobi;
+    GpuSolver gpu(scene, {.path = path});
+    const std::size_t n = std::size_t(gpu.topology().pointCount());
+    const auto expectFlags = [&](int held, const char* when) {
+      glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+      const auto x = gpu.positionBuffer().download<glm::vec4>(n);
+      int wrong = 0;
+      for (std::size_t i = 0; i < n; ++i)
+        wrong += x[i].w != ((gpu.topology().pinned[i] != 0 || int(i) == held) ? 1.0f : 0.0f);
+      EXPECT_EQ(wrong, 0) << when;
+    };
+    expectFlags(-1, "after reset");
+    gpu.stepFrame();
+    expectFlags(-1, "after a frame");
+    gpu.holdPoint(1234, glm::vec3(0.5f, 0.2f, 0.3f));
+    gpu.stepFrame();
+    expectFlags(1234, "holding a point");
+    gpu.setPosition(1234, glm::vec3(0.5f, 0.1f, 0.3f));
+    expectFlags(1234, "moving the held point");
+    gpu.releasePoint();
+    gpu.stepFrame();
+    expectFlags(-1, "after the release");
+    gpu.uploadState(gpu.readPositions(), gpu.readDisplacements(), gpu.substeps());
+    expectFlags(-1, "after an upload");
+  }
+}
+
 // The --verbose listing's lines "  N. PASS" or "  N. PASS xK", split at the per-frame heading.
 struct VerboseListing {
   int per_substep = -1, per_frame = -1;

@@ -54,6 +54,7 @@ TEST(Layout, SimParamsIsStd430) {
   expectStd430("SimParams",
                {MEMBER(SimParams, stiffness, Vec4),
                 MEMBER(SimParams, wind_velocity, Vec4),
+                MEMBER(SimParams, weight, Vec4),
                 MEMBER(SimParams, dt, Scalar),
                 MEMBER(SimParams, dt2, Scalar),
                 MEMBER(SimParams, keep, Scalar),
@@ -75,7 +76,7 @@ TEST(Layout, SimParamsIsStd430) {
                 MEMBER(SimParams, blow_up_stretch, Scalar),
                 MEMBER(SimParams, pad0, Scalar)},
                sizeof(SimParams));
-  EXPECT_EQ(sizeof(SimParams), 112u);
+  EXPECT_EQ(sizeof(SimParams), 128u);
 }
 
 TEST(Layout, ArrayElementsAreStd430) {

@@ -20,7 +20,7 @@ using uint = std::uint32_t;
 // Shader storage binding points. Ping-pong passes read the *In buffers and write the *Out ones; the
 // solver binds the two copies of the state to these points alternately.
 DRAPE_CONSTANT(uint, kBindingParams, 0u);             // SimParams
-DRAPE_CONSTANT(uint, kBindingPosIn, 1u);              // vec4 per point: xyz position (m), w = 1
+DRAPE_CONSTANT(uint, kBindingPosIn, 1u);              // vec4 per point: xyz position (m), w pin flag (a copy)
 DRAPE_CONSTANT(uint, kBindingDispIn, 2u);             // vec4 per point: xyz displacement x - x_prev (m), w pin flag
 DRAPE_CONSTANT(uint, kBindingPosOut, 3u);             // the other copy of positions, written by ping-pong passes
 DRAPE_CONSTANT(uint, kBindingDispOut, 4u);            // the other copy of displacements
@@ -79,6 +79,7 @@ DRAPE_CONSTANT(uint, kHealthOverstretched, 4u);  // a spring longer than SimPara
 struct SimParams {
   vec4 stiffness;         // N/m per spring type: x structural, y shearing, z bending (0.2 ks); w unused
   vec4 wind_velocity;     // xyz: steady air velocity (m/s); w: turbulence (relative amplitude)
+  vec4 weight;            // a grid's PointMass::weight, the same for every point (kernels with UNIFORM_MASS)
   float dt;               // s, one substep
   float dt2;              // s^2, dt * dt
   float keep;             // 1 - damping/100: fraction of the displacement kept per substep

@@ -23,6 +23,9 @@
 #ifndef NUM_MESHES
 #define NUM_MESHES 0
 #endif
+#ifndef UNIFORM_MASS
+#define UNIFORM_MASS 0  // 1: every point weighs SimParams::weight (a grid), so PointMass is read only for wind
+#endif
 #define COLLIDERS (NUM_SPHERES + NUM_PLANES + NUM_MESHES > 0)
 
 layout(std430, binding = kBindingParams) readonly buffer ParamsBuffer {
@@ -73,8 +76,10 @@ uint globalIndex() {
   return gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * kLocalSize) + gl_GlobalInvocationID.x;
 }
 
-bool isPinned(vec4 disp) {
-  return disp.w != 0.0;
+// The pin flag rides in w of both the displacement and the position (a neighbour's position is all a
+// gather of it needs).
+bool isPinned(vec4 state) {
+  return state.w != 0.0;
 }
 
 uint neighborIndex(Neighbor nb) {

@@ -34,8 +34,12 @@ void main() {
   if (pin != 0.0) {
     v = vec3(0.0);  // pinned points never move; their force is never needed
   } else {
-    PointMass m = pointMass[i];
-    precise vec3 f = m.weight.xyz;
+#if UNIFORM_MASS
+    vec4 weight = params.weight;
+#else
+    vec4 weight = pointMass[i].weight;
+#endif
+    precise vec3 f = weight.xyz;
     // Ascending spring index, the CPU's order, so the sums round alike. Disabled spring types are not
     // in the GPU's adjacency at all.
     for (uint e = offsets[i]; e < offsets[i + 1u]; ++e) {
@@ -43,11 +47,12 @@ void main() {
       f += springForce(x, posIn[neighborIndex(nb)].xyz, nb.rest, params.stiffness[neighborType(nb)]);
     }
 #if WIND
+    PointMass m = pointMass[i];
     precise vec3 air = windVelocity(x, u_time, params.wind_velocity.xyz, params.wind_velocity.w, params.noise_scale,
                                     params.noise_speed);
     f += windForce(pointNormal(m), v / params.dt, air, m.drag_area);
 #endif
-    v = integrateVerlet(v, f * m.weight.w, params.dt2, params.keep);
+    v = integrateVerlet(v, f * weight.w, params.dt2, params.keep);
     x += v;
 #if COLLIDERS && !SELF_COLLISION
     collideObjects(x, v);
@@ -56,6 +61,6 @@ void main() {
 #if SELF_COLLISION
   checkPairTravel(i, x);
 #endif
-  posOut[i] = vec4(x, 1.0);
+  posOut[i] = vec4(x, pin);
   dispOut[i] = vec4(v, pin);
 }

@@ -17,8 +17,9 @@ void main() {
     for (uint e = offsets[i]; e < offsets[i + 1u]; ++e) {
       Neighbor nb = neighbors[e];
       uint j = neighborIndex(nb);
-      float share = stretchShare(false, isPinned(dispIn[j]));
-      vec3 c = stretchCorrection(x, posIn[j].xyz, nb.rest, params.stretch_limit, share);
+      vec4 xj = posIn[j];  // w: its pin flag, so no gather of its displacement
+      float share = stretchShare(false, isPinned(xj));
+      vec3 c = stretchCorrection(x, xj.xyz, nb.rest, params.stretch_limit, share);
       if (c != vec3(0.0)) {
         sum += c;
         ++violated;
@@ -30,6 +31,6 @@ void main() {
   precise vec3 c = violated > 0 ? sum / float(violated) : vec3(0.0);
   x += c;
   v += c;  // x_prev stays where it was
-  posOut[i] = vec4(x, 1.0);
+  posOut[i] = vec4(x, pin);
   dispOut[i] = vec4(v, pin);
 }

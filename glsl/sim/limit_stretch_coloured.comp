@@ -29,11 +29,11 @@ void main() {
   // Equal shares: end b's correction is exactly -ca in IEEE arithmetic, as on the CPU.
   precise vec3 cb = share_a == share_b ? -ca : stretchCorrection(xb, xa, s.rest, params.stretch_limit, share_b);
   if (!pinned_a) {
-    posIn[s.a] = vec4(xa + ca, 1.0);
+    posIn[s.a] = vec4(xa + ca, da.w);
     dispIn[s.a] = vec4(da.xyz + ca, da.w);  // x_prev stays where it was
   }
   if (!pinned_b) {
-    posIn[s.b] = vec4(xb + cb, 1.0);
+    posIn[s.b] = vec4(xb + cb, db.w);
     dispIn[s.b] = vec4(db.xyz + cb, db.w);
   }
 }

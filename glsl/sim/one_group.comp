@@ -251,7 +251,11 @@ void main() {
     storeX(i, posIn[i].xyz);
     v[k] = dispIn[i].xyz;
     pin[k] = dispIn[i].w;
+#if UNIFORM_MASS
+    weight[k] = params.weight;
+#else
     weight[k] = pointMass[i].weight;
+#endif
   }
   for (uint w = lid; w < (GROUP_POINTS + 31) / 32; w += GROUP_SIZE) {
     uint bits = 0u;
@@ -351,7 +355,7 @@ void main() {
       }
       raiseHealth(flags, i);
     }
-    posIn[i] = vec4(x, 1.0);
+    posIn[i] = vec4(x, pin[k]);
     dispIn[i] = vec4(v[k], pin[k]);
   }
 }

@@ -121,6 +121,6 @@ void main() {
 #if COLLIDERS
   if (pin == 0.0) collideObjects(x, v);
 #endif
-  posOut[i] = vec4(x, 1.0);
+  posOut[i] = vec4(x, pin);
   dispOut[i] = vec4(v, pin);
 }

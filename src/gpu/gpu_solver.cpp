@@ -292,6 +292,13 @@ void GpuSolver::uploadParams() {
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // kernels still reading the old values come first
   point_mass_.upload(masses);
   gpu::SimParams p{};
+  // A grid's points all have the same area, so the same weight: the kernels read it here instead of 48
+  // bytes of PointMass per point (UNIFORM_MASS).
+  if (uniformMass()) {
+    p.weight = masses[0].weight;
+    for (const gpu::PointMass& m : masses)
+      if (m.weight != p.weight) throw std::logic_error("GpuSolver: a grid cloth's points differ in weight");
+  }
   p.stiffness = glm::vec4(float(c.ks), float(c.ks), float(derived::bendingStiffness(c)), 0.0f);
   p.wind_velocity = glm::vec4(glm::vec3(wind.velocity), float(wind.turbulence));
   p.dt = dt;
@@ -355,7 +362,8 @@ gl::Defines GpuSolver::sceneDefines() const {
   gl::Defines d = {{"NUM_SPHERES", std::to_string(scene_.spheres.size())},
                    {"NUM_PLANES", std::to_string(scene_.planes.size())},
                    {"SELF_COLLISION", scene_.sim.self_collision ? "1" : "0"},
-                   {"WIND", scene_.sim.wind.enabled ? "1" : "0"}};
+                   {"WIND", scene_.sim.wind.enabled ? "1" : "0"},
+                   {"UNIFORM_MASS", uniformMass() ? "1" : "0"}};
   if (!scene_.meshes.empty()) d.emplace_back("NUM_MESHES", std::to_string(scene_.meshes.size()));
   return d;
 }

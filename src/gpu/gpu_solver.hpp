@@ -139,7 +139,7 @@ class GpuSolver final : public Solver {
   GpuPairs readPairs();  // after selfCollide(): the lists it used
 
   // For the renderer. The state lives in two buffers that passes alternate between, so ask for the
-  // current one every frame. vec4 per point (std430): xyz position, w = 1.
+  // current one every frame. vec4 per point (std430): xyz position, w the pin flag (1 pinned or held).
   const gl::Buffer& positionBuffer() const { return state_[current_].position; }
   const gl::Buffer& normalBuffer() const { return normals_; }    // vec4: unit normal, w = 0
   const gl::Buffer& tangentBuffer() const { return tangents_; }  // vec4: unit tangent (+u), w = bitangent sign
@@ -175,7 +175,8 @@ class GpuSolver final : public Solver {
   // zero work groups) moves no list-build bytes, so none are counted.
   double bytesPerPointPerSubstep() const override;
   long long deviceMemoryBytes() const override;  // all buffers this solver allocated
-  // The #defines the scene's kernels were compiled with (NUM_SPHERES, NUM_PLANES, SELF_COLLISION, WIND).
+  // The #defines the scene's kernels were compiled with (NUM_SPHERES, NUM_PLANES, SELF_COLLISION, WIND,
+  // UNIFORM_MASS).
   const gl::Defines& defines() const { return defines_; }
   const gl::ContextInfo& contextInfo() const { return context_info_; }
 
@@ -257,6 +258,7 @@ class GpuSolver final : public Solver {
   void uploadParams();
   void uploadAdjacency();
   gl::Defines sceneDefines() const;
+  bool uniformMass() const { return scene_.cloth.isGrid(); }  // every point's PointMass::weight is alike
   void compilePrograms();
   std::string passName(PassId pass) const;
   std::uint64_t maxBufferBytes() const;  // GpuSolverOptions::max_buffer_bytes, else GL_MAX_SHADER_STORAGE_BLOCK_SIZE

@@ -35,13 +35,14 @@ void GpuSolver::writePoint(std::uint32_t index, const glm::vec4* position, const
 }
 
 void GpuSolver::setPosition(std::uint32_t index, glm::vec3 position) {
-  const glm::vec4 p(position, 1.0f);
+  const bool pinned = (index < topo_.pinned.size() && topo_.pinned[index] != 0) || int(index) == held_;
+  const glm::vec4 p(position, pinned ? 1.0f : 0.0f);  // w: the pin flag, as the displacement's
   writePoint(index, &p, nullptr);
 }
 
 void GpuSolver::holdPoint(int index, glm::vec3 target) {
   if (held_ >= 0 && held_ != index) releasePoint();
-  const glm::vec4 p(target, 1.0f);
+  const glm::vec4 p(target, 1.0f);            // w: pinned
   const glm::vec4 v(0.0f, 0.0f, 0.0f, 1.0f);  // pinned: integrate keeps it where it is, stretch pulls others
   writePoint(std::uint32_t(index), &p, &v);
   held_ = index;
@@ -50,8 +51,11 @@ void GpuSolver::holdPoint(int index, glm::vec3 target) {
 void GpuSolver::releasePoint() {
   if (held_ < 0) return;
   // A held point was pinned, so its displacement is zero: it starts again at rest, with its own pin flag.
-  const glm::vec4 v(0.0f, 0.0f, 0.0f, topo_.pinned[std::size_t(held_)] ? 1.0f : 0.0f);
+  const float pin = topo_.pinned[std::size_t(held_)] ? 1.0f : 0.0f;
+  const glm::vec4 v(0.0f, 0.0f, 0.0f, pin);
   writePoint(std::uint32_t(held_), nullptr, &v);
+  // The position's w carries the same flag (the stretch limit reads it from there); xyz stays.
+  state_[current_].position.upload(std::size_t(held_) * sizeof(glm::vec4) + 3 * sizeof(float), sizeof(float), &pin);
   held_ = -1;
 }
 

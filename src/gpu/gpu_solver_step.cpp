@@ -198,10 +198,13 @@ double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
   const double entries = double(neighbors_.size() / sizeof(gpu::Neighbor)) / n;  // springs seen from a point
   const double candidates = double(pair_entries_) / n;
   switch (d.pass) {
-    case kForcesIntegrate:  // own state and point data, the adjacency, each neighbour's position; new state
-      return kState + sizeof(gpu::PointMass) + kRange + entries * (sizeof(gpu::Neighbor) + sizeof(glm::vec4)) + kState;
-    case kLimitStretch:  // the same gather, each neighbour's displacement too (its pin flag)
-      return kState + kRange + entries * (sizeof(gpu::Neighbor) + kState) + kState;
+    case kForcesIntegrate: {  // own state and point data, the adjacency, each neighbour's position; new state
+      // A grid's weight comes from the parameters; the point data only for wind (normal stencil, drag).
+      const double point = uniformMass() && !scene_.sim.wind.enabled ? 0 : sizeof(gpu::PointMass);
+      return kState + point + kRange + entries * (sizeof(gpu::Neighbor) + sizeof(glm::vec4)) + kState;
+    }
+    case kLimitStretch:  // the same gather (each neighbour's pin flag rides in its position's w)
+      return kState + kRange + entries * (sizeof(gpu::Neighbor) + sizeof(glm::vec4)) + kState;
     case kLimitStretchColoured:  // per spring: the entry, both ends' state read and written
       return double(d.count) * (sizeof(gpu::ColouredSpring) + 4 * kState) / n;
     case kOneGroup: {  // per substep: the adjacency, the stretch table; the state once per frame
@@ -441,8 +444,9 @@ void GpuSolver::reset() {
   const std::size_t n = std::size_t(topo_.pointCount());
   std::vector<glm::vec4> x(n), v(n);
   for (std::size_t i = 0; i < n; ++i) {
-    x[i] = glm::vec4(glm::vec3(topo_.initial_positions[i]), 1.0f);
-    v[i] = glm::vec4(0.0f, 0.0f, 0.0f, topo_.pinned[i] ? 1.0f : 0.0f);
+    const float pin = topo_.pinned[i] ? 1.0f : 0.0f;
+    x[i] = glm::vec4(glm::vec3(topo_.initial_positions[i]), pin);
+    v[i] = glm::vec4(0.0f, 0.0f, 0.0f, pin);
   }
   // Uploads must not overtake shader writes still in flight to the same buffers.
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -462,7 +466,7 @@ void GpuSolver::uploadState(const std::vector<glm::dvec3>& x, const std::vector<
   std::vector<glm::vec4> px(n), pv(n);
   for (std::size_t i = 0; i < n; ++i) {
     const bool pinned = topo_.pinned[i] != 0 || int(i) == held_;
-    px[i] = glm::vec4(glm::vec3(x[i]), 1.0f);
+    px[i] = glm::vec4(glm::vec3(x[i]), pinned ? 1.0f : 0.0f);
     pv[i] = glm::vec4(glm::vec3(v[i]), pinned ? 1.0f : 0.0f);
   }
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
