@@ -45,6 +45,7 @@ struct RenderOptions {
   int samples = 1;
   std::string camera = "scene";
   double zoom = 1.0;
+  std::string integrator;  // empty: the scene's
 };
 
 // The --shader list (names checked by CLI11): "all" anywhere means every model, in their order.
@@ -203,7 +204,8 @@ void runRender(const RenderOptions& o) {
     checkOutputFile(video);
   const ExportFormat export_format =
       o.export_path.empty() ? ExportFormat::Obj : parseExportFormat(o.export_format, o.export_path);
-  const Scene scene = loadScene(o.scene);
+  Scene scene = loadScene(o.scene);
+  applyIntegrator(scene, o.integrator);
 
   gl::HeadlessContext context = makeRenderContext();
   fmt::print(stderr, "render: {}\n", gl::describe(context.info()));
@@ -291,6 +293,7 @@ void addRenderCommand(CLI::App& app) {
       ->check(CLI::IsMember(shaderChoices()));
   cmd->add_option("--size", opts->size, "Image size WIDTHxHEIGHT (default 640x480)");
   cmd->add_option("--solver", opts->solver, "gpu (default), cpu or cpu64")->check(CLI::IsMember(solverNames(false)));
+  addIntegratorOption(cmd, opts->integrator);
   cmd->add_option("--video", opts->video,
                   "Also encode the frames this run wrote into this video with ffmpeg (e.g. out.mp4; with several "
                   "shaders one video each, out_SHADER.mp4)");
