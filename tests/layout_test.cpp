@@ -73,15 +73,16 @@ TEST(Layout, SimParamsIsStd430) {
                 MEMBER(SimParams, pair_reach2, Scalar),
                 MEMBER(SimParams, pair_margin, Scalar),
                 MEMBER(SimParams, blow_up_stretch, Scalar),
-                MEMBER(SimParams, pad0, Scalar)},
+                MEMBER(SimParams, pad0, Scalar),
+                MEMBER(SimParams, alpha_tilde, Vec4)},
                sizeof(SimParams));
-  EXPECT_EQ(sizeof(SimParams), 112u);
+  EXPECT_EQ(sizeof(SimParams), 128u);
 }
 
 TEST(Layout, ArrayElementsAreStd430) {
   expectStd430("ColouredSpring",
                {MEMBER(ColouredSpring, a, Scalar), MEMBER(ColouredSpring, b, Scalar),
-                MEMBER(ColouredSpring, rest, Scalar), MEMBER(ColouredSpring, pad0, Scalar)},
+                MEMBER(ColouredSpring, rest, Scalar), MEMBER(ColouredSpring, type, Scalar)},
                sizeof(ColouredSpring));
   expectStd430("Neighbor", {MEMBER(Neighbor, index_type, Scalar), MEMBER(Neighbor, rest, Scalar)}, sizeof(Neighbor));
   EXPECT_EQ(sizeof(Neighbor), 8u) << "8-byte stride: std430 does not pad scalar structs to 16";
@@ -134,7 +135,7 @@ TEST(Layout, BindingPointsAreDistinct) {
       kBindingGridStart, kBindingGridBlocks, kBindingGridScatter,      kBindingGridSorted,  kBindingHealth,
       kBindingNormals,   kBindingTangents,   kBindingVertexTriOffsets, kBindingVertexTris,  kBindingTriangles,
       kBindingUvs,       kBindingPick,       kBindingColouredSprings,  kBindingPairControl, kBindingPairAnchor,
-      kBindingPairStart, kBindingPairList,   kBindingPointMass};
+      kBindingPairStart, kBindingPairList,   kBindingPointMass,        kBindingXpbdLambda};
   EXPECT_EQ(kBindingCount, std::size(bindings)) << "kBindingCount is one more than the largest binding point";
   std::vector<bool> used(64, false);
   for (uint b : bindings) {
