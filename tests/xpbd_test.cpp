@@ -174,5 +174,34 @@ TEST(XpbdStability, StiffHangingClothIsStableAt30SubstepsWhereVerletIsNot) {
   }
 }
 
+// `drape stability`'s sweep: every case also with XPBD at the asked substeps, never guarded, and the ks
+// cases Verlet cannot run (1e8, 1e9) with XPBD only; the markdown and CSV say which integrator ran.
+TEST(XpbdStability, TheSweepRunsEveryCaseWithXpbdToo) {
+  std::vector<StabilityCase> cases;
+  for (const StabilityCase& c : stabilityCases())
+    if (c.name == "ks-1e6" || c.name == "ks-1e9") cases.push_back(c);
+  ASSERT_EQ(cases.size(), 2u);
+  for (StabilityCase& c : cases)
+    c.frames = 20;
+  const StabilityReport r = runStability(cases, {30}, {}, 1, {1, 30});
+  EXPECT_NE(findResult(r, "ks-1e6", 30, false), nullptr);
+  EXPECT_NE(findResult(r, "ks-1e6", 30, true), nullptr);  // Verlet's guard raises 30 to 96
+  EXPECT_EQ(findResult(r, "ks-1e9", 30, false), nullptr) << "Verlet does not run the XPBD-only cases";
+  for (const char* name : {"ks-1e6", "ks-1e9"})
+    for (int steps : {1, 30}) {
+      const StabilityResult* x = findResult(r, name, steps, false, Integrator::Xpbd);
+      ASSERT_NE(x, nullptr) << name << " " << steps;
+      EXPECT_EQ(x->integrator, Integrator::Xpbd);
+      EXPECT_EQ(x->steps_per_frame, steps) << "XPBD is never guarded";
+      EXPECT_EQ(findResult(r, name, steps, true, Integrator::Xpbd), nullptr);
+      if (steps == 30) {
+        EXPECT_TRUE(x->stable) << name << ": " << x->what;
+      }
+    }
+  const std::string md = stabilityMarkdown(r, cases);
+  EXPECT_NE(md.find("| ks-1e9 | 30 | yes |"), std::string::npos) << md;
+  EXPECT_NE(stabilityCsv(r).find("\nks-1e9,xpbd,30,0,30,"), std::string::npos) << stabilityCsv(r);
+}
+
 }  // namespace
 }  // namespace drape
