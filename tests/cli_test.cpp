@@ -422,6 +422,13 @@ TEST(ExitStatus, BadOptionValuesAreStatusTwoWithOneShortLine) {
       "bench --budget 0",
       "bench --budget -5",
       "accuracy " + s + " --reference-factor 1",
+      "simulate " + s + " --integrator rk4",
+      "render " + s + " --out o --integrator XPBD",
+      "view " + s + " --integrator",
+      "bench --integrator implicit",
+      "accuracy " + s + " --integrator verlet,vbd",
+      "stability --integrator both",
+      "stability --xpbd-steps 0",
   };
   for (const std::string& args : cases) {
     const Result r = run(args);
@@ -431,6 +438,26 @@ TEST(ExitStatus, BadOptionValuesAreStatusTwoWithOneShortLine) {
     EXPECT_EQ(r.err.find("At Most"), std::string::npos) << args << ": " << r.err;
     EXPECT_LT(r.err.size(), 200u) << args << ": " << r.err;
   }
+}
+
+// --integrator replaces the scene's integrator: the same scene falls differently, and the key in a scene
+// file does what the option does.
+TEST(Cli, TheIntegratorOptionRunsXpbdAsTheSceneKeyDoes) {
+  const std::string s = scene("pinned2.json");
+  const Result verlet = run("simulate " + s + " --frames 5 --threads 1");
+  const Result xpbd = run("simulate " + s + " --frames 5 --threads 1 --integrator xpbd");
+  ASSERT_EQ(verlet.status, 0) << verlet.err;
+  ASSERT_EQ(xpbd.status, 0) << xpbd.err;
+  const auto centroid = [](const std::string& out) { return out.substr(out.find("centroid"), 50); };
+  EXPECT_NE(centroid(verlet.out), centroid(xpbd.out));
+  const fs::path file = writeScene("xpbd_key.json", R"({"cloth": {"damping": 0.2, "density": 150.0, "ks": 5000.0,
+    "orientation": 0, "width": 1, "height": 1, "num_width_points": 50, "num_height_points": 50, "thickness": 0.0095,
+    "pinned": [[0, 0], [49, 0]]}, "simulation": {"self_collision": false, "integrator": "xpbd"}})");
+  const Result keyed = run("simulate " + file.string() + " --frames 5 --threads 1");
+  ASSERT_EQ(keyed.status, 0) << keyed.err;
+  EXPECT_EQ(centroid(keyed.out), centroid(xpbd.out));
+  const Result back = run("simulate " + file.string() + " --frames 5 --threads 1 --integrator verlet");
+  EXPECT_EQ(centroid(back.out), centroid(verlet.out));
 }
 
 TEST(ExitStatus, BenchWithoutOpenGlIsStatusThreeBeforeAnyRun) {

@@ -735,6 +735,9 @@ Strings bundledScenes() {
 std::string kernelOf(const std::string& pass) {
   const std::pair<const char*, const char*> table[] = {
       {"forces+integrate", "forces_integrate.comp"},
+      {"forces+predict", "forces_integrate.comp"},  // compiled with XPBD=1
+      {"xpbd_colour", "xpbd_coloured.comp"},
+      {"collide", "collide.comp"},
       {"pairs_check", "pairs_check.comp"},
       {"pairs_prepare", "pairs_prepare.comp"},
       {"pairs_grid_count", "pairs_grid_count.comp"},
@@ -797,11 +800,18 @@ TEST_F(GpuSolverTest, EveryBundledSceneDispatchesExactlyItsPassList) {
       EXPECT_EQ(real, planned) << "frame " << frame;
     }
   }
-  // Variants no bundled scene has: the five-dispatch grid build, the Jacobi stretch scheme, three passes.
+  // Variants no bundled scene has: the five-dispatch grid build, the Jacobi stretch scheme, three passes;
+  // XPBD with self-collision and two sweeps, and without it (its own collide pass).
   Scene jacobi = standardScene("selfCollision.json");
   jacobi.sim.stretch_scheme = StretchScheme::Jacobi;
   jacobi.sim.stretch_passes = 3;
-  for (const Scene& scene : {smallScene(80, true), jacobi}) {
+  Scene xpbd = standardScene("sphere.json");
+  xpbd.sim.integrator = Integrator::Xpbd;
+  xpbd.sim.iterations = 2;
+  Scene xpbd_no_self = standardScene("plane.json");
+  xpbd_no_self.sim.integrator = Integrator::Xpbd;
+  xpbd_no_self.sim.self_collision = false;
+  for (const Scene& scene : {smallScene(80, true), jacobi, xpbd, xpbd_no_self}) {
     GpuSolver gpu(scene);
     const Strings real = recordFrame(gpu);
     EXPECT_EQ(int(real.size()), gpu.dispatchesPerFrame());

@@ -74,15 +74,16 @@ TEST(Layout, SimParamsIsStd430) {
                 MEMBER(SimParams, pair_reach2, Scalar),
                 MEMBER(SimParams, pair_margin, Scalar),
                 MEMBER(SimParams, blow_up_stretch, Scalar),
-                MEMBER(SimParams, pad0, Scalar)},
+                MEMBER(SimParams, pad0, Scalar),
+                MEMBER(SimParams, alpha_tilde, Vec4)},
                sizeof(SimParams));
-  EXPECT_EQ(sizeof(SimParams), 128u);
+  EXPECT_EQ(sizeof(SimParams), 144u);
 }
 
 TEST(Layout, ArrayElementsAreStd430) {
   expectStd430("ColouredSpring",
                {MEMBER(ColouredSpring, a, Scalar), MEMBER(ColouredSpring, b, Scalar),
-                MEMBER(ColouredSpring, rest, Scalar), MEMBER(ColouredSpring, pad0, Scalar)},
+                MEMBER(ColouredSpring, rest, Scalar), MEMBER(ColouredSpring, type, Scalar)},
                sizeof(ColouredSpring));
   expectStd430("ColourPartner", {MEMBER(ColourPartner, other, Scalar), MEMBER(ColourPartner, rest, Scalar)},
                sizeof(ColourPartner));
@@ -133,12 +134,12 @@ TEST(Layout, PerPointArraysHaveTheStridesTheKernelsAssume) {
 
 TEST(Layout, BindingPointsAreDistinct) {
   const uint bindings[] = {
-      kBindingParams,    kBindingPosIn,      kBindingDispIn,           kBindingPosOut,        kBindingDispOut,
-      kBindingOffsets,   kBindingNeighbors,  kBindingColliders,        kBindingGridPoints,    kBindingGridCounts,
-      kBindingGridStart, kBindingGridBlocks, kBindingGridScatter,      kBindingGridSorted,    kBindingHealth,
-      kBindingNormals,   kBindingTangents,   kBindingVertexTriOffsets, kBindingVertexTris,    kBindingTriangles,
-      kBindingUvs,       kBindingPick,       kBindingColouredSprings,  kBindingPairControl,   kBindingPairAnchor,
-      kBindingPairStart, kBindingPairList,   kBindingPointMass,        kBindingColourPartners};
+      kBindingParams,    kBindingPosIn,      kBindingDispIn,           kBindingPosOut,      kBindingDispOut,
+      kBindingOffsets,   kBindingNeighbors,  kBindingColliders,        kBindingGridPoints,  kBindingGridCounts,
+      kBindingGridStart, kBindingGridBlocks, kBindingGridScatter,      kBindingGridSorted,  kBindingHealth,
+      kBindingNormals,   kBindingTangents,   kBindingVertexTriOffsets, kBindingVertexTris,  kBindingTriangles,
+      kBindingUvs,       kBindingPick,       kBindingColouredSprings,  kBindingPairControl, kBindingPairAnchor,
+      kBindingPairStart, kBindingPairList,   kBindingPointMass,        kBindingXpbdLambda,  kBindingColourPartners};
   EXPECT_EQ(kBindingCount, std::size(bindings)) << "kBindingCount is one more than the largest binding point";
   std::vector<bool> used(64, false);
   for (uint b : bindings) {

@@ -163,6 +163,14 @@ const PatchCase kPatchCases[] = {
    "unknown scheme 'sor'"},
   {"stretch_scheme_number", R"({"simulation": {"stretch_scheme": 1}})", "simulation.stretch_scheme",
    "expected a string"},
+  {"integrator_unknown", R"({"simulation": {"integrator": "rk4"}})", "simulation.integrator",
+   "unknown integrator 'rk4' (verlet or xpbd)"},
+  {"integrator_number", R"({"simulation": {"integrator": 1}})", "simulation.integrator", "expected a string"},
+  {"integrator_case", R"({"simulation": {"integrator": "XPBD"}})", "simulation.integrator", "unknown integrator 'XPBD'"},
+  {"iterations_zero", R"({"simulation": {"iterations": 0}})", "simulation.iterations", "must be >= 1"},
+  {"iterations_fraction", R"({"simulation": {"iterations": 1.5}})", "simulation.iterations", "expected an integer"},
+  {"iterations_string", R"({"simulation": {"iterations": "2"}})", "simulation.iterations", "expected a number, got string"},
+  {"iterations_endless", R"({"simulation": {"iterations": 2000000000}})", "simulation.iterations", "must be <= 100 (got 2000000000)"},
   {"stretch_limit_below_1", R"({"simulation": {"stretch_limit": 0.9}})", "simulation.stretch_limit", "must be >= 1"},
   {"wind_noise_scale_zero", R"({"simulation": {"wind": {"noise_scale": 0}}})", "simulation.wind.noise_scale", "must be > 0"},
   {"wind_drag_negative", R"({"simulation": {"wind": {"drag": -1}}})", "simulation.wind.drag", "must be >= 0"},
@@ -447,6 +455,8 @@ TEST(SceneDefaults, Cs184FileWithoutSimulationRunsSelfCollisionAndDefaultTiming)
   EXPECT_EQ(scene.sim.gravity, defaults.gravity);
   EXPECT_EQ(scene.sim.stretch_passes, defaults.stretch_passes);
   EXPECT_EQ(scene.sim.stretch_limit, defaults.stretch_limit);
+  EXPECT_EQ(scene.sim.integrator, Integrator::Verlet);  // CS184's integrator unless a scene asks
+  EXPECT_EQ(scene.sim.iterations, 1);
   EXPECT_FALSE(scene.sim.wind.enabled);
   EXPECT_TRUE(scene.spheres.empty());
   EXPECT_TRUE(scene.planes.empty());
@@ -508,6 +518,15 @@ TEST(SceneValues, EveryKeyOfTheFullSceneIsRead) {
   EXPECT_EQ(scene.sim.gravity, glm::dvec3(0, -9.8, 0));
   EXPECT_EQ(scene.sim.stretch_limit, 1.1);
   EXPECT_DOUBLE_EQ(scene.sim.dt(), 1.0 / 2700.0);
+}
+
+TEST(SceneValues, IntegratorAndIterationsAreRead) {
+  const Scene scene =
+      parseScene("{" + kCloth + R"(, "simulation": {"integrator": "xpbd", "iterations": 4}})", "xpbd.json");
+  EXPECT_EQ(scene.sim.integrator, Integrator::Xpbd);
+  EXPECT_EQ(scene.sim.iterations, 4);
+  const Scene verlet = parseScene("{" + kCloth + R"(, "simulation": {"integrator": "verlet"}})", "verlet.json");
+  EXPECT_EQ(verlet.sim.integrator, Integrator::Verlet);
 }
 
 TEST(SceneValues, SingleAndListCollidersCombineSingleFirst) {

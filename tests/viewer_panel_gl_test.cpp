@@ -138,6 +138,28 @@ TEST(ViewerPanel, StepsPerFrameAndSelfCollisionChangeWhatTheSolverDispatches) {
   EXPECT_EQ(v.solver().scene().cloth.damping, 0.0);
 }
 
+TEST(ViewerPanel, TheXpbdCheckboxSwitchesTheRunningSolversIntegrator) {
+  RUN_WITH_DISPLAY();
+  PanelSession s(pinned2());
+  Viewer& v = *s.viewer;
+  EXPECT_FALSE(s.panel->controlRect("iterations").has_value());  // Verlet has no sweeps to set
+  s.click(s.control("xpbd").centre());
+  EXPECT_EQ(v.sim.integrator, Integrator::Xpbd);
+  EXPECT_EQ(v.solver().scene().sim.integrator, Integrator::Xpbd);  // handed to the solver, not only the panel
+  const std::vector<std::string> passes = v.solver().passes();
+  ASSERT_FALSE(passes.empty());
+  EXPECT_EQ(passes.front(), "forces+predict");
+  EXPECT_EQ(std::count(passes.begin(), passes.end(), "xpbd_colour"), 12);  // one sweep over the 12 colours
+  s.frame(s.away, false);  // the iterations slider appears from the next frame
+  s.click(PanelSession::sliderEnd(s.control("iterations")));
+  EXPECT_EQ(v.solver().scene().sim.iterations, 10);
+  const std::vector<std::string> swept = v.solver().passes();
+  EXPECT_EQ(std::count(swept.begin(), swept.end(), "xpbd_colour"), 120);
+  for (int i = 0; i < 20; ++i)
+    s.frame(s.away, false);
+  EXPECT_TRUE(v.blowUp().empty()) << v.blowUp();
+}
+
 TEST(ViewerPanel, CrossingTheStabilityBoundIsReportedAndOneClickFixesIt) {
   RUN_WITH_DISPLAY();
   Scene scene = pinned2();

@@ -19,7 +19,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-COLOURS = {"cpu-xprev": "tab:red", "cpu": "tab:blue", "cpu64": "tab:green", "gpu": "tab:purple"}
+COLOURS = {"cpu-xprev": "tab:red", "cpu": "tab:blue", "cpu64": "tab:green", "gpu": "tab:purple",
+           "cpu+xpbd": "tab:cyan", "cpu64+xpbd": "tab:olive", "gpu+xpbd": "tab:pink"}
 MARKERS = {0: "x", 1: "o", 2: "s", 4: "^"}
 
 
@@ -57,8 +58,9 @@ def main():
             xs = [p[0] for p in points]
             # An exact match (error 0) cannot sit on a log axis; draw it at the axis floor instead.
             ys = [max(p[1], 1e-12) for p in points]
+            # XPBD runs ("<solver>+xpbd") dashed beside Verlet's solid lines.
             ax.plot(xs, ys, color=COLOURS.get(solver, "black"), marker=MARKERS.get(passes, "d"), linewidth=1,
-                    markersize=4, label="%s, %d pass%s" % (solver, passes, "" if passes == 1 else "es"))
+                    linestyle="--" if solver.endswith("+xpbd") else "-", markersize=4, label="%s, %d pass%s" % (solver, passes, "" if passes == 1 else "es"))
             for x, y, p in zip(xs, ys, points):
                 ax.annotate(str(p[2]), (x, y), textcoords="offset points", xytext=(3, 3), fontsize=6,
                             color=COLOURS.get(solver, "black"))

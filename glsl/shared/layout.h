@@ -48,11 +48,12 @@ DRAPE_CONSTANT(uint, kBindingPairAnchor, 24u);        // vec4 per point: positio
 DRAPE_CONSTANT(uint, kBindingPairStart, 25u);         // uint per point + 1: where each point's list starts
 DRAPE_CONSTANT(uint, kBindingPairList, 26u);          // uint per candidate: each point's candidates, ascending
 // Per-point quantities that a mesh cloth does not share between its points (a grid's are all alike).
-DRAPE_CONSTANT(uint, kBindingPointMass, 27u);  // PointMass per point
+DRAPE_CONSTANT(uint, kBindingPointMass, 27u);   // PointMass per point
+DRAPE_CONSTANT(uint, kBindingXpbdLambda, 28u);  // float per coloured spring: XPBD multipliers (iterations > 1)
 // The one-dispatch path (glsl/sim/one_group.comp): per spring colour and point, the point's spring of
 // that colour, if any (ColourPartner, colour-major).
-DRAPE_CONSTANT(uint, kBindingColourPartners, 28u);
-DRAPE_CONSTANT(uint, kBindingCount, 29u);  // binding points used: one more than the largest
+DRAPE_CONSTANT(uint, kBindingColourPartners, 29u);
+DRAPE_CONSTANT(uint, kBindingCount, 30u);  // binding points used: one more than the largest
 
 // Work-group sizes, shared so C++ computes group counts from the same numbers.
 DRAPE_CONSTANT(uint, kLocalSize, 128u);      // per-point and per-bucket kernels
@@ -100,6 +101,7 @@ struct SimParams {
   float pair_margin;      // m, the list's margin (skin)
   float blow_up_stretch;  // a spring longer than this times its rest length is reported as a blow-up
   uint pad0;              // std430 rounds the struct to 16 bytes; C++ must see the same size
+  vec4 alpha_tilde;       // XPBD: compliance / dt^2 = 1 / (k dt^2) per spring type (xyz as stiffness); w unused
 };
 
 // One adjacency entry: the spring from this point to another, in the CPU's order (ascending spring
@@ -119,7 +121,7 @@ struct ColouredSpring {
   uint a;      // end with the smaller index
   uint b;      // other end
   float rest;  // m
-  uint pad0;
+  uint type;   // SpringType: which of SimParams.alpha_tilde is the spring's (XPBD)
 };
 
 // A point's spring of one colour, seen from the point (the one-dispatch path's Gauss-Seidel stretch): springs

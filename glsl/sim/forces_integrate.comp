@@ -1,12 +1,18 @@
 // Forces and Verlet integration of one point in one kernel (docs/design.md section 2, steps 1 and 2),
 // followed by what else only needs the point's own new state: its collisions when no self-collision
 // pass sits in between, else the check whether it moved too far for the self-collision lists. Mirrors
-// CpuSolver::accumulateForces, integrate (and collide). Reads *In and writes *Out: the force gather reads the
-// neighbours' positions while other invocations move theirs, so integrating in place would race.
+// CpuSolver::accumulateForces, integrate (and collide). With XPBD=1 it is XPBD's prediction instead:
+// no spring gather (the springs are constraints, xpbd_coloured.comp) and nothing fused after it, since
+// the constraint sweeps move the point before collisions and the lists' travel check may look at it.
+// Reads *In and writes *Out: the force gather reads the neighbours' positions while other invocations
+// move theirs, so integrating in place would race.
 #include "common.glsl"
 #include "physics.glsl"
 #include "collide.glsl"
-#if SELF_COLLISION
+#ifndef XPBD
+#define XPBD 0
+#endif
+#if SELF_COLLISION && !XPBD
 #include "pair_travel.glsl"
 #endif
 
@@ -40,12 +46,14 @@ void main() {
     vec4 weight = pointMass[i].weight;
 #endif
     precise vec3 f = weight.xyz;
+#if !XPBD
     // Ascending spring index, the CPU's order, so the sums round alike. Disabled spring types are not
     // in the GPU's adjacency at all.
     for (uint e = offsets[i]; e < offsets[i + 1u]; ++e) {
       Neighbor nb = neighbors[e];
       f += springForce(x, posIn[neighborIndex(nb)].xyz, nb.rest, params.stiffness[neighborType(nb)]);
     }
+#endif
 #if WIND
     PointMass m = pointMass[i];
     precise vec3 air = windVelocity(x, u_time, params.wind_velocity.xyz, params.wind_velocity.w, params.noise_scale,
@@ -54,11 +62,11 @@ void main() {
 #endif
     v = integrateVerlet(v, f * weight.w, params.dt2, params.keep);
     x += v;
-#if COLLIDERS && !SELF_COLLISION
+#if COLLIDERS && !SELF_COLLISION && !XPBD
     collideObjects(x, v);
 #endif
   }
-#if SELF_COLLISION
+#if SELF_COLLISION && !XPBD
   checkPairTravel(i, x);
 #endif
   posOut[i] = vec4(x, pin);

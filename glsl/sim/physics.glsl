@@ -108,6 +108,19 @@ float stretchShare(bool pinned_i, bool pinned_j) {
   return pinned_i ? 0.0 : pinned_j ? 1.0 : 0.5;
 }
 
+// XPBD distance constraint of one spring (physics.hpp explains): returns dlambda, and in p the step
+// dlambda * unit(xb - xa); a moves by -w_a p, b by +w_b p.
+float xpbdDistanceCorrection(vec3 xa, vec3 xb, float rest, float w_sum, float alpha_tilde, float lambda, out vec3 p) {
+  p = vec3(0.0);
+  precise vec3 d = xb - xa;
+  precise float len = length3(d);
+  if (len <= 0.0) return 0.0;
+  precise float dlambda = (-(len - rest) - alpha_tilde * lambda) / (w_sum + alpha_tilde);
+  precise vec3 r = (dlambda / len) * d;
+  p = r;
+  return dlambda;
+}
+
 vec3 windForce(vec3 normal, vec3 point_velocity, vec3 air_velocity, float drag_area) {
   precise float rel = dot3(air_velocity - point_velocity, normal);
   precise vec3 r = (drag_area * rel) * normal;

@@ -80,10 +80,25 @@ ErrorSample compare(const Scene& scene, const Topology& topo, int frame, const P
   return s;
 }
 
+// An XPBD run is named by its solver with this suffix ("cpu+xpbd"), so that both integrators' runs share
+// the table, the CSV and the plot, each its own column and curve.
+constexpr const char* kXpbdSuffix = "+xpbd";
+
+bool isXpbd(const std::string& run_solver) {
+  return run_solver.size() > 5 && run_solver.compare(run_solver.size() - 5, 5, kXpbdSuffix) == 0;
+}
+
+std::string baseSolver(const std::string& run_solver) {
+  return isXpbd(run_solver) ? run_solver.substr(0, run_solver.size() - 5) : run_solver;
+}
+
 // Every configuration simulates the same material: damping is rescaled to the scene's loss per second.
-Scene configure(const Scene& scene, int steps, int passes) {
+// The references are Verlet's whatever the scene says: the converged solution of the spring model, which
+// both integrators approach as their substeps grow.
+Scene configure(const Scene& scene, int steps, int passes, Integrator integrator = Integrator::Verlet) {
   Scene s = withSubsteps(scene, steps);
   s.sim.stretch_passes = passes;
+  s.sim.integrator = integrator;
   return s;
 }
 
@@ -99,8 +114,8 @@ void compareWithDouble(std::vector<AccuracyRun>& runs, const std::vector<const s
     AccuracyRun& run = runs[a];
     for (std::size_t b = 0; b < runs.size(); ++b) {
       const AccuracyRun& twin = runs[b];
-      if (twin.solver != "cpu64" || twin.steps_per_frame != run.steps_per_frame ||
-          twin.stretch_passes != run.stretch_passes)
+      if (twin.solver != (isXpbd(run.solver) ? std::string("cpu64") + kXpbdSuffix : std::string("cpu64")) ||
+          twin.steps_per_frame != run.steps_per_frame || twin.stretch_passes != run.stretch_passes)
         continue;
       for (std::size_t i = 0; i < run.samples.size() && i < states[a]->size() && i < states[b]->size(); ++i)
         run.samples[i].vs_double = rmsDeviation((*states[a])[i], (*states[b])[i]) / size;
@@ -204,7 +219,7 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
       }
   std::vector<std::size_t> cpu_jobs, gpu_jobs;
   for (std::size_t j = 0; j < sweep.size(); ++j)
-    (isGpuSolver(sweep[j].run.solver) ? gpu_jobs : cpu_jobs).push_back(j);
+    (isGpuSolver(baseSolver(sweep[j].run.solver)) ? gpu_jobs : cpu_jobs).push_back(j);
   report.jobs = jobsFor(o.jobs, cpu_jobs.size());
   report.threads_per_run = threadsPerJob(report.jobs);
   std::mutex say_mutex;
@@ -227,10 +242,11 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
   reportDone();  // the references
   auto runOne = [&](SweepJob& job, SolverFactory& maker) {
     AccuracyRun& run = job.run;
-    const Scene s = configure(scene, run.steps_per_frame, run.stretch_passes);
+    const Scene s = configure(scene, run.steps_per_frame, run.stretch_passes,
+                              isXpbd(run.solver) ? Integrator::Xpbd : Integrator::Verlet);
     std::unique_ptr<Solver> solver;
     try {
-      solver = maker.make(s, run.solver, {.threads = report.threads_per_run});
+      solver = maker.make(s, baseSolver(run.solver), {.threads = report.threads_per_run});
     } catch (const SkippedRun& e) {
       run.skipped = e.what();
     }
@@ -335,6 +351,7 @@ std::string cell(const AccuracyRun* run, double (*figure)(const AccuracyRun&, co
 }
 
 std::string solverLabel(const AccuracyReport& r, const std::string& solver) {
+  if (isXpbd(solver)) return solverLabel(r, baseSolver(solver)) + ", xpbd";
   if (isGpuSolver(solver) && r.gl && r.gl->software) return solver + " (llvmpipe)";
   if (solver == "cpu") return "cpu (float, displacement)";
   if (solver == "cpu-xprev") return "cpu-xprev (float, x_prev)";

@@ -1,5 +1,6 @@
 #include "app/bench.hpp"
 
+#include "app/options.hpp"
 #include "core/stability.hpp"
 #include "gl/objects.hpp"
 
@@ -50,6 +51,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
   BenchRun run;
   run.scene = scene_name;
   run.solver = solver_name;
+  run.integrator = integratorName(scene.sim.integrator);
   run.size = size;
   run.points = (long long)size * size;
   run.steps_per_frame = scene.sim.steps_per_frame;
@@ -145,6 +147,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
 std::string describeRun(const BenchRun& r) {
   std::string head =
       fmt::format("{} {}x{} {}", std::filesystem::path(r.scene).stem().string(), r.size, r.size, r.solver);
+  if (r.integrator == "xpbd") head += " xpbd";
   if (r.threads > 0) head += fmt::format(" ({} thread{})", r.threads, r.threads == 1 ? "" : "s");
   if (!r.skipped.empty()) return head + ": skipped (" + r.skipped + ")";
   std::string line = head;
@@ -166,6 +169,7 @@ BenchReport runBench(const BenchOptions& o, const std::function<void(const std::
   std::vector<Scene> scenes;
   for (const std::string& path : o.scenes) {
     scenes.push_back(loadScene(path));  // all bad input fails first
+    applyIntegrator(scenes.back(), o.integrator);
     // --sizes resamples the grid; a mesh is the size its file gives.
     if (!scenes.back().cloth.isGrid())
       throw SceneError(path + ": cloth.mesh: bench resamples grid cloths to --sizes; a mesh cloth has no grid");
@@ -233,18 +237,21 @@ nlohmann::json benchJson(const BenchReport& r) {
   else
     j["gl"] = nullptr;
   j["peak_gbs"] = r.peak_gbs > 0 ? nlohmann::json(r.peak_gbs) : nlohmann::json(nullptr);
-  j["settings"] = {{"scenes", r.options.scenes},
-                   {"sizes", r.options.sizes},
-                   {"solvers", r.options.solvers},
-                   {"max_frames_per_repeat", r.options.frames},
-                   {"budget_s_per_run", r.options.budget_s},
-                   {"warmup_frames", r.options.warmup},
-                   {"repeats", r.options.repeats},
-                   {"cpu_threads", r.options.threads}};
+  j["settings"] = {
+      {"scenes", r.options.scenes},
+      {"sizes", r.options.sizes},
+      {"solvers", r.options.solvers},
+      {"max_frames_per_repeat", r.options.frames},
+      {"budget_s_per_run", r.options.budget_s},
+      {"warmup_frames", r.options.warmup},
+      {"repeats", r.options.repeats},
+      {"cpu_threads", r.options.threads},
+      {"integrator", r.options.integrator.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.options.integrator)}};
   j["runs"] = nlohmann::json::array();
   for (const BenchRun& run : r.runs) {
     nlohmann::json o = {{"scene", run.scene},
                         {"solver", run.solver},
+                        {"integrator", run.integrator},
                         {"threads", run.threads},
                         {"size", run.size},
                         {"frames_per_repeat", run.frames_per_repeat},
@@ -306,6 +313,7 @@ std::string benchMarkdown(const BenchReport& r) {
     std::string solver = run.solver;
     if (isGpuSolver(run.solver) && r.gl && r.gl->software) solver += " (llvmpipe)";
     if (run.threads > 0) solver += fmt::format(" ×{}", run.threads);
+    if (run.integrator == "xpbd") solver += ", xpbd";
     if (!run.skipped.empty()) {
       md += fmt::format("| {} | {} | {} | {} | – | – | – | – | – | – | – | – | skipped: {} |\n", scene, run.size,
                         solver, run.steps_per_frame, run.skipped);
@@ -352,6 +360,9 @@ std::vector<BenchRun> benchRunsFromJson(const nlohmann::json& j) {
     BenchRun run;
     run.scene = need("scene", &nlohmann::json::is_string).get<std::string>();
     run.solver = need("solver", &nlohmann::json::is_string).get<std::string>();
+    // Older files have no integrator: Verlet was the only one.
+    run.integrator =
+        o.contains("integrator") && o["integrator"].is_string() ? o["integrator"].get<std::string>() : "verlet";
     run.size = need("size", &nlohmann::json::is_number_integer).get<int>();
     run.threads = o.contains("threads") ? need("threads", &nlohmann::json::is_number_integer).get<int>() : 0;
     if (o.contains("skipped") && o["skipped"].is_string()) run.skipped = o["skipped"].get<std::string>();

@@ -23,6 +23,7 @@ struct BenchOptions {
   int repeats = 3;                 // timed repeats; median and spread are over these
   double budget_s = 10;            // timed seconds per run: slow runs time fewer frames per repeat (at least 1)
   double peak_gbs = 0;             // the device's peak memory bandwidth; 0: from knownPeakGbs(renderer), if listed
+  std::string integrator;          // "verlet" or "xpbd" replaces every scene's simulation.integrator; empty: as given
 };
 
 struct BenchPass {
@@ -34,8 +35,9 @@ struct BenchPass {
 struct BenchRun {
   std::string scene;  // file as given
   std::string solver;
-  int threads = 0;  // CPU solvers: OpenMP threads; 0 for the GPU
-  int size = 0;     // N: the cloth is N x N
+  std::string integrator;  // the scene's simulation.integrator as run: "verlet" or "xpbd"
+  int threads = 0;         // CPU solvers: OpenMP threads; 0 for the GPU
+  int size = 0;            // N: the cloth is N x N
   long long points = 0;
   int steps_per_frame = 0;
   int frames_per_repeat = 0;  // after the budget

@@ -144,12 +144,25 @@ void ImGuiPanel::drawParameters(Viewer& viewer) {
     changed |= track(sliderDouble("turbulence", s.wind.turbulence, 0.0, 2.0, "%.2f", 0), "turbulence");
   }
   changed |= track(ImGui::SliderInt("stretch passes", &s.stretch_passes, 0, 10), "stretch passes");
+  // Verlet or XPBD, switched live: both run on the same state (x and x - x_prev).
+  bool xpbd = s.integrator == Integrator::Xpbd;
+  if (track(ImGui::Checkbox("xpbd", &xpbd), "xpbd")) {
+    s.integrator = xpbd ? Integrator::Xpbd : Integrator::Verlet;
+    changed = true;
+  }
+  if (xpbd) {
+    ImGui::SameLine();
+    changed |= track(ImGui::SliderInt("iterations", &s.iterations, 1, 10), "iterations");
+  }
   if (changed) viewer.applyParams();
 
   // The explicit-integration bound of what is set now (core/stability.hpp), and the way back inside it.
   const StabilityCheck& check = viewer.stability();
   const ImVec4 colour = check.ok ? ImVec4(0.5f, 0.85f, 0.5f, 1.0f) : ImVec4(1.0f, 0.4f, 0.4f, 1.0f);
-  ImGui::TextColored(colour, "dt sqrt(k/m) = %.3g, stable below %.3g", check.number, check.limit);
+  if (s.integrator == Integrator::Xpbd)
+    ImGui::TextColored(colour, "xpbd: no explicit bound (Verlet's dt sqrt(k/m) = %.3g)", check.number);
+  else
+    ImGui::TextColored(colour, "dt sqrt(k/m) = %.3g, stable below %.3g", check.number, check.limit);
   if (!check.ok && check.steps_needed > 0 && check.steps_needed <= 10000) {
     ImGui::SameLine();
     const std::string label = "use " + std::to_string(check.steps_needed) + " steps/frame";

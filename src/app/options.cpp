@@ -81,6 +81,19 @@ CLI::Validator positiveNumberUpTo(double max_value) {
       fmt::format("NUMBER in (0 .. {:g}]", max_value));
 }
 
+CLI::Option* addIntegratorOption(CLI::App* command, std::string& target) {
+  return command
+      ->add_option("--integrator", target,
+                   "verlet (CS184's explicit Verlet) or xpbd (springs as constraints, stable at any stiffness); "
+                   "default: the scene's simulation.integrator")
+      ->check(CLI::IsMember({integratorName(Integrator::Verlet), integratorName(Integrator::Xpbd)}));
+}
+
+void applyIntegrator(Scene& scene, const std::string& name) {
+  if (name.empty()) return;
+  scene.sim.integrator = name == integratorName(Integrator::Xpbd) ? Integrator::Xpbd : Integrator::Verlet;
+}
+
 glm::ivec2 parseSize(const std::string& option, const std::string& text, int min_side, int max_side) {
   static const std::regex pattern("([0-9]{1,5})x([0-9]{1,5})");
   std::smatch m;

@@ -2,6 +2,8 @@
 // A bad value is one line naming the option and exit status 2, like every usage error (README "Exit status").
 #pragma once
 
+#include "core/scene.hpp"
+
 #include <CLI/CLI.hpp>
 #include <glm/glm.hpp>
 
@@ -52,6 +54,10 @@ CLI::Option* addListOption(CLI::App* command, const std::string& name, std::vect
   option->default_str(CLI::detail::join(shown, ","));
   return option;
 }
+
+// --integrator verlet|xpbd: when given (`target` not empty), replaces the scene's simulation.integrator.
+CLI::Option* addIntegratorOption(CLI::App* command, std::string& target);
+void applyIntegrator(Scene& scene, const std::string& name);
 
 // "640x480" with both sides in [min_side, max_side]; otherwise CommandError(kExitBadInput) naming `option`.
 glm::ivec2 parseSize(const std::string& option, const std::string& text, int min_side, int max_side);

@@ -45,6 +45,7 @@ struct RenderOptions {
   int samples = 1;
   std::string camera = "scene";
   double zoom = 1.0;
+  std::string integrator;  // empty: the scene's
 };
 
 // The --shader list (names checked by CLI11): "all" anywhere means every model, in their order.
@@ -203,7 +204,8 @@ void runRender(const RenderOptions& o) {
     checkOutputFile(video);
   const ExportFormat export_format =
       o.export_path.empty() ? ExportFormat::Obj : parseExportFormat(o.export_format, o.export_path);
-  const Scene scene = loadScene(o.scene);
+  Scene scene = loadScene(o.scene);
+  applyIntegrator(scene, o.integrator);
 
   gl::HeadlessContext context = makeRenderContext();
   fmt::print(stderr, "render: {}\n", gl::describe(context.info()));
@@ -294,6 +296,7 @@ void addRenderCommand(CLI::App& app) {
          "--solver", opts->solver,
          "gpu (default; the path chosen for the device), gpu-general or gpu-onedispatch (forced), cpu or cpu64")
       ->check(CLI::IsMember(solverNames(false)));
+  addIntegratorOption(cmd, opts->integrator);
   cmd->add_option("--video", opts->video,
                   "Also encode the frames this run wrote into this video with ffmpeg (e.g. out.mp4; with several "
                   "shaders one video each, out_SHADER.mp4)");

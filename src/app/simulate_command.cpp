@@ -31,6 +31,7 @@ struct SimulateOptions {
   std::string export_path;
   std::string export_format;
   int every = 1;
+  std::string integrator;  // empty: the scene's
 };
 
 void printSummary(const Scene& scene, Solver& solver, int frames, double wall_ms) {
@@ -75,7 +76,9 @@ void runSimulate(const SimulateOptions& o) {
   if (!o.out.empty()) checkOutputFile(o.out);  // before the run, not after it
   const ExportFormat format =
       o.export_path.empty() ? ExportFormat::Obj : parseExportFormat(o.export_format, o.export_path);
-  const Scene scene = guardStability(loadScene(o.scene), o.auto_substeps);
+  Scene loaded = loadScene(o.scene);
+  applyIntegrator(loaded, o.integrator);
+  const Scene scene = guardStability(std::move(loaded), o.auto_substeps);
   SolverFactory factory({.verbose = o.verbose});  // before the solver: it owns the solver's GL context
   auto solver = factory.make(scene, o.solver, {.threads = o.threads});
   std::optional<ClothExport> exporter;
@@ -122,6 +125,7 @@ void addSimulateCommand(CLI::App& app) {
                   "cpu (float), cpu64 (double), gpu (the path chosen for the device), gpu-general or gpu-onedispatch")
       ->check(CLI::IsMember(solverNames(false)))
       ->capture_default_str();
+  addIntegratorOption(cmd, opts->integrator);
   cmd->add_option("--out", opts->out, "Write the final positions as JSON [[x,y,z],...]");
   cmd->add_flag("--verbose,-v", opts->verbose, "List the passes and dispatches per frame");
   cmd->add_option("--threads", opts->threads,

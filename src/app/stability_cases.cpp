@@ -110,6 +110,13 @@ std::vector<StabilityCase> stabilityCases() {
     c.start_velocity = glm::dvec3(0, -20, 0);
     cases.push_back(c);
   }
+  // Beyond 1e7 Verlet needs thousands of substeps per frame (its bound grows as sqrt(ks)): XPBD only.
+  for (double ks : {1e8, 1e9}) {
+    StabilityCase c{"ks-" + decade(ks), fmt::format("ks = {:g} N/m, corners pinned (XPBD only)", ks), baseScene()};
+    c.scene.cloth.ks = ks;
+    c.xpbd_only = true;
+    cases.push_back(c);
+  }
   {
     StabilityCase c{"soak-10000", "10,000 frames (111 s), 10 x 10, corners pinned", baseScene(10)};
     c.frames = 10000;
@@ -153,10 +160,11 @@ StabilityResult runStabilityCase(const StabilityCase& c, int steps, bool guard, 
   run.scene.sim.steps_per_frame = steps;
   StabilityResult r;
   r.case_name = c.name;
+  r.integrator = c.scene.sim.integrator;
   r.steps_asked = steps;
   r.steps_per_frame = steps;
   // The guard does what `drape simulate --auto-substeps` does: raise the count, same losses per second.
-  if (guard) {
+  if (guard && run.scene.sim.integrator == Integrator::Verlet) {
     const int need = autoSubsteps(run.scene);
     if (need > steps) {
       run.scene = withSubsteps(run.scene, need);
@@ -216,7 +224,8 @@ std::string trend(const StabilityResult& r) {
 }
 
 std::string describe(const StabilityResult& r) {
-  std::string line = fmt::format("{} {} substeps{}: ", r.case_name, r.steps_per_frame, r.guarded ? " (guard)" : "");
+  std::string line = fmt::format("{} {}{} substeps{}: ", r.case_name, r.integrator == Integrator::Xpbd ? "xpbd " : "",
+                                 r.steps_per_frame, r.guarded ? " (guard)" : "");
   if (r.stable)
     line += fmt::format("stable, max strain {:.3g}, KE end/max {:.2g}, energy {}", r.max_strain,
                         r.ke_max > 0 ? r.ke_end / r.ke_max : 0.0, trend(r));
@@ -228,23 +237,34 @@ std::string describe(const StabilityResult& r) {
 }  // namespace
 
 StabilityReport runStability(const std::vector<StabilityCase>& cases, const std::vector<int>& steps,
-                             const std::function<void(const std::string&)>& progress, int jobs) {
+                             const std::function<void(const std::string&)>& progress, int jobs,
+                             const std::vector<int>& xpbd_steps) {
   StabilityReport report;
   report.steps = steps;
+  report.xpbd_steps = xpbd_steps;
   const auto t0 = std::chrono::steady_clock::now();
   struct Job {
     const StabilityCase* c;
     int steps;
     bool guard;
   };
+  std::vector<StabilityCase> xpbd_cases;
+  xpbd_cases.reserve(cases.size());
+  for (const StabilityCase& c : cases) {
+    xpbd_cases.push_back(c);
+    xpbd_cases.back().scene.sim.integrator = Integrator::Xpbd;
+  }
   std::vector<Job> jobs_list;
   for (const StabilityCase& c : cases)
-    for (int s : steps) {
+    for (int s : c.xpbd_only ? std::vector<int>{} : steps) {
       jobs_list.push_back({&c, s, false});
       Scene probe = c.scene;
       probe.sim.steps_per_frame = s;
       if (autoSubsteps(probe) > s) jobs_list.push_back({&c, s, true});
     }
+  for (const StabilityCase& c : xpbd_cases)
+    for (int s : xpbd_steps)
+      jobs_list.push_back({&c, s, false});
   report.jobs = jobsFor(jobs, jobs_list.size());
   report.threads_per_run = threadsPerJob(report.jobs);
   report.results.resize(jobs_list.size());
@@ -261,15 +281,16 @@ StabilityReport runStability(const std::vector<StabilityCase>& cases, const std:
 
 std::string stabilityCsv(const StabilityReport& report) {
   std::string csv =
-      "case,steps_asked,guard,steps_per_frame,stability_number,stability_limit,inside_bound,stable,first_bad_frame,"
+      "case,integrator,steps_asked,guard,steps_per_frame,stability_number,stability_limit,inside_bound,stable,first_"
+      "bad_frame,"
       "frames_run,"
       "max_strain,ke_max_j,ke_end_j,energy_start_j,energy_end_j,energy_change_rel,wall_s,what\n";
   for (const StabilityResult& r : report.results) {
     const double change = r.stable ? (r.energy_end - r.energy_start) / r.energy_scale : NAN;
-    csv += fmt::format("{},{},{},{},{:.6g},{:.6g},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.9g},{},{},{:.3f},\"{}\"\n",
-                       r.case_name, r.steps_asked, r.guarded ? 1 : 0, r.steps_per_frame, r.stability_number,
-                       r.stability_limit, r.inside_bound ? 1 : 0, r.stable ? 1 : 0, r.first_bad_frame, r.frames_run,
-                       r.max_strain, r.ke_max, r.ke_end, r.energy_start,
+    csv += fmt::format("{},{},{},{},{},{:.6g},{:.6g},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.9g},{},{},{:.3f},\"{}\"\n",
+                       r.case_name, integratorName(r.integrator), r.steps_asked, r.guarded ? 1 : 0, r.steps_per_frame,
+                       r.stability_number, r.stability_limit, r.inside_bound ? 1 : 0, r.stable ? 1 : 0,
+                       r.first_bad_frame, r.frames_run, r.max_strain, r.ke_max, r.ke_end, r.energy_start,
                        r.stable ? fmt::format("{:.9g}", r.energy_end) : "",
                        r.stable ? fmt::format("{:.4g}", change) : "", r.wall_s, r.what);
   }
@@ -277,9 +298,10 @@ std::string stabilityCsv(const StabilityReport& report) {
 }
 
 const StabilityResult* findResult(const StabilityReport& report, const std::string& case_name, int steps_asked,
-                                  bool guarded) {
+                                  bool guarded, Integrator integrator) {
   for (const StabilityResult& r : report.results)
-    if (r.case_name == case_name && r.steps_asked == steps_asked && r.guarded == guarded) return &r;
+    if (r.case_name == case_name && r.steps_asked == steps_asked && r.guarded == guarded && r.integrator == integrator)
+      return &r;
   return nullptr;
 }
 
@@ -317,7 +339,8 @@ std::string stabilityMarkdown(const StabilityReport& report, const std::vector<S
   md += "| case | substeps | dt·sqrt(k/m) / limit | stable | first bad frame | max strain | KE end / max | energy |";
   md += " with guard |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const StabilityResult& r : report.results)
-    if (!r.guarded) md += markdownRow(r, findResult(report, r.case_name, r.steps_asked, true));
+    if (!r.guarded && r.integrator == Integrator::Verlet)
+      md += markdownRow(r, findResult(report, r.case_name, r.steps_asked, true));
 
   // Largest ks of the sweep that is stable, and whether a smaller one was not (the sweep is not
   // necessarily monotonic: the stretch limit and collisions are not covered by the bound).
@@ -345,6 +368,36 @@ std::string stabilityMarkdown(const StabilityReport& report, const std::vector<S
       if (!unstable_below.empty()) cell += fmt::format(" (but {} unstable)", fmt::join(unstable_below, ", "));
     }
     md += fmt::format("| {} | {} | {} |\n", s, cells[0], cells[1]);
+  }
+  if (report.xpbd_steps.empty()) return md;
+
+  // XPBD: the same cases (and ks 1e8, 1e9) without any guard, with what each run cost.
+  md += "\nXPBD (simulation.integrator xpbd, 1 sweep), the same cases without the guard, and ks 1e8 and 1e9:\n\n";
+  md += "| case | substeps | stable | first bad frame | max strain | KE end / max | energy | run s |\n";
+  md += "|---|---|---|---|---|---|---|---|\n";
+  for (const StabilityResult& r : report.results) {
+    if (r.integrator != Integrator::Xpbd) continue;
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.1f} |\n", r.case_name, r.steps_per_frame,
+                      r.stable ? "yes" : "**no**", r.stable ? "–" : std::to_string(r.first_bad_frame),
+                      r.stable ? fmt::format("{:.3g}", r.max_strain) : "–",
+                      r.stable && r.ke_max > 0 ? fmt::format("{:.2g}", r.ke_end / r.ke_max) : "–", trend(r), r.wall_s);
+  }
+  md += "\nLargest stable ks (N/m, of 1e2..1e9) with XPBD per substep count:\n\n| substeps | largest stable ks |\n";
+  md += "|---|---|\n";
+  for (int s : report.xpbd_steps) {
+    double best = 0;
+    std::vector<std::string> unstable_below;
+    for (const StabilityCase& c : cases)
+      if (const StabilityResult* r = findResult(report, c.name, s, false, Integrator::Xpbd);
+          r && (c.sweeps_ks || c.xpbd_only) && r->stable)
+        best = std::max(best, c.scene.cloth.ks);
+    for (const StabilityCase& c : cases)
+      if (const StabilityResult* r = findResult(report, c.name, s, false, Integrator::Xpbd);
+          r && (c.sweeps_ks || c.xpbd_only) && !r->stable && c.scene.cloth.ks < best)
+        unstable_below.push_back(fmt::format("{:g}", c.scene.cloth.ks));
+    std::string cell = best > 0 ? fmt::format("{:g}", best) : "none";
+    if (!unstable_below.empty()) cell += fmt::format(" (but {} unstable)", fmt::join(unstable_below, ", "));
+    md += fmt::format("| {} | {} |\n", s, cell);
   }
   return md;
 }

@@ -28,14 +28,16 @@ struct StabilityCase {
   double crumple = 0.3;            // fraction of the size kept (Crumpled)
   glm::dvec3 start_velocity{0.0};  // m/s (Moving)
   bool sweeps_ks = false;          // one of the ks cases: counted in the largest-stable-ks summary
+  bool xpbd_only = false;          // beyond what Verlet can run in reasonable time (ks 1e8, 1e9): XPBD only
 };
 
-// Every case of the issue: ks 1e2..1e7, density 1..1e4, damping 0 and 100 %, a heavy cloth on two pins,
-// a jittered and a crumpled start, a sphere struck at 20 m/s, a 10,000-frame soak.
+// Every case of the issue: ks 1e2..1e7 (and 1e8, 1e9 for XPBD only), density 1..1e4, damping 0 and 100 %, a heavy cloth
+// on two pins, a jittered and a crumpled start, a sphere struck at 20 m/s, a 10,000-frame soak.
 std::vector<StabilityCase> stabilityCases();
 
 struct StabilityResult {
   std::string case_name;
+  Integrator integrator = Integrator::Verlet;
   int steps_asked = 0;          // the substep setting of the sweep
   int steps_per_frame = 0;      // what ran: steps_asked, or the guard's count when guarded
   bool guarded = false;         // steps raised to autoSubsteps by the guard
@@ -56,13 +58,15 @@ struct StabilityResult {
 // Positions the case starts from (also the blow-up check's "start"), and displacements per substep.
 void startState(const StabilityCase& c, std::vector<glm::dvec3>& x, std::vector<glm::dvec3>& v);
 
-// threads: the CPU solver's threads (0 = every core); the result does not depend on it.
+// threads: the CPU solver's threads (0 = every core); the result does not depend on it. The case's scene
+// says which integrator runs; the guard applies to Verlet only.
 StabilityResult runStabilityCase(const StabilityCase& c, int steps_per_frame, bool guard, int threads = 0);
 
 struct StabilityReport {
   std::vector<int> steps;
-  int jobs = 1;             // runs side by side
-  int threads_per_run = 0;  // each run's CPU solver threads
+  std::vector<int> xpbd_steps;  // substep counts XPBD ran at (no guard); empty: XPBD did not run
+  int jobs = 1;                 // runs side by side
+  int threads_per_run = 0;      // each run's CPU solver threads
   std::vector<StabilityResult> results;
   double wall_s = 0;
 };
@@ -70,13 +74,15 @@ struct StabilityReport {
 // The result for a case at a substep setting, with or without the guard; null if it was not run (the
 // guard only runs where it raises the count).
 const StabilityResult* findResult(const StabilityReport& report, const std::string& case_name, int steps_asked,
-                                  bool guarded);
+                                  bool guarded, Integrator integrator = Integrator::Verlet);
 
 // Runs every case at each substep count, and again with the guard wherever it raises the count; `jobs`
 // runs side by side (0 = one per core, src/app/jobs.hpp), each on its share of the cores. Progress
 // lines come in the order runs finish; the report keeps the order above.
+// With xpbd_steps, every case also runs with XPBD at each of those counts, without the guard.
 StabilityReport runStability(const std::vector<StabilityCase>& cases, const std::vector<int>& steps,
-                             const std::function<void(const std::string&)>& progress = {}, int jobs = 0);
+                             const std::function<void(const std::string&)>& progress = {}, int jobs = 0,
+                             const std::vector<int>& xpbd_steps = {});
 
 std::string stabilityCsv(const StabilityReport& report);
 std::string stabilityMarkdown(const StabilityReport& report, const std::vector<StabilityCase>& cases);

@@ -27,6 +27,7 @@ struct ViewOptions {
   int frames = 0;
   std::string screenshot;
   std::string size = "1280x800";
+  std::string integrator;  // empty: the scene's
 };
 
 // The default scene is found from the current directory or, failing that, among drape's own scenes.
@@ -42,7 +43,8 @@ void runView(const ViewOptions& o) {
   const std::optional<Shading> shading = parseShading(o.shader);
   if (!shading)
     throw CommandError(kExitBadInput, fmt::format("--shader: unknown shader '{}' ({})", o.shader, shadingNames()));
-  const Scene scene = loadScene(resolveScene(o.scene));
+  Scene scene = loadScene(resolveScene(o.scene));
+  applyIntegrator(scene, o.integrator);
 
   gl::WindowContext window;
   try {
@@ -82,6 +84,7 @@ void addViewCommand(CLI::App& app) {
          "--solver", opts->solver,
          "gpu (default; the path chosen for the device), gpu-general or gpu-onedispatch (forced), cpu or cpu64")
       ->check(CLI::IsMember(solverNames(false)));
+  addIntegratorOption(cmd, opts->integrator);
   auto* frames =
       cmd->add_option("--frames", opts->frames, "Simulate N frames, then close (with --screenshot: save the last)")
           ->check(kPositive);

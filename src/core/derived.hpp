@@ -38,6 +38,12 @@ inline double springStiffness(const ClothSpec& cloth, SpringType t) {
   return t == SpringType::Bending ? bendingStiffness(cloth) : cloth.ks;
 }
 
+// XPBD's time-scaled compliance of a spring of type t, alpha / dt^2 with alpha = 1/k (s^2 kg^-1 / s^2).
+inline double xpbdAlphaTilde(const ClothSpec& cloth, const SimParams& sim, SpringType t) {
+  const double dt = sim.dt();
+  return 1.0 / (springStiffness(cloth, t) * dt * dt);
+}
+
 // Buckets of the self-collision hash grid: one per point on average, rounded up to a power of two so
 // that a bucket is the hash masked (both solvers build the same grid from this count).
 inline std::uint64_t hashBucketCount(std::uint64_t points) {

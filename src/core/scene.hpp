@@ -19,6 +19,12 @@ enum class StretchScheme { GaussSeidel, Jacobi };
 inline const char* stretchSchemeName(StretchScheme s) {
   return s == StretchScheme::GaussSeidel ? "gauss_seidel" : "jacobi";
 }
+// How a substep moves the points: CS184's explicit Verlet over spring forces, or XPBD (Macklin et al. 2016,
+// 2019), each spring a distance constraint of compliance 1/k solved on positions (docs/design.md section 2).
+enum class Integrator { Verlet, Xpbd };
+inline const char* integratorName(Integrator i) {
+  return i == Integrator::Verlet ? "verlet" : "xpbd";
+}
 inline constexpr int kSpringTypeCount = 3;
 
 struct ClothMesh;     // core/cloth_mesh.hpp
@@ -98,6 +104,8 @@ struct SimParams {
   // How a stretch pass visits the springs: Gauss-Seidel over a colouring (each spring as CS184's sequential
   // Provot pass does it, springs of one colour sharing no point) or the older averaged per-point Jacobi.
   StretchScheme stretch_scheme = StretchScheme::GaussSeidel;
+  Integrator integrator = Integrator::Verlet;
+  int iterations = 1;  // XPBD: Gauss-Seidel sweeps over the springs per substep (Small Steps: 1)
   WindSpec wind;
 
   double dt() const { return 1.0 / (frames_per_sec * steps_per_frame); }
@@ -136,5 +144,6 @@ inline constexpr long long kMaxSceneBytes = 16LL * 1024 * 1024;
 // (the stiffest shipped case needs a few hundred substeps), yet each frame ends.
 inline constexpr int kMaxStepsPerFrame = 10000;
 inline constexpr int kMaxStretchPasses = 100;
+inline constexpr int kMaxIterations = 100;  // XPBD sweeps per substep, the same reasoning
 
 }  // namespace drape

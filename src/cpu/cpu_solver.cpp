@@ -12,8 +12,9 @@ namespace drape {
 
 namespace {
 
-enum PassId { kForces, kIntegrate, kSelfCollide, kCollide, kLimitStretch, kPassCount };
-const char* const kPassNames[kPassCount] = {"forces", "integrate", "self_collide", "collide", "limit_stretch"};
+enum PassId { kForces, kIntegrate, kXpbd, kSelfCollide, kCollide, kLimitStretch, kPassCount };
+const char* const kPassNames[kPassCount] = {"forces",       "integrate", "xpbd_solve",
+                                            "self_collide", "collide",   "limit_stretch"};
 
 }  // namespace
 
@@ -62,6 +63,8 @@ void CpuSolver<T>::refreshDerived() {
   stiffness_.k[int(SpringType::Structural)] = T(c.ks);
   stiffness_.k[int(SpringType::Shearing)] = T(c.ks);
   stiffness_.k[int(SpringType::Bending)] = T(derived::bendingStiffness(c));
+  for (int t = 0; t < kSpringTypeCount; ++t)
+    alpha_tilde_.k[t] = T(derived::xpbdAlphaTilde(c, scene_.sim, SpringType(t)));
 }
 
 template <class T>
@@ -85,6 +88,8 @@ void CpuSolver<T>::reset() {
 template <class T>
 bool CpuSolver<T>::needsPass(int pass) const {
   switch (pass) {
+    case kXpbd:
+      return scene_.sim.integrator == Integrator::Xpbd;
     case kSelfCollide:
       return scene_.sim.self_collision;
     case kCollide:
@@ -117,6 +122,7 @@ template <class T>
 void CpuSolver<T>::step() {
   timed(kForces, [&] { accumulateForces(); });
   timed(kIntegrate, [&] { integrate(); });
+  if (needsPass(kXpbd)) timed(kXpbd, [&] { solveXpbd(); });
   if (needsPass(kSelfCollide)) timed(kSelfCollide, [&] { selfCollide(); });
   if (needsPass(kCollide)) timed(kCollide, [&] { collide(); });
   if (needsPass(kLimitStretch)) timed(kLimitStretch, [&] { limitStretch(); });
@@ -133,7 +139,10 @@ template <class T>
 void CpuSolver<T>::accumulateForces() {
   const ClothSpec& cloth = scene_.cloth;
   const WindSpec& wind = scene_.sim.wind;
-  const bool enabled[kSpringTypeCount] = {cloth.enable_structural, cloth.enable_shearing, cloth.enable_bending};
+  // XPBD predicts with the external forces only: its springs act in solveXpbd, as constraints.
+  const bool springs = scene_.sim.integrator == Integrator::Verlet;
+  const bool enabled[kSpringTypeCount] = {springs && cloth.enable_structural, springs && cloth.enable_shearing,
+                                          springs && cloth.enable_bending};
   const vec3 gravity = vec3(scene_.sim.gravity);
   const T time = T(double(substeps_) * scene_.sim.dt());
   // Per point, over its adjacency in a fixed order (the GPU's). Computing each spring once and gathering
@@ -181,6 +190,49 @@ void CpuSolver<T>::integrate() {
       x_[i] = next;
     }
   });
+}
+
+// XPBD with Small Steps (Macklin et al. 2019): many substeps of few sweeps, each spring a distance
+// constraint of compliance 1/k. Gauss-Seidel over the stretch limit's colouring rather than a Jacobi
+// average: a colour's springs share no point, so each sees its neighbours' latest positions (Jacobi
+// needs relaxation to converge and then damps), a colour is one parallel loop here and one dispatch on
+// the GPU, and the result does not depend on the thread count. The multipliers start from 0 each
+// substep (Small Steps); with one sweep the stored multiplier is never read, so it is not kept.
+template <class T>
+void CpuSolver<T>::solveXpbd() {
+  const ClothSpec& cloth = scene_.cloth;
+  const bool enabled[kSpringTypeCount] = {cloth.enable_structural, cloth.enable_shearing, cloth.enable_bending};
+  const bool displacement = form_ == VerletForm::Displacement;
+  const int iterations = scene_.sim.iterations;
+  if (iterations > 1) lambda_.assign(colouring_.springs.size(), T(0));
+  for (int sweep = 0; sweep < iterations; ++sweep)
+    for (int colour = 0; colour < colouring_.colourCount(); ++colour) {
+      const long long first = colouring_.start[std::size_t(colour)], last = colouring_.start[std::size_t(colour) + 1];
+      parallelFor(first, last, threads_, [&](long long k) {
+        const std::uint32_t s = colouring_.springs[std::size_t(k)];
+        const Spring& sp = topo_.springs[s];
+        if (!enabled[int(sp.type)]) return;
+        const bool pinned_a = topo_.pinned[sp.a] != 0, pinned_b = topo_.pinned[sp.b] != 0;
+        if (pinned_a && pinned_b) return;
+        const T wa = pinned_a ? T(0) : inv_mass_[sp.a];
+        const T wb = pinned_b ? T(0) : inv_mass_[sp.b];
+        const T lambda = iterations > 1 ? lambda_[std::size_t(k)] : T(0);
+        vec3 p;
+        const T dlambda = physics::xpbdDistanceCorrection(x_[sp.a], x_[sp.b], rest_[s], wa + wb,
+                                                          alpha_tilde_.k[int(sp.type)], lambda, p);
+        if (iterations > 1) lambda_[std::size_t(k)] = lambda + dlambda;
+        if (!pinned_a) {
+          const vec3 ca = (-wa) * p;
+          x_[sp.a] += ca;
+          if (displacement) v_[sp.a] += ca;  // x_prev stays: v = x - x_prev is the constrained displacement
+        }
+        if (!pinned_b) {
+          const vec3 cb = wb * p;
+          x_[sp.b] += cb;
+          if (displacement) v_[sp.b] += cb;
+        }
+      });
+    }
 }
 
 template <class T>

@@ -37,8 +37,9 @@ class CpuSolver final : public Solver {
 
   // step() is this list of passes; each is public so tests can run and compare them one by one.
   void step() override;
-  void accumulateForces();  // gravity + springs + wind -> forces_
-  void integrate();         // Verlet, pinned points stay
+  void accumulateForces();  // gravity + springs + wind -> forces_ (XPBD: gravity + wind, springs are constraints)
+  void integrate();         // Verlet, pinned points stay (XPBD: the prediction x* = x + keep v + a dt^2)
+  void solveXpbd();         // XPBD: sim.iterations Gauss-Seidel sweeps of the springs as distance constraints
   void selfCollide();       // candidate lists, Jacobi, averaged, / steps_per_frame
   void collide();           // each sphere, then each plane
   void limitStretch();      // Provot, sim.stretch_passes passes (Gauss-Seidel over colours, or Jacobi)
@@ -88,6 +89,8 @@ class CpuSolver final : public Solver {
   std::vector<T> mass_, inv_mass_, drag_area_;  // per point (derived::pointMass, dragArea)
   T dt_ = 0, keep_ = 1;
   Stiffness stiffness_{};
+  Stiffness alpha_tilde_{};  // XPBD: compliance / dt^2 per spring type
+  std::vector<T> lambda_;    // XPBD: per coloured spring, the multiplier summed over this substep's sweeps
   long long substeps_ = 0;
   std::vector<PassTiming> timings_;
 };

@@ -117,6 +117,26 @@ DRAPE_PHYSICS_INLINE T stretchShare(bool pinned_i, bool pinned_j) {
   return pinned_i ? T(0) : pinned_j ? T(1) : T(0.5);
 }
 
+// XPBD (Macklin, Mueller, Chentanez 2016) for one spring as a distance constraint C = |xb - xa| - rest of
+// compliance 1/k, alpha_tilde = 1/(k dt^2) from the host. Returns the change of the spring's multiplier,
+// dlambda = (-C - alpha_tilde lambda) / (w_sum + alpha_tilde), where w_sum = w_a + w_b (inverse masses,
+// 0 for a pinned end), and in `p` the step dlambda * unit(xb - xa): a moves by -w_a p and b by +w_b p.
+// alpha_tilde in the denominator is what makes the step bounded for any k and dt: k -> infinity is a
+// hard constraint, not an explosion. A spring of zero length has no direction and takes no step.
+template <class T>
+DRAPE_PHYSICS_INLINE T xpbdDistanceCorrection(vec3<T> xa, vec3<T> xb, T rest, T w_sum, T alpha_tilde, T lambda,
+                                              vec3<T>& p) {
+  vec3<T> d = xb - xa;
+  T len = glm::length(d);
+  if (len <= T(0)) {
+    p = vec3<T>(0);
+    return T(0);
+  }
+  T dlambda = (-(len - rest) - alpha_tilde * lambda) / (w_sum + alpha_tilde);
+  p = (dlambda / len) * d;
+  return dlambda;
+}
+
 // Wind: drag along the point's normal, proportional to the normal component of the air velocity
 // relative to the point (sign of n does not matter).
 template <class T>

@@ -72,10 +72,19 @@ GpuSolver::GpuSolver(Scene scene, GpuSolverOptions options, gl::HeadlessContext 
                         std::to_string(topo_.pointCount()) + "-point cloth");
   timer_queries_ = options_.timing && gl::timerQueriesWork();
   resetTimings();
+  allocateLambda();
   compilePrograms();
   choosePath(true);
   buildPlan();
   reset();
+}
+
+// XPBD's multipliers need memory only when a substep sweeps more than once (the first sweep of a
+// substep starts them at 0 and does not read them).
+void GpuSolver::allocateLambda() {
+  if (scene_.sim.integrator != Integrator::Xpbd || scene_.sim.iterations <= 1) return;
+  const std::size_t bytes = std::max<std::size_t>(colour_start_.back(), 1) * sizeof(float);
+  if (xpbd_lambda_.id() == 0 || xpbd_lambda_.size() < bytes) xpbd_lambda_ = gl::Buffer::create(bytes, nullptr, 0);
 }
 
 GpuSolver::~GpuSolver() {
@@ -320,6 +329,8 @@ void GpuSolver::uploadParams() {
   p.noise_speed = float(wind.noise_speed);
   p.sane_bound = float(options_.health.sane_bound);
   p.blow_up_stretch = float(1.0 + options_.health.max_strain);
+  for (int t = 0; t < kSpringTypeCount; ++t)
+    p.alpha_tilde[t] = float(derived::xpbdAlphaTilde(c, sim, SpringType(t)));
   p.point_count = std::uint32_t(n);
   p.bucket_count = bucketCount();
   p.bucket_mask = p.bucket_count - 1;
@@ -351,7 +362,7 @@ void GpuSolver::uploadAdjacency() {
   for (int c = 0; c < colouring_.colourCount(); ++c) {
     for (std::uint32_t k = colouring_.start[std::size_t(c)]; k < colouring_.start[std::size_t(c) + 1]; ++k) {
       const Spring& s = topo_.springs[colouring_.springs[k]];
-      if (enabled_springs_[int(s.type)]) coloured.push_back({s.a, s.b, float(s.rest), 0u});
+      if (enabled_springs_[int(s.type)]) coloured.push_back({s.a, s.b, float(s.rest), std::uint32_t(s.type)});
     }
     colour_start_.push_back(std::uint32_t(coloured.size()));
   }
@@ -365,6 +376,10 @@ gl::Defines GpuSolver::sceneDefines() const {
                    {"WIND", scene_.sim.wind.enabled ? "1" : "0"},
                    {"UNIFORM_MASS", uniformMass() ? "1" : "0"}};
   if (!scene_.meshes.empty()) d.emplace_back("NUM_MESHES", std::to_string(scene_.meshes.size()));
+  if (scene_.sim.integrator == Integrator::Xpbd) {
+    d.emplace_back("XPBD", "1");
+    d.emplace_back("XPBD_LAMBDA", scene_.sim.iterations > 1 ? "1" : "0");
+  }
   return d;
 }
 
@@ -376,6 +391,11 @@ void GpuSolver::compilePrograms() {
   programs_.limit_stretch = gl::compileCompute("sim/limit_stretch.comp", defines_);
   programs_.limit_stretch_coloured = gl::compileCompute("sim/limit_stretch_coloured.comp", defines_);
   programs_.health = gl::compileCompute("sim/health.comp", defines_);
+  if (scene_.sim.integrator == Integrator::Xpbd) {
+    programs_.xpbd_coloured = gl::compileCompute("sim/xpbd_coloured.comp", defines_);
+    const bool colliders = !scene_.spheres.empty() || !scene_.planes.empty() || !scene_.meshes.empty();
+    if (colliders && !scene_.sim.self_collision) programs_.collide = gl::compileCompute("sim/collide.comp", defines_);
+  }
   if (scene_.sim.self_collision) {
     programs_.pairs_check = gl::compileCompute("sim/pairs_check.comp", defines_);
     programs_.pairs_prepare = gl::compileCompute("sim/pairs_prepare.comp", defines_);
@@ -432,6 +452,8 @@ std::uint32_t GpuSolver::oneGroupBuckets() const {
 }
 
 std::string GpuSolver::oneDispatchMisfit() const {
+  if (scene_.sim.integrator == Integrator::Xpbd)
+    return "the xpbd integrator runs on the general path only (one_group.comp has Verlet's phases)";
   GLint shared = 0;
   glGetIntegerv(GL_MAX_COMPUTE_SHARED_MEMORY_SIZE, &shared);
   const std::uint64_t n = std::uint64_t(topo_.pointCount());
@@ -494,6 +516,7 @@ void GpuSolver::setParams(const ClothSpec& cloth, const SimParams& sim) {
   }
   checkLimits();
   if (springs_changed) uploadAdjacency();
+  allocateLambda();
   if (scene_.sim.self_collision && grid_points_.id() == 0) allocateGrid();
   uploadParams();
   invalidatePairs();  // thickness may have changed, and with it the lists' reach

@@ -19,6 +19,12 @@
 //   limit_stretch_colour                        Gauss-Seidel stretch scheme: one dispatch per spring colour
 //                                               and stretch pass, each moving both ends of its springs in place
 //   limit_stretch                               Jacobi stretch scheme: once per stretch pass
+// With simulation.integrator xpbd, forces+integrate is XPBD's prediction (no springs, nothing fused), then
+//   xpbd_colour                                 one dispatch per spring colour and sweep: the springs as
+//                                               distance constraints, both ends moved in place
+//   pairs_check                                 the lists' travel check (self-collision), or
+//   collide                                     the points' collisions (no self-collision)
+// before self-collision and the stretch limit as above.
 // and once per frame, after the last substep (stepFrame()):
 //   health                                      the blow-up check of core/health.hpp, writing only its flags
 // Every pass that reads other points' positions reads one copy of the state and writes the other
@@ -131,7 +137,11 @@ class GpuSolver final : public Solver {
   void forcesIntegrate();  // CpuSolver accumulateForces + integrate (+ collide when there is no self-collision)
   void selfCollide();      // CpuSolver selfCollide (+ collide): hash grid, then the Jacobi correction
   void limitStretch();     // CpuSolver limitStretch: sim.stretch_passes dispatches
-  bool collideFusedWithIntegrate() const { return !scene_.sim.self_collision; }
+  void solveXpbd();        // CpuSolver solveXpbd: sim.iterations sweeps of one dispatch per colour (XPBD only)
+  void collide();          // CpuSolver collide, XPBD without self-collision (else it is fused, see below)
+  bool collideFusedWithIntegrate() const {
+    return !scene_.sim.self_collision && scene_.sim.integrator == Integrator::Verlet;
+  }
   // Replaces the state (positions, displacements) and the substep count (wind depends on time), as
   // CpuSolver::setState; pin flags stay.
   void uploadState(const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& v, long long substeps);
@@ -201,12 +211,14 @@ class GpuSolver final : public Solver {
     kLimitStretch,
     kLimitStretchColoured,
     kOneGroup,
+    kXpbdColoured,
+    kCollide,
     kNormals,
     kPick,
     kHealth,
     kPassCount
   };
-  enum class Stage { Integrate, SelfCollide, Stretch };
+  enum class Stage { Integrate, Xpbd, Collide, SelfCollide, Stretch };
   // One dispatch of the substep. The plan is worked out once per scene (buildPlan(), again after a live
   // parameter change): step() runs it, passes() lists it (the -v listing and the bench print that), and
   // tests/gpu_solver_gl_test.cpp holds it against the dispatches really issued.
@@ -219,6 +231,7 @@ class GpuSolver final : public Solver {
     bool ping_pong;                      // reads one copy of the state and writes the other, which then is current
     std::uint32_t command = 0;           // Indirect: the PairDispatch command pairs_prepare wrote
     std::uint32_t first = 0, count = 0;  // Springs: one colour's range of the coloured springs
+    std::uint32_t sweep = 0;             // xpbd_colour: which sweep of the substep (0 resets the multipliers)
     bool writes_commands = false;        // a later dispatch reads its indirect arguments (command barrier)
     bool unless_checked = false;         // only when forces+integrate has not checked the travel (a stage run alone)
   };
@@ -231,7 +244,8 @@ class GpuSolver final : public Solver {
     gl::Program pairs_check, pairs_prepare, pairs_grid_count, pairs_count, pairs_scan[3], pairs_fill;
     gl::Program grid_build, grid_scan[3], grid_scatter, grid_rank;
     gl::Program limit_stretch, limit_stretch_coloured;
-    gl::Program one_group;  // the one-dispatch path, compiled when it is chosen
+    gl::Program one_group;               // the one-dispatch path, compiled when it is chosen
+    gl::Program xpbd_coloured, collide;  // XPBD only
     gl::Program health;
     gl::Program normals, pick[2];  // compiled on first use
   };
@@ -255,6 +269,7 @@ class GpuSolver final : public Solver {
   void checkLimits() const;
   void allocate();
   void allocateGrid();
+  void allocateLambda();
   void uploadParams();
   void uploadAdjacency();
   gl::Defines sceneDefines() const;
@@ -306,6 +321,7 @@ class GpuSolver final : public Solver {
   gl::Buffer point_mass_;  // PointMass per point, rewritten with the params
   SpringColouring colouring_;
   gl::Buffer coloured_springs_;              // ColouredSpring, enabled springs in colour order
+  gl::Buffer xpbd_lambda_;                   // float per coloured spring, XPBD with iterations > 1 only
   std::vector<std::uint32_t> colour_start_;  // colour c is coloured_springs_[colour_start_[c] .. [c+1])
   bool one_group_ = false;                   // the one-dispatch path runs this scene
   gl::Buffer colour_partners_;               // its ColourPartner table (Gauss-Seidel stretch)

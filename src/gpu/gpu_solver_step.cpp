@@ -94,6 +94,14 @@ void GpuSolver::limitStretch() {
     runStage(Stage::Stretch);
 }
 
+void GpuSolver::solveXpbd() {
+  runStage(Stage::Xpbd);
+}
+
+void GpuSolver::collide() {
+  runStage(Stage::Collide);
+}
+
 void GpuSolver::runStage(Stage stage) {
   bindShared();
   for (const PlannedDispatch& d : plan_)
@@ -112,13 +120,28 @@ void GpuSolver::buildPlan() {
     return;
   }
   add(kForcesIntegrate, Stage::Integrate, programs_.forces_integrate, Size::Points, true);
+  const bool xpbd = scene_.sim.integrator == Integrator::Xpbd;
+  if (xpbd) {
+    // In place, as the Gauss-Seidel stretch pass below (CpuSolver::solveXpbd).
+    for (int sweep = 0; sweep < scene_.sim.iterations; ++sweep)
+      for (std::size_t c = 0; c + 1 < colour_start_.size(); ++c) {
+        const std::uint32_t count = colour_start_[c + 1] - colour_start_[c];
+        if (count == 0) continue;
+        add(kXpbdColoured, Stage::Xpbd, programs_.xpbd_coloured, Size::Springs, false);
+        plan_.back().first = colour_start_[c];
+        plan_.back().count = count;
+        plan_.back().sweep = std::uint32_t(sweep);
+      }
+    const bool colliders = !scene_.spheres.empty() || !scene_.planes.empty() || !scene_.meshes.empty();
+    if (colliders && !scene_.sim.self_collision) add(kCollide, Stage::Collide, programs_.collide, Size::Points, true);
+  }
   // The candidate lists are rebuilt on the GPU's own decision (pairs_prepare writes the build's indirect
   // dispatch sizes), so no read-back stalls the substep; when the lists are fresh, the build's dispatches
   // run zero work groups.
   if (scene_.sim.self_collision) {
     const Stage stage = Stage::SelfCollide;
     add(kPairsCheck, stage, programs_.pairs_check, Size::Points, false);
-    plan_.back().unless_checked = true;
+    plan_.back().unless_checked = !xpbd;  // XPBD's prediction does not check: the sweeps move the points after it
     add(kPairsPrepare, stage, programs_.pairs_prepare, Size::One, false);
     plan_.back().writes_commands = true;
     add(kPairsGridCount, stage, programs_.pairs_grid_count, Size::Indirect, false, gpu::kPairDispatchPoints);
@@ -169,6 +192,10 @@ void GpuSolver::run(const PlannedDispatch& d) {
     program.setUniform("u_first", d.first);
     program.setUniform("u_count", d.count);
   }
+  if (d.pass == kXpbdColoured && scene_.sim.iterations > 1) {
+    xpbd_lambda_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingXpbdLambda);
+    program.setUniform("u_sweep", d.sweep);
+  }
   bindState(current_, 1 - current_);
   switch (d.size) {
     case PlannedDispatch::Size::Points:
@@ -187,7 +214,8 @@ void GpuSolver::run(const PlannedDispatch& d) {
   if (d.ping_pong) current_ = 1 - current_;
   if (d.writes_commands) glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
   // Integrate checks the travel for the lists when self-collision follows; self-collision consumes it.
-  if (d.pass == kForcesIntegrate) pairs_checked_ = scene_.sim.self_collision;
+  if (d.pass == kForcesIntegrate)
+    pairs_checked_ = scene_.sim.self_collision && scene_.sim.integrator == Integrator::Verlet;
   if (d.pass == kSelfCollide) pairs_checked_ = false;
 }
 
@@ -218,6 +246,13 @@ double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
           coloured ? colouring_.colourCount() * sizeof(gpu::ColourPartner) : kRange + entries * sizeof(gpu::Neighbor);
       return frame / scene_.sim.steps_per_frame + substep + scene_.sim.stretch_passes * stretch;
     }
+    case kXpbdColoured:  // per spring: the entry, both ends' state and inverse mass read, state written
+      return double(d.count) *
+             (sizeof(gpu::ColouredSpring) + 4 * kState + 2 * sizeof(gpu::PointMass) +
+              (scene_.sim.iterations > 1 ? 2 * sizeof(float) : 0)) /
+             n;
+    case kCollide:  // own state read and written
+      return 2 * kState;
     case kSelfCollide:  // own state, the list, each candidate's position; new state
       return kState + kRange + candidates * (sizeof(std::uint32_t) + sizeof(glm::vec4)) + kState;
     default:  // pairs_prepare: one invocation; the list build: zero work groups while the lists are fresh
@@ -264,6 +299,7 @@ std::string GpuSolver::passName(PassId pass) const {
   const bool colliders = !scene_.spheres.empty() || !scene_.planes.empty() || !scene_.meshes.empty();
   switch (pass) {
     case kForcesIntegrate:
+      if (scene_.sim.integrator == Integrator::Xpbd) return "forces+predict";
       return std::string("forces+integrate") + (scene_.sim.self_collision ? "+pairs_check"
                                                 : colliders               ? "+collide"
                                                                           : "");
@@ -303,6 +339,10 @@ std::string GpuSolver::passName(PassId pass) const {
       return "limit_stretch_colour";
     case kOneGroup:
       return "one_group";
+    case kXpbdColoured:
+      return "xpbd_colour";
+    case kCollide:
+      return "collide";
     case kNormals:
       return "normals";
     case kPick:
@@ -631,10 +671,10 @@ long long GpuSolver::deviceMemoryBytes() const {
   for (const StateBuffers& s : state_)
     total += s.position.size() + s.displacement.size();
   for (const gl::Buffer* b :
-       {&health_ring_, &params_,      &point_mass_, &offsets_,     &neighbors_,    &colliders_,          &health_,
-        &grid_points_, &grid_counts_, &grid_start_, &grid_blocks_, &grid_scatter_, &grid_sorted_,        &pair_control_,
-        &pair_anchor_, &pair_start_,  &pair_list_,  &normals_,     &tangents_,     &vertex_tri_offsets_, &vertex_tris_,
-        &triangles_,   &uvs_,         &pick_})
+       {&xpbd_lambda_,  &health_ring_, &params_,      &point_mass_, &offsets_,     &neighbors_,    &colliders_,
+        &health_,       &grid_points_, &grid_counts_, &grid_start_, &grid_blocks_, &grid_scatter_, &grid_sorted_,
+        &pair_control_, &pair_anchor_, &pair_start_,  &pair_list_,  &normals_,     &tangents_,     &vertex_tri_offsets_,
+        &vertex_tris_,  &triangles_,   &uvs_,         &pick_})
     total += b->size();
   return (long long)total;
 }
