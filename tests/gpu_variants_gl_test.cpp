@@ -66,7 +66,8 @@ TEST_P(GpuVariantTest, SceneYieldsItsDefinesAndOnlyItsFeaturesCode) {
   const gl::Defines expected = {{"NUM_SPHERES", std::to_string(c.spheres)},
                                 {"NUM_PLANES", std::to_string(c.planes)},
                                 {"SELF_COLLISION", c.self_collision ? "1" : "0"},
-                                {"WIND", c.wind ? "1" : "0"}};
+                                {"WIND", c.wind ? "1" : "0"},
+                                {"UNIFORM_MASS", "1"}};  // every standard scene is a grid: one weight for all
   EXPECT_EQ(gpu.defines(), expected);
 
   // The compiled program: the wind's time uniform exists only with wind.
