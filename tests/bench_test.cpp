@@ -192,6 +192,32 @@ TEST(Bench, BaselineComparisonPairsRunsAndPasses) {
   EXPECT_THROW(benchRunsFromJson(nlohmann::json::object()), std::runtime_error);
 }
 
+// --integrator verlet,xpbd: both integrators at every size, a run each, the scene's own when none is asked.
+TEST(Bench, EachIntegratorIsARunOfItsOwn) {
+  BenchOptions o;
+  o.scenes = {scenePath("pinned4.json")};
+  o.sizes = {6, 8};
+  o.solvers = {"cpu"};
+  o.frames = 1;
+  o.warmup = 0;
+  o.repeats = 1;
+  o.integrators = {"verlet", "xpbd"};
+  const BenchReport both = runBench(o);
+  ASSERT_EQ(both.runs.size(), 4u);
+  const std::vector<std::pair<int, std::string>> expected = {{6, "verlet"}, {6, "xpbd"}, {8, "verlet"}, {8, "xpbd"}};
+  for (std::size_t k = 0; k < expected.size(); ++k) {
+    EXPECT_EQ(both.runs[k].size, expected[k].first) << k;
+    EXPECT_EQ(both.runs[k].integrator, expected[k].second) << k;
+  }
+  EXPECT_NE(both.runs[0].passes.size(), both.runs[1].passes.size()) << "XPBD runs a pass of its own";
+  EXPECT_EQ(benchJson(both)["settings"]["integrators"], nlohmann::json({"verlet", "xpbd"}));
+  o.integrators.clear();
+  const BenchReport own = runBench(o);
+  ASSERT_EQ(own.runs.size(), 2u);
+  EXPECT_EQ(own.runs[0].integrator, "verlet");  // pinned4.json names none: Verlet
+  EXPECT_TRUE(benchJson(own)["settings"]["integrators"].is_null());
+}
+
 TEST(Bench, UnknownSolverIsBadInput) {
   SolverFactory factory;
   try {

@@ -877,8 +877,9 @@ TEST_F(GpuSolverTest, TheOneDispatchPathIsChosenWhereItFitsAndSaysWhyNot) {
   EXPECT_TRUE(gpu.oneDispatch());
   gpu.stepFrame();
   cpu.stepFrame();
-  if (gpu_test::bitIdenticalDevice(gpu.contextInfo()))
+  if (gpu_test::bitIdenticalDevice(gpu.contextInfo())) {
     EXPECT_EQ(gpu_test::changedPoints(gpu.readPositions(), cpu.readPositions()), 0);
+  }
 }
 
 // The pin flag rides in the positions' w as well as the displacements' (the Jacobi stretch limit gathers

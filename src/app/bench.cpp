@@ -169,22 +169,28 @@ BenchReport runBench(const BenchOptions& o, const std::function<void(const std::
   std::vector<Scene> scenes;
   for (const std::string& path : o.scenes) {
     scenes.push_back(loadScene(path));  // all bad input fails first
-    applyIntegrator(scenes.back(), o.integrator);
     // --sizes resamples the grid; a mesh is the size its file gives.
     if (!scenes.back().cloth.isGrid())
       throw SceneError(path + ": cloth.mesh: bench resamples grid cloths to --sizes; a mesh cloth has no grid");
   }
+  // "": the scene's own integrator.
+  const std::vector<std::string> integrators = o.integrators.empty() ? std::vector<std::string>{""} : o.integrators;
   SolverFactory factory({.skip_unavailable = true});
   std::size_t total = 0;
   for (const std::string& solver : o.solvers)
-    total += o.scenes.size() * o.sizes.size() * (isGpuSolver(solver) ? 1 : o.threads.size());
+    total += o.scenes.size() * o.sizes.size() * integrators.size() * (isGpuSolver(solver) ? 1 : o.threads.size());
   for (std::size_t s = 0; s < scenes.size(); ++s)
     for (int size : o.sizes)
-      for (const std::string& solver : o.solvers)
-        for (int threads : isGpuSolver(solver) ? std::vector<int>{0} : o.threads) {
-          report.runs.push_back(benchOne(factory, scenes[s], o.scenes[s], size, solver, o, threads));
-          if (progress) progress(fmt::format("[{}/{}] {}", report.runs.size(), total, describeRun(report.runs.back())));
-        }
+      for (const std::string& integrator : integrators) {
+        Scene scene = scenes[s];
+        applyIntegrator(scene, integrator);
+        for (const std::string& solver : o.solvers)
+          for (int threads : isGpuSolver(solver) ? std::vector<int>{0} : o.threads) {
+            report.runs.push_back(benchOne(factory, scene, o.scenes[s], size, solver, o, threads));
+            if (progress)
+              progress(fmt::format("[{}/{}] {}", report.runs.size(), total, describeRun(report.runs.back())));
+          }
+      }
   if (const GlInfo* gl = factory.glInfo()) report.gl = *gl;
   report.peak_gbs = o.peak_gbs > 0 ? o.peak_gbs : report.gl ? knownPeakGbs(report.gl->renderer) : 0.0;
   if (report.peak_gbs > 0)
@@ -246,7 +252,7 @@ nlohmann::json benchJson(const BenchReport& r) {
       {"warmup_frames", r.options.warmup},
       {"repeats", r.options.repeats},
       {"cpu_threads", r.options.threads},
-      {"integrator", r.options.integrator.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.options.integrator)}};
+      {"integrators", r.options.integrators.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.options.integrators)}};
   j["runs"] = nlohmann::json::array();
   for (const BenchRun& run : r.runs) {
     nlohmann::json o = {{"scene", run.scene},

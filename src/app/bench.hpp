@@ -23,7 +23,8 @@ struct BenchOptions {
   int repeats = 3;                 // timed repeats; median and spread are over these
   double budget_s = 10;            // timed seconds per run: slow runs time fewer frames per repeat (at least 1)
   double peak_gbs = 0;             // the device's peak memory bandwidth; 0: from knownPeakGbs(renderer), if listed
-  std::string integrator;          // "verlet" or "xpbd" replaces every scene's simulation.integrator; empty: as given
+  // Each of "verlet", "xpbd" in turn replaces every scene's simulation.integrator, a run each; empty: as given.
+  std::vector<std::string> integrators;
 };
 
 struct BenchPass {

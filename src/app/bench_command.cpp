@@ -34,7 +34,7 @@ struct BenchCommandOptions {
   std::string json;
   std::string markdown;
   std::string baseline;
-  std::string integrator;  // empty: each scene's
+  std::vector<std::string> integrators;  // empty: each scene's
 };
 
 // An earlier `drape bench --json` to compare with; read before the runs so a bad file costs nothing.
@@ -78,7 +78,7 @@ void runBenchCommand(const BenchCommandOptions& c) {
   o.repeats = c.repeats;
   o.budget_s = c.budget_s;
   o.peak_gbs = c.peak_gbs;
-  o.integrator = c.integrator;
+  o.integrators = c.integrators;
   // Output paths are checked before the runs, which may take minutes, not after them.
   if (!c.json.empty()) checkOutputFile(c.json);
   if (!c.markdown.empty()) checkOutputFile(c.markdown);
@@ -121,7 +121,9 @@ void addBenchCommand(CLI::App& app) {
   cmd->add_option("--peak-gbs", c->peak_gbs,
                   "The GPU's peak memory bandwidth in GB/s, for the share-of-peak column (default: known GPUs by name)")
       ->check(kPositive);
-  addIntegratorOption(cmd, c->integrator);
+  addListOption(cmd, "--integrator", c->integrators,
+                "Comma-separated integrators (verlet, xpbd), a run each; default: the scene's simulation.integrator")
+      ->check(CLI::IsMember({integratorName(Integrator::Verlet), integratorName(Integrator::Xpbd)}));
   cmd->add_option("--json", c->json, "Write the results as JSON here (default: stdout)");
   cmd->add_option("--markdown", c->markdown, "Write a markdown table of the results here");
   cmd->add_option(
