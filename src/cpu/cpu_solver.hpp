@@ -71,6 +71,10 @@ class CpuSolver final : public Solver {
   void applyCorrections();  // x += c, and v += c so that x_prev stays put
   void limitStretchColoured();
   void limitStretchJacobi();
+  // One Gauss-Seidel sweep over the enabled springs, colour after colour, each colour one parallel loop:
+  // f(k, s, spring) with k the spring's slot in the colouring and s its index.
+  template <class F>
+  void sweepColours(F&& f);
   vec3 pointNormal(int i) const;
   bool needsPass(int pass) const;
   template <class F>

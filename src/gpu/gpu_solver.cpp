@@ -393,7 +393,7 @@ void GpuSolver::compilePrograms() {
   programs_.health = gl::compileCompute("sim/health.comp", defines_);
   if (scene_.sim.integrator == Integrator::Xpbd) {
     programs_.xpbd_coloured = gl::compileCompute("sim/xpbd_coloured.comp", defines_);
-    const bool colliders = !scene_.spheres.empty() || !scene_.planes.empty() || !scene_.meshes.empty();
+    const bool colliders = hasColliders();
     if (colliders && !scene_.sim.self_collision) programs_.collide = gl::compileCompute("sim/collide.comp", defines_);
   }
   if (scene_.sim.self_collision) {

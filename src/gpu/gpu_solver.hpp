@@ -273,7 +273,10 @@ class GpuSolver final : public Solver {
   void uploadParams();
   void uploadAdjacency();
   gl::Defines sceneDefines() const;
-  bool uniformMass() const { return scene_.cloth.isGrid(); }  // every point's PointMass::weight is alike
+  bool uniformMass() const { return scene_.cloth.isGrid(); }
+  bool hasColliders() const {
+    return !scene_.spheres.empty() || !scene_.planes.empty() || !scene_.meshes.empty();
+  }  // every point's PointMass::weight is alike
   void compilePrograms();
   std::string passName(PassId pass) const;
   std::uint64_t maxBufferBytes() const;  // GpuSolverOptions::max_buffer_bytes, else GL_MAX_SHADER_STORAGE_BLOCK_SIZE

@@ -115,6 +115,17 @@ void GpuSolver::buildPlan() {
                           std::uint32_t command = 0) {
     plan_.push_back({pass, stage, &program, size, ping_pong, command});
   };
+  // One dispatch per colour with springs, each over that colour's range of the coloured springs.
+  const auto addColours = [&](PassId pass, Stage stage, const gl::Program& program, std::uint32_t sweep) {
+    for (std::size_t c = 0; c + 1 < colour_start_.size(); ++c) {
+      const std::uint32_t count = colour_start_[c + 1] - colour_start_[c];
+      if (count == 0) continue;
+      add(pass, stage, program, Size::Springs, false);
+      plan_.back().first = colour_start_[c];
+      plan_.back().count = count;
+      plan_.back().sweep = sweep;
+    }
+  };
   if (one_group_) {  // the frame's one dispatch (runOneGroup), not a list per substep
     add(kOneGroup, Stage::Integrate, programs_.one_group, Size::One, false);
     return;
@@ -124,16 +135,9 @@ void GpuSolver::buildPlan() {
   if (xpbd) {
     // In place, as the Gauss-Seidel stretch pass below (CpuSolver::solveXpbd).
     for (int sweep = 0; sweep < scene_.sim.iterations; ++sweep)
-      for (std::size_t c = 0; c + 1 < colour_start_.size(); ++c) {
-        const std::uint32_t count = colour_start_[c + 1] - colour_start_[c];
-        if (count == 0) continue;
-        add(kXpbdColoured, Stage::Xpbd, programs_.xpbd_coloured, Size::Springs, false);
-        plan_.back().first = colour_start_[c];
-        plan_.back().count = count;
-        plan_.back().sweep = std::uint32_t(sweep);
-      }
-    const bool colliders = !scene_.spheres.empty() || !scene_.planes.empty() || !scene_.meshes.empty();
-    if (colliders && !scene_.sim.self_collision) add(kCollide, Stage::Collide, programs_.collide, Size::Points, true);
+      addColours(kXpbdColoured, Stage::Xpbd, programs_.xpbd_coloured, std::uint32_t(sweep));
+    if (hasColliders() && !scene_.sim.self_collision)
+      add(kCollide, Stage::Collide, programs_.collide, Size::Points, true);
   }
   // The candidate lists are rebuilt on the GPU's own decision (pairs_prepare writes the build's indirect
   // dispatch sizes), so no read-back stalls the substep; when the lists are fresh, the build's dispatches
@@ -172,13 +176,7 @@ void GpuSolver::buildPlan() {
     }
     // In place on the current state: the springs of one colour share no point, and the storage barrier
     // after each dispatch lets the next colour see the moved points (CpuSolver::limitStretchColoured).
-    for (std::size_t c = 0; c + 1 < colour_start_.size(); ++c) {
-      const std::uint32_t count = colour_start_[c + 1] - colour_start_[c];
-      if (count == 0) continue;
-      add(kLimitStretchColoured, Stage::Stretch, programs_.limit_stretch_coloured, Size::Springs, false);
-      plan_.back().first = colour_start_[c];
-      plan_.back().count = count;
-    }
+    addColours(kLimitStretchColoured, Stage::Stretch, programs_.limit_stretch_coloured, 0);
   }
 }
 
@@ -270,7 +268,7 @@ double GpuSolver::bytesPerPointPerSubstep() const {
 std::vector<std::string> GpuSolver::passes() const {
   std::vector<std::string> out;
   if (one_group_) {  // the phases of the one dispatch, each substep
-    const bool colliders = !scene_.spheres.empty() || !scene_.planes.empty() || !scene_.meshes.empty();
+    const bool colliders = hasColliders();
     const bool self = scene_.sim.self_collision;
     out.push_back(std::string("in-group forces+integrate") + (colliders && !self ? "+collide" : ""));
     if (self) out.push_back(std::string("in-group self_collide") + (colliders ? "+collide" : ""));
@@ -296,7 +294,7 @@ double GpuSolver::dispatchesPerSubstep() const {
 }
 
 std::string GpuSolver::passName(PassId pass) const {
-  const bool colliders = !scene_.spheres.empty() || !scene_.planes.empty() || !scene_.meshes.empty();
+  const bool colliders = hasColliders();
   switch (pass) {
     case kForcesIntegrate:
       if (scene_.sim.integrator == Integrator::Xpbd) return "forces+predict";
