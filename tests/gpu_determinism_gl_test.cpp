@@ -17,11 +17,11 @@ const bool kThreaded = [] { return setenv("LP_NUM_THREADS", "2", 1) == 0; }();
 
 class GpuDeterminism : public GlTest {};
 
-TEST_F(GpuDeterminism, SelfCollisionRunsAreBitIdenticalAfter300Frames) {
+TEST_F(GpuDeterminism, SelfCollisionRunsAreBitIdenticalAfter150Frames) {
   ASSERT_TRUE(kThreaded);
   const Scene scene = gpu_test::standardScene("selfCollision.json");
   GpuSolver first(scene), second(scene);
-  constexpr int kFrames = 300;
+  constexpr int kFrames = 150;  // the cloth folds in ~20 and the lists are rebuilt throughout
   int checks = 0, raced = 0;
   for (int f = 1; f <= kFrames; ++f) {
     first.stepFrame();
@@ -59,11 +59,11 @@ TEST_F(GpuDeterminism, OneDispatchRunsAreBitIdenticalAndEqualTheGeneralPath) {
     GpuSolver first(scene, {.path = GpuPath::OneDispatch}), second(scene, {.path = GpuPath::OneDispatch});
     GpuSolver general(scene, {.path = GpuPath::General});
     ASSERT_TRUE(first.oneDispatch()) << first.oneDispatchMisfit();
-    for (int f = 1; f <= 120; ++f) {
+    for (int f = 1; f <= 60; ++f) {
       first.stepFrame();
       second.stepFrame();
       general.stepFrame();
-      if (f % 30 != 0) continue;
+      if (f % 20 != 0) continue;
       const auto x1 = first.readPositions();
       ASSERT_EQ(gpu_test::changedPoints(x1, second.readPositions()), 0) << "frame " << f;
       ASSERT_EQ(gpu_test::changedPoints(first.readDisplacements(), second.readDisplacements()), 0) << "frame " << f;

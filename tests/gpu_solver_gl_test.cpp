@@ -738,6 +738,7 @@ std::string kernelOf(const std::string& pass) {
       {"forces+predict", "forces_integrate.comp"},  // compiled with XPBD=1
       {"xpbd_colour", "xpbd_coloured.comp"},
       {"collide", "collide.comp"},
+      {"tether", "tether.comp"},
       {"pairs_check", "pairs_check.comp"},
       {"pairs_prepare", "pairs_prepare.comp"},
       {"pairs_grid_count", "pairs_grid_count.comp"},
@@ -801,7 +802,7 @@ TEST_F(GpuSolverTest, EveryBundledSceneDispatchesExactlyItsPassList) {
     }
   }
   // Variants no bundled scene has: the five-dispatch grid build, the Jacobi stretch scheme, three passes;
-  // XPBD with self-collision and two sweeps, and without it (its own collide pass).
+  // XPBD with self-collision and two sweeps, and without it (its own collide pass); tethers.
   Scene jacobi = standardScene("selfCollision.json");
   jacobi.sim.stretch_scheme = StretchScheme::Jacobi;
   jacobi.sim.stretch_passes = 3;
@@ -811,7 +812,9 @@ TEST_F(GpuSolverTest, EveryBundledSceneDispatchesExactlyItsPassList) {
   Scene xpbd_no_self = standardScene("plane.json");
   xpbd_no_self.sim.integrator = Integrator::Xpbd;
   xpbd_no_self.sim.self_collision = false;
-  for (const Scene& scene : {smallScene(80, true), jacobi, xpbd, xpbd_no_self}) {
+  Scene tethered = standardScene("pinned4.json");
+  tethered.sim.tethers = true;
+  for (const Scene& scene : {smallScene(80, true), jacobi, xpbd, xpbd_no_self, tethered}) {
     GpuSolver gpu(scene);
     const Strings real = recordFrame(gpu);
     EXPECT_EQ(int(real.size()), gpu.dispatchesPerFrame());

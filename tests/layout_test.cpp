@@ -124,6 +124,11 @@ TEST(Layout, ArrayElementsAreStd430) {
       sizeof(PointMass));
 }
 
+TEST(Layout, TetherIsTwoScalars) {
+  expectStd430("Tether", {MEMBER(Tether, anchor, Scalar), MEMBER(Tether, rest, Scalar)}, sizeof(Tether));
+  EXPECT_EQ(sizeof(Tether), 8u);
+}
+
 TEST(Layout, PerPointArraysHaveTheStridesTheKernelsAssume) {
   // vec4 positions/displacements/normals/tangents, vec2 uvs, uint indices: std430 strides 16, 8, 4.
   EXPECT_EQ(sizeof(glm::vec4), 16u);
@@ -139,7 +144,8 @@ TEST(Layout, BindingPointsAreDistinct) {
       kBindingGridStart, kBindingGridBlocks, kBindingGridScatter,      kBindingGridSorted,  kBindingHealth,
       kBindingNormals,   kBindingTangents,   kBindingVertexTriOffsets, kBindingVertexTris,  kBindingTriangles,
       kBindingUvs,       kBindingPick,       kBindingColouredSprings,  kBindingPairControl, kBindingPairAnchor,
-      kBindingPairStart, kBindingPairList,   kBindingPointMass,        kBindingXpbdLambda,  kBindingColourPartners};
+      kBindingPairStart, kBindingPairList,   kBindingPointMass,        kBindingXpbdLambda,  kBindingColourPartners,
+      kBindingTethers};
   EXPECT_EQ(kBindingCount, std::size(bindings)) << "kBindingCount is one more than the largest binding point";
   std::vector<bool> used(64, false);
   for (uint b : bindings) {

@@ -172,6 +172,7 @@ const PatchCase kPatchCases[] = {
   {"iterations_string", R"({"simulation": {"iterations": "2"}})", "simulation.iterations", "expected a number, got string"},
   {"iterations_endless", R"({"simulation": {"iterations": 2000000000}})", "simulation.iterations", "must be <= 100 (got 2000000000)"},
   {"stretch_limit_below_1", R"({"simulation": {"stretch_limit": 0.9}})", "simulation.stretch_limit", "must be >= 1"},
+  {"tethers_number", R"({"simulation": {"tethers": 1}})", "simulation.tethers", "expected true or false, got number"},
   {"wind_noise_scale_zero", R"({"simulation": {"wind": {"noise_scale": 0}}})", "simulation.wind.noise_scale", "must be > 0"},
   {"wind_drag_negative", R"({"simulation": {"wind": {"drag": -1}}})", "simulation.wind.drag", "must be >= 0"},
   {"wind_turbulence_negative", R"({"simulation": {"wind": {"turbulence": -0.5}}})", "simulation.wind.turbulence", "must be >= 0"},
@@ -527,6 +528,8 @@ TEST(SceneValues, IntegratorAndIterationsAreRead) {
   EXPECT_EQ(scene.sim.iterations, 4);
   const Scene verlet = parseScene("{" + kCloth + R"(, "simulation": {"integrator": "verlet"}})", "verlet.json");
   EXPECT_EQ(verlet.sim.integrator, Integrator::Verlet);
+  EXPECT_FALSE(verlet.sim.tethers);  // CS184 has none
+  EXPECT_TRUE(parseScene("{" + kCloth + R"(, "simulation": {"tethers": true}})", "t.json").sim.tethers);
 }
 
 TEST(SceneValues, SingleAndListCollidersCombineSingleFirst) {

@@ -138,7 +138,7 @@ TEST(ViewerPanel, StepsPerFrameAndSelfCollisionChangeWhatTheSolverDispatches) {
   EXPECT_EQ(v.solver().scene().cloth.damping, 0.0);
 }
 
-TEST(ViewerPanel, TheXpbdCheckboxSwitchesTheRunningSolversIntegrator) {
+TEST(ViewerPanel, TheXpbdAndTethersCheckboxesSwitchTheRunningSolver) {
   RUN_WITH_DISPLAY();
   PanelSession s(pinned2());
   Viewer& v = *s.viewer;
@@ -155,6 +155,11 @@ TEST(ViewerPanel, TheXpbdCheckboxSwitchesTheRunningSolversIntegrator) {
   EXPECT_EQ(v.solver().scene().sim.iterations, 10);
   const std::vector<std::string> swept = v.solver().passes();
   EXPECT_EQ(std::count(swept.begin(), swept.end(), "xpbd_colour"), 120);
+  // Tethers to the pins, live: built on the first click, a pass before the stretch limit.
+  s.click(s.control("tethers").centre());
+  EXPECT_TRUE(v.solver().scene().sim.tethers);
+  const std::vector<std::string> tethered = v.solver().passes();
+  EXPECT_EQ(std::count(tethered.begin(), tethered.end(), "tether"), 1);
   for (int i = 0; i < 20; ++i)
     s.frame(s.away, false);
   EXPECT_TRUE(v.blowUp().empty()) << v.blowUp();

@@ -53,7 +53,8 @@ DRAPE_CONSTANT(uint, kBindingXpbdLambda, 28u);  // float per coloured spring: XP
 // The one-dispatch path (glsl/sim/one_group.comp): per spring colour and point, the point's spring of
 // that colour, if any (ColourPartner, colour-major).
 DRAPE_CONSTANT(uint, kBindingColourPartners, 29u);
-DRAPE_CONSTANT(uint, kBindingCount, 30u);  // binding points used: one more than the largest
+DRAPE_CONSTANT(uint, kBindingTethers, 30u);  // Tether per point and slot (TETHER_SLOTS a point), point-major
+DRAPE_CONSTANT(uint, kBindingCount, 31u);    // binding points used: one more than the largest
 
 // Work-group sizes, shared so C++ computes group counts from the same numbers.
 DRAPE_CONSTANT(uint, kLocalSize, 128u);      // per-point and per-bucket kernels
@@ -130,6 +131,13 @@ DRAPE_CONSTANT(uint, kNoPartner, 0xffffffffu);
 struct ColourPartner {
   uint other;  // the spring's other end; kNoPartner: the point has no spring of this colour
   float rest;  // m
+};
+
+// A point's tie to one of its nearest pins (src/core/tethers.hpp). 8 bytes.
+DRAPE_CONSTANT(uint, kNoTether, 0xffffffffu);
+struct Tether {
+  uint anchor;  // the pinned point; kNoTether: an unused slot
+  float rest;   // m, the distance to it along the cloth at rest
 };
 
 // What a point does not share with the others on a mesh cloth: its weight and inverse mass, and its wind

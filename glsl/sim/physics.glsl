@@ -108,6 +108,16 @@ float stretchShare(bool pinned_i, bool pinned_j) {
   return pinned_i ? 0.0 : pinned_j ? 1.0 : 0.5;
 }
 
+// Long-range attachment of a free point to a pinned anchor (physics.hpp explains).
+vec3 tetherCorrection(vec3 x, vec3 anchor, float rest, float limit) {
+  precise vec3 d = anchor - x;
+  precise float len = length3(d);
+  precise float max_len = limit * rest;
+  if (len <= max_len) return vec3(0.0);
+  precise vec3 r = ((len - max_len) / len) * d;
+  return r;
+}
+
 // XPBD distance constraint of one spring (physics.hpp explains): returns dlambda, and in p the step
 // dlambda * unit(xb - xa); a moves by -w_a p, b by +w_b p.
 float xpbdDistanceCorrection(vec3 xa, vec3 xb, float rest, float w_sum, float alpha_tilde, float lambda, out vec3 p) {

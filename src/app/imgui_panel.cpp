@@ -144,6 +144,8 @@ void ImGuiPanel::drawParameters(Viewer& viewer) {
     changed |= track(sliderDouble("turbulence", s.wind.turbulence, 0.0, 2.0, "%.2f", 0), "turbulence");
   }
   changed |= track(ImGui::SliderInt("stretch passes", &s.stretch_passes, 0, 10), "stretch passes");
+  ImGui::SameLine();
+  changed |= track(ImGui::Checkbox("tethers", &s.tethers), "tethers");
   // Verlet or XPBD, switched live: both run on the same state (x and x - x_prev).
   bool xpbd = s.integrator == Integrator::Xpbd;
   if (track(ImGui::Checkbox("xpbd", &xpbd), "xpbd")) {

@@ -494,7 +494,7 @@ Integrator readIntegrator(const Node& n) {
 
 SimParams readSimulation(const Node& n) {
   n.expectObject({"frames_per_sec", "steps_per_frame", "gravity", "self_collision", "stretch_passes", "stretch_limit",
-                  "stretch_scheme", "integrator", "iterations", "wind"});
+                  "stretch_scheme", "tethers", "integrator", "iterations", "wind"});
   SimParams s;
   if (auto v = n.find("frames_per_sec")) s.frames_per_sec = positive(*v);
   if (auto v = n.find("steps_per_frame")) s.steps_per_frame = integerBetween(*v, 1, kMaxStepsPerFrame);
@@ -503,6 +503,7 @@ SimParams readSimulation(const Node& n) {
   if (auto v = n.find("stretch_passes")) s.stretch_passes = integerBetween(*v, 0, kMaxStretchPasses);
   if (auto v = n.find("stretch_limit")) s.stretch_limit = atLeast(*v, 1.0);
   if (auto v = n.find("stretch_scheme")) s.stretch_scheme = readStretchScheme(*v);
+  if (auto v = n.find("tethers")) s.tethers = v->boolean();
   if (auto v = n.find("integrator")) s.integrator = readIntegrator(*v);
   if (auto v = n.find("iterations")) s.iterations = integerBetween(*v, 1, kMaxIterations);
   if (auto v = n.find("wind")) s.wind = readWind(*v);

@@ -104,6 +104,9 @@ struct SimParams {
   // How a stretch pass visits the springs: Gauss-Seidel over a colouring (each spring as CS184's sequential
   // Provot pass does it, springs of one colour sharing no point) or the older averaged per-point Jacobi.
   StretchScheme stretch_scheme = StretchScheme::GaussSeidel;
+  // Long-range attachments (core/tethers.hpp): every free point at most stretch_limit times its rest
+  // distance from its nearest pins. Off by default (CS184 has none); what holds a fine cloth from pins.
+  bool tethers = false;
   Integrator integrator = Integrator::Verlet;
   int iterations = 1;  // XPBD: Gauss-Seidel sweeps over the springs per substep (Small Steps: 1)
   WindSpec wind;

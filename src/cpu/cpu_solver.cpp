@@ -12,9 +12,9 @@ namespace drape {
 
 namespace {
 
-enum PassId { kForces, kIntegrate, kXpbd, kSelfCollide, kCollide, kLimitStretch, kPassCount };
-const char* const kPassNames[kPassCount] = {"forces",       "integrate", "xpbd_solve",
-                                            "self_collide", "collide",   "limit_stretch"};
+enum PassId { kForces, kIntegrate, kXpbd, kSelfCollide, kCollide, kTether, kLimitStretch, kPassCount };
+const char* const kPassNames[kPassCount] = {"forces",  "integrate",     "xpbd_solve",   "self_collide",
+                                            "collide", kTetherPassName, "limit_stretch"};
 
 }  // namespace
 
@@ -65,6 +65,11 @@ void CpuSolver<T>::refreshDerived() {
   stiffness_.k[int(SpringType::Bending)] = T(derived::bendingStiffness(c));
   for (int t = 0; t < kSpringTypeCount; ++t)
     alpha_tilde_.k[t] = T(derived::xpbdAlphaTilde(c, scene_.sim, SpringType(t)));
+  // Built the first time a scene or a live change asks for them: a Dijkstra search over the cloth.
+  if (scene_.sim.tethers && tether_rest_.empty() && tethers_.slots == 0) {
+    tethers_ = buildTethers(topo_);
+    tether_rest_.assign(tethers_.rest.begin(), tethers_.rest.end());
+  }
 }
 
 template <class T>
@@ -94,6 +99,8 @@ bool CpuSolver<T>::needsPass(int pass) const {
       return scene_.sim.self_collision;
     case kCollide:
       return !scene_.spheres.empty() || !scene_.planes.empty() || !scene_.meshes.empty();
+    case kTether:
+      return scene_.sim.tethers && tethers_.slots > 0;
     case kLimitStretch:
       return scene_.sim.stretch_passes > 0;
     default:
@@ -125,6 +132,7 @@ void CpuSolver<T>::step() {
   if (needsPass(kXpbd)) timed(kXpbd, [&] { solveXpbd(); });
   if (needsPass(kSelfCollide)) timed(kSelfCollide, [&] { selfCollide(); });
   if (needsPass(kCollide)) timed(kCollide, [&] { collide(); });
+  if (needsPass(kTether)) timed(kTether, [&] { tether(); });
   if (needsPass(kLimitStretch)) timed(kLimitStretch, [&] { limitStretch(); });
   ++substeps_;
 }
@@ -240,6 +248,27 @@ void CpuSolver<T>::sweepColours(F&& f) {
       if (enabled[int(sp.type)]) f(std::size_t(k), s, sp);
     });
   }
+}
+
+// Each free point, slot after slot, back within the stretch limit of its anchors. The anchors are pinned
+// and never move here, so the points are independent and the loop is parallel.
+template <class T>
+void CpuSolver<T>::tether() {
+  const bool displacement = form_ == VerletForm::Displacement;
+  const std::size_t slots = std::size_t(tethers_.slots);
+  const T limit = T(scene_.sim.stretch_limit);
+  const long long n = (long long)x_.size();
+  parallelFor(0, n, threads_, [&](long long p) {
+    const std::size_t i = std::size_t(p);
+    if (topo_.pinned[i]) return;
+    for (std::size_t s = 0; s < slots; ++s) {
+      const std::uint32_t anchor = tethers_.anchor[i * slots + s];
+      if (anchor == kNoAnchor) break;
+      const vec3 c = physics::tetherCorrection(x_[i], x_[anchor], tether_rest_[i * slots + s], limit);
+      x_[i] += c;
+      if (displacement) v_[i] += c;  // x_prev stays: v = x - x_prev
+    }
+  });
 }
 
 template <class T>

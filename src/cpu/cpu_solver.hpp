@@ -5,6 +5,7 @@
 #include "core/colouring.hpp"
 #include "core/derived.hpp"
 #include "core/solver.hpp"
+#include "core/tethers.hpp"
 #include "cpu/collision_pairs.hpp"
 #include "cpu/physics.hpp"
 
@@ -42,6 +43,7 @@ class CpuSolver final : public Solver {
   void solveXpbd();         // XPBD: sim.iterations Gauss-Seidel sweeps of the springs as distance constraints
   void selfCollide();       // candidate lists, Jacobi, averaged, / steps_per_frame
   void collide();           // each sphere, then each plane
+  void tether();            // long-range attachments to the pins (core/tethers.hpp), when the scene asks
   void limitStretch();      // Provot, sim.stretch_passes passes (Gauss-Seidel over colours, or Jacobi)
 
   void reset() override;
@@ -62,6 +64,7 @@ class CpuSolver final : public Solver {
   const std::vector<T>& masses() const { return mass_; }
   int threads() const override { return threads_; }
   const CollisionPairs<T>& collisionPairs() const { return pairs_; }
+  const Tethers& tethers() const { return tethers_; }
 
  private:
   struct Stiffness {
@@ -90,6 +93,8 @@ class CpuSolver final : public Solver {
   std::vector<T> rest_adjacent_;  // per adjacency entry, in T
   CollisionPairs<T> pairs_;
   SpringColouring colouring_;
+  Tethers tethers_;  // empty until the scene asks for tethers
+  std::vector<T> tether_rest_;
   std::vector<T> mass_, inv_mass_, drag_area_;  // per point (derived::pointMass, dragArea)
   T dt_ = 0, keep_ = 1;
   Stiffness stiffness_{};

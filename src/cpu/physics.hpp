@@ -117,6 +117,17 @@ DRAPE_PHYSICS_INLINE T stretchShare(bool pinned_i, bool pinned_j) {
   return pinned_i ? T(0) : pinned_j ? T(1) : T(0.5);
 }
 
+// Long-range attachment (core/tethers.hpp) of a free point x to a pinned anchor: if x is further than
+// limit*rest from it, x moves straight back to that distance. One-sided: a tether never pushes.
+template <class T>
+DRAPE_PHYSICS_INLINE vec3<T> tetherCorrection(vec3<T> x, vec3<T> anchor, T rest, T limit) {
+  vec3<T> d = anchor - x;
+  T len = glm::length(d);
+  T max_len = limit * rest;
+  if (len <= max_len) return vec3<T>(0);
+  return ((len - max_len) / len) * d;
+}
+
 // XPBD (Macklin, Mueller, Chentanez 2016) for one spring as a distance constraint C = |xb - xa| - rest of
 // compliance 1/k, alpha_tilde = 1/(k dt^2) from the host. Returns the change of the spring's multiplier,
 // dlambda = (-C - alpha_tilde lambda) / (w_sum + alpha_tilde), where w_sum = w_a + w_b (inverse masses,

@@ -2,6 +2,7 @@
 
 #include "core/cloth_mesh.hpp"
 #include "core/derived.hpp"
+#include "core/tethers.hpp"
 #include "gl/shader.hpp"
 #include "gpu/layout.hpp"
 #include "gpu/mesh_colliders.hpp"
@@ -73,6 +74,7 @@ GpuSolver::GpuSolver(Scene scene, GpuSolverOptions options, gl::HeadlessContext 
   timer_queries_ = options_.timing && gl::timerQueriesWork();
   resetTimings();
   allocateLambda();
+  allocateTethers();
   compilePrograms();
   choosePath(true);
   buildPlan();
@@ -85,6 +87,20 @@ void GpuSolver::allocateLambda() {
   if (scene_.sim.integrator != Integrator::Xpbd || scene_.sim.iterations <= 1) return;
   const std::size_t bytes = std::max<std::size_t>(colour_start_.back(), 1) * sizeof(float);
   if (xpbd_lambda_.id() == 0 || xpbd_lambda_.size() < bytes) xpbd_lambda_ = gl::Buffer::create(bytes, nullptr, 0);
+}
+
+void GpuSolver::allocateTethers() {
+  if (!scene_.sim.tethers || tethers_.id() != 0) return;
+  static_assert(gpu::kNoTether == kNoAnchor);
+  const Tethers t = buildTethers(topo_);
+  tether_slots_ = t.slots;
+  if (t.slots == 0) return;
+  std::vector<gpu::Tether> entries(t.anchor.size());
+  for (std::size_t k = 0; k < entries.size(); ++k)
+    entries[k] = {t.anchor[k], float(t.rest[k])};
+  tethers_ = gl::Buffer::fromVector(entries, 0);
+  // Its code depends on nothing in the scene but the slots.
+  programs_.tether = gl::compileCompute("sim/tether.comp", {{"TETHER_SLOTS", std::to_string(t.slots)}});
 }
 
 GpuSolver::~GpuSolver() {
@@ -452,6 +468,7 @@ std::uint32_t GpuSolver::oneGroupBuckets() const {
 }
 
 std::string GpuSolver::oneDispatchMisfit() const {
+  if (usesTethers()) return "tethers run on the general path only (one_group.comp has no tether phase)";
   if (scene_.sim.integrator == Integrator::Xpbd)
     return "the xpbd integrator runs on the general path only (one_group.comp has Verlet's phases)";
   GLint shared = 0;
@@ -517,6 +534,7 @@ void GpuSolver::setParams(const ClothSpec& cloth, const SimParams& sim) {
   checkLimits();
   if (springs_changed) uploadAdjacency();
   allocateLambda();
+  allocateTethers();
   if (scene_.sim.self_collision && grid_points_.id() == 0) allocateGrid();
   uploadParams();
   invalidatePairs();  // thickness may have changed, and with it the lists' reach

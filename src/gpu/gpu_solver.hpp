@@ -139,6 +139,8 @@ class GpuSolver final : public Solver {
   void limitStretch();     // CpuSolver limitStretch: sim.stretch_passes dispatches
   void solveXpbd();        // CpuSolver solveXpbd: sim.iterations sweeps of one dispatch per colour (XPBD only)
   void collide();          // CpuSolver collide, XPBD without self-collision (else it is fused, see below)
+  void tether();           // CpuSolver tether: the long-range attachments, when the scene has them and pins
+  bool usesTethers() const { return scene_.sim.tethers && tether_slots_ > 0; }
   bool collideFusedWithIntegrate() const {
     return !scene_.sim.self_collision && scene_.sim.integrator == Integrator::Verlet;
   }
@@ -213,12 +215,13 @@ class GpuSolver final : public Solver {
     kOneGroup,
     kXpbdColoured,
     kCollide,
+    kTether,
     kNormals,
     kPick,
     kHealth,
     kPassCount
   };
-  enum class Stage { Integrate, Xpbd, Collide, SelfCollide, Stretch };
+  enum class Stage { Integrate, Xpbd, Collide, SelfCollide, Tether, Stretch };
   // One dispatch of the substep. The plan is worked out once per scene (buildPlan(), again after a live
   // parameter change): step() runs it, passes() lists it (the -v listing and the bench print that), and
   // tests/gpu_solver_gl_test.cpp holds it against the dispatches really issued.
@@ -246,6 +249,7 @@ class GpuSolver final : public Solver {
     gl::Program limit_stretch, limit_stretch_coloured;
     gl::Program one_group;               // the one-dispatch path, compiled when it is chosen
     gl::Program xpbd_coloured, collide;  // XPBD only
+    gl::Program tether;                  // compiled when the scene first asks for tethers
     gl::Program health;
     gl::Program normals, pick[2];  // compiled on first use
   };
@@ -270,6 +274,7 @@ class GpuSolver final : public Solver {
   void allocate();
   void allocateGrid();
   void allocateLambda();
+  void allocateTethers();  // the first time the scene asks for them: anchors on the CPU, the buffer, the kernel
   void uploadParams();
   void uploadAdjacency();
   gl::Defines sceneDefines() const;
@@ -328,6 +333,8 @@ class GpuSolver final : public Solver {
   std::vector<std::uint32_t> colour_start_;  // colour c is coloured_springs_[colour_start_[c] .. [c+1])
   bool one_group_ = false;                   // the one-dispatch path runs this scene
   gl::Buffer colour_partners_;               // its ColourPartner table (Gauss-Seidel stretch)
+  gl::Buffer tethers_;                       // Tether per point and slot, once the scene asks for them
+  int tether_slots_ = 0;                     // anchors per point; 0: none built, or a cloth without pins
   gl::Defines one_group_defines_;            // what its kernel was compiled with
   gl::Buffer grid_points_, grid_counts_, grid_start_, grid_blocks_, grid_scatter_, grid_sorted_;
   gl::Buffer pair_control_, pair_anchor_, pair_start_, pair_list_;

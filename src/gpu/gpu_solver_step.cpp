@@ -1,4 +1,5 @@
 // GpuSolver: the substep as a list of dispatches, the state's ping-pong, timing and read-back.
+#include "core/tethers.hpp"
 #include "gpu/gpu_solver.hpp"
 #include "gpu/layout.hpp"
 
@@ -102,6 +103,10 @@ void GpuSolver::collide() {
   runStage(Stage::Collide);
 }
 
+void GpuSolver::tether() {
+  runStage(Stage::Tether);
+}
+
 void GpuSolver::runStage(Stage stage) {
   bindShared();
   for (const PlannedDispatch& d : plan_)
@@ -169,6 +174,8 @@ void GpuSolver::buildPlan() {
     add(kPairsFill, stage, programs_.pairs_fill, Size::Indirect, false, gpu::kPairDispatchPoints);
     add(kSelfCollide, stage, programs_.self_collide, Size::Points, true);
   }
+  // In place: a point writes only itself and reads only anchors, which are pinned.
+  if (usesTethers()) add(kTether, Stage::Tether, programs_.tether, Size::Points, false);
   for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass) {
     if (scene_.sim.stretch_scheme == StretchScheme::Jacobi) {
       add(kLimitStretch, Stage::Stretch, programs_.limit_stretch, Size::Points, true);
@@ -190,6 +197,7 @@ void GpuSolver::run(const PlannedDispatch& d) {
     program.setUniform("u_first", d.first);
     program.setUniform("u_count", d.count);
   }
+  if (d.pass == kTether) tethers_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingTethers);
   if (d.pass == kXpbdColoured && scene_.sim.iterations > 1) {
     xpbd_lambda_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingXpbdLambda);
     program.setUniform("u_sweep", d.sweep);
@@ -251,6 +259,8 @@ double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
              n;
     case kCollide:  // own state read and written
       return 2 * kState;
+    case kTether:  // own state, each slot's entry and anchor position; own state written
+      return kState + tether_slots_ * (sizeof(gpu::Tether) + sizeof(glm::vec4)) + kState;
     case kSelfCollide:  // own state, the list, each candidate's position; new state
       return kState + kRange + candidates * (sizeof(std::uint32_t) + sizeof(glm::vec4)) + kState;
     default:  // pairs_prepare: one invocation; the list build: zero work groups while the lists are fresh
@@ -341,6 +351,8 @@ std::string GpuSolver::passName(PassId pass) const {
       return "xpbd_colour";
     case kCollide:
       return "collide";
+    case kTether:
+      return kTetherPassName;
     case kNormals:
       return "normals";
     case kPick:
@@ -668,11 +680,12 @@ long long GpuSolver::deviceMemoryBytes() const {
   std::size_t total = 0;
   for (const StateBuffers& s : state_)
     total += s.position.size() + s.displacement.size();
-  for (const gl::Buffer* b :
-       {&xpbd_lambda_,  &health_ring_, &params_,      &point_mass_, &offsets_,     &neighbors_,    &colliders_,
-        &health_,       &grid_points_, &grid_counts_, &grid_start_, &grid_blocks_, &grid_scatter_, &grid_sorted_,
-        &pair_control_, &pair_anchor_, &pair_start_,  &pair_list_,  &normals_,     &tangents_,     &vertex_tri_offsets_,
-        &vertex_tris_,  &triangles_,   &uvs_,         &pick_})
+  for (const gl::Buffer* b : {&xpbd_lambda_,        &health_ring_,     &params_,       &point_mass_,  &offsets_,
+                              &neighbors_,          &colliders_,       &health_,       &grid_points_, &grid_counts_,
+                              &grid_start_,         &grid_blocks_,     &grid_scatter_, &grid_sorted_, &pair_control_,
+                              &pair_anchor_,        &pair_start_,      &pair_list_,    &normals_,     &tangents_,
+                              &vertex_tri_offsets_, &vertex_tris_,     &triangles_,    &uvs_,         &pick_,
+                              &coloured_springs_,   &colour_partners_, &tethers_})
     total += b->size();
   return (long long)total;
 }

@@ -1,0 +1,137 @@
+// The tether pass on the GPU against CpuSolver<float>: the pass alone from a stretched state, whole runs
+// with either integrator (tethers switched on live in one), and what a substep dispatches. Bit for bit
+// on llvmpipe, as every other pass (docs/design.md section 7).
+#include "core/tethers.hpp"
+#include "gl_fixture.hpp"
+#include "gpu/gpu_solver.hpp"
+#include "gpu_test_support.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+
+namespace drape {
+namespace {
+
+using gpu_test::changedPoints;
+using gpu_test::floatUlp;
+using gpu_test::maxAbs;
+using gpu_test::maxComponentDifference;
+
+// As the other GL tests that compare: llvmpipe's work groups racing, so that an order dependence shows.
+const bool kThreaded = [] { return setenv("LP_NUM_THREADS", "2", 1) == 0; }();
+
+constexpr double kUlps = 4.0;  // per pass, where the driver may round division and square root differently
+
+Scene tethered(const char* file, Integrator integrator) {
+  Scene scene = gpu_test::standardScene(file);
+  scene.sim.tethers = true;
+  scene.sim.integrator = integrator;
+  return scene;
+}
+
+class GpuTethers : public GlTest {};
+
+// pinned4 stretched away from its first pin by 0 to 40% (half the points beyond some tether's limit).
+TEST_F(GpuTethers, ThePassMatchesTheCpuFloatPass) {
+  ASSERT_TRUE(kThreaded);
+  const Scene scene = tethered("pinned4.json", Integrator::Verlet);
+  CpuSolver<float> cpu(scene);
+  GpuSolver gpu(scene);
+  ASSERT_TRUE(gpu.usesTethers());
+  const Topology& t = cpu.topology();
+  const glm::dvec3 pin = t.initial_positions[0];
+  std::vector<glm::dvec3> x(t.initial_positions.size()), v(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    x[i] = t.pinned[i] ? t.initial_positions[i]
+                       : gpu_test::asFloat(pin + (1.0 + 0.4 * double(i % 7) / 6.0) * (t.initial_positions[i] - pin));
+    v[i] = gpu_test::asFloat(glm::dvec3(0.001 * double(i % 3), -0.002, 0));
+  }
+  cpu.setState(x, v);
+  cpu.tether();
+  gpu.uploadState(x, v, 0);
+  gpu.tether();
+  const auto xc = cpu.readPositions(), xg = gpu.readPositions();
+  const double bound = gpu_test::bitIdenticalDevice(info()) ? 0.0 : kUlps * floatUlp(maxAbs(x));
+  const double dx = maxComponentDifference(xc, xg);
+  const double dv = maxComponentDifference(cpu.readDisplacements(), gpu.readDisplacements());
+  std::printf("tether pass: moved %d of %zu points, max |dx| %.3g m, max |dv| %.3g m (bound %.3g m)\n",
+              changedPoints(x, xc), x.size(), dx, dv, bound);
+  EXPECT_GT(changedPoints(x, xc), int(x.size()) / 4);
+  EXPECT_LE(dx, bound);
+  EXPECT_LE(dv, bound);
+}
+
+struct RunCase {
+  const char* name;
+  const char* scene;
+  Integrator integrator;
+  int tethers_from;    // the frame after which both solvers switch tethers on (0: from the start)
+  double ks;           // N/m
+  int stretch_passes;  // with the scene's 1, the stretch limit keeps a 50 x 50 cloth off its tethers
+};
+
+class GpuTethersRun : public GlTest, public ::testing::WithParamInterface<RunCase> {};
+
+// Compared every frame, bit for bit on llvmpipe; elsewhere each substep may add the per-pass bound.
+TEST_P(GpuTethersRun, StaysWithTheCpuFloatRun) {
+  ASSERT_TRUE(kThreaded);
+  const RunCase c = GetParam();
+  Scene scene = tethered(c.scene, c.integrator);
+  scene.sim.tethers = c.tethers_from == 0;
+  scene.cloth.ks = c.ks;
+  scene.sim.stretch_passes = c.stretch_passes;
+  GpuSolver gpu(scene);
+  CpuSolver<float> cpu(scene);
+  Scene without = scene;
+  without.sim.tethers = false;
+  CpuSolver<float> untethered(without);
+  const double size = clothSize(scene.cloth);
+  for (int f = 1; f <= 45; ++f) {
+    untethered.stepFrame();
+    if (f == c.tethers_from + 1 && !scene.sim.tethers) {
+      scene.sim.tethers = true;
+      gpu.setParams(scene.cloth, scene.sim);
+      cpu.setParams(scene.cloth, scene.sim);
+      ASSERT_TRUE(gpu.usesTethers());
+    }
+    gpu.stepFrame();
+    cpu.stepFrame();
+    const auto xg = gpu.readPositions(), xc = cpu.readPositions();
+    const double bound = gpu_test::bitIdenticalDevice(gpu.contextInfo())
+                             ? 0.0
+                             : double(gpu.substeps()) * kUlps * floatUlp(std::max(maxAbs(xc), 1.0)) / size;
+    ASSERT_LE(maxDeviation(xg, xc) / size, bound) << c.name << " frame " << f;
+    if (bound == 0.0) {
+      ASSERT_EQ(changedPoints(gpu.readDisplacements(), cpu.readDisplacements()), 0) << "frame " << f;
+    }
+  }
+  EXPECT_TRUE(gpu.health().ok());
+  EXPECT_GT(changedPoints(cpu.readPositions(), untethered.readPositions()), 0) << "the tethers must have acted";
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, GpuTethersRun,
+                         ::testing::Values(RunCase{"pinned2_xpbd", "pinned2.json", Integrator::Xpbd, 0, 500, 0},
+                                           RunCase{"pinned4_verlet_live", "pinned4.json", Integrator::Verlet, 15, 5000,
+                                                   0}),
+                         [](const ::testing::TestParamInfo<RunCase>& p) { return std::string(p.param.name); });
+
+// The pass runs after the collisions and before the stretch limit, on the general path; a cloth without
+// pins has no tethers to run, and the one-dispatch path says why it does not take them.
+TEST_F(GpuTethers, TheyRunOnTheGeneralPathBeforeTheStretchLimit) {
+  GpuSolver gpu(tethered("pinned2.json", Integrator::Verlet));
+  const std::vector<std::string> passes = gpu.passes();
+  const auto at = std::find(passes.begin(), passes.end(), kTetherPassName);
+  ASSERT_NE(at, passes.end());
+  EXPECT_EQ(at - passes.begin(), 1) << "after forces+integrate (+collide)";
+  EXPECT_EQ(*(at + 1), "limit_stretch_colour");
+  EXPECT_FALSE(gpu.oneDispatch());
+  EXPECT_NE(gpu.oneDispatchMisfit().find("tethers"), std::string::npos) << gpu.oneDispatchMisfit();
+  GpuSolver sphere(tethered("sphere.json", Integrator::Verlet));
+  EXPECT_FALSE(sphere.usesTethers());
+  const std::vector<std::string> sphere_passes = sphere.passes();
+  EXPECT_EQ(std::count(sphere_passes.begin(), sphere_passes.end(), kTetherPassName), 0);
+}
+
+}  // namespace
+}  // namespace drape
