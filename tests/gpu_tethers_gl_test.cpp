@@ -32,13 +32,17 @@ Scene tethered(const char* file, Integrator integrator) {
 
 class GpuTethers : public GlTest {};
 
-// pinned4 stretched away from its first pin by 0 to 40% (half the points beyond some tether's limit).
-TEST_F(GpuTethers, ThePassMatchesTheCpuFloatPass) {
+class GpuTethersPass : public GlTest, public ::testing::WithParamInterface<GpuPath> {};
+
+// pinned4 stretched away from its first pin by 0 to 40% (half the points beyond some tether's limit), on
+// each path: tether.comp, and the one-dispatch kernel's tether phase.
+TEST_P(GpuTethersPass, MatchesTheCpuFloatPass) {
   ASSERT_TRUE(kThreaded);
   const Scene scene = tethered("pinned4.json", Integrator::Verlet);
   CpuSolver<float> cpu(scene);
-  GpuSolver gpu(scene);
+  GpuSolver gpu(scene, {.path = GetParam()});
   ASSERT_TRUE(gpu.usesTethers());
+  ASSERT_EQ(gpu.oneDispatch(), GetParam() == GpuPath::OneDispatch) << gpu.oneDispatchMisfit();
   const Topology& t = cpu.topology();
   const glm::dvec3 pin = t.initial_positions[0];
   std::vector<glm::dvec3> x(t.initial_positions.size()), v(x.size());
@@ -62,6 +66,11 @@ TEST_F(GpuTethers, ThePassMatchesTheCpuFloatPass) {
   EXPECT_LE(dv, bound);
 }
 
+INSTANTIATE_TEST_SUITE_P(Paths, GpuTethersPass, ::testing::Values(GpuPath::General, GpuPath::OneDispatch),
+                         [](const ::testing::TestParamInfo<GpuPath>& p) {
+                           return std::string(p.param == GpuPath::General ? "general" : "onedispatch");
+                         });
+
 struct RunCase {
   const char* name;
   const char* scene;
@@ -69,6 +78,7 @@ struct RunCase {
   int tethers_from;    // the frame after which both solvers switch tethers on (0: from the start)
   double ks;           // N/m
   int stretch_passes;  // with the scene's 1, the stretch limit keeps a 50 x 50 cloth off its tethers
+  GpuPath path;
 };
 
 class GpuTethersRun : public GlTest, public ::testing::WithParamInterface<RunCase> {};
@@ -81,7 +91,8 @@ TEST_P(GpuTethersRun, StaysWithTheCpuFloatRun) {
   scene.sim.tethers = c.tethers_from == 0;
   scene.cloth.ks = c.ks;
   scene.sim.stretch_passes = c.stretch_passes;
-  GpuSolver gpu(scene);
+  GpuSolver gpu(scene, {.path = c.path});
+  ASSERT_EQ(gpu.oneDispatch(), c.path == GpuPath::OneDispatch) << gpu.oneDispatchMisfit();
   CpuSolver<float> cpu(scene);
   Scene without = scene;
   without.sim.tethers = false;
@@ -111,22 +122,23 @@ TEST_P(GpuTethersRun, StaysWithTheCpuFloatRun) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, GpuTethersRun,
-                         ::testing::Values(RunCase{"pinned2_xpbd", "pinned2.json", Integrator::Xpbd, 0, 500, 0},
+                         ::testing::Values(RunCase{"pinned2_xpbd", "pinned2.json", Integrator::Xpbd, 0, 500, 0,
+                                                   GpuPath::Auto},
+                                           RunCase{"pinned2_onedispatch_live", "pinned2.json", Integrator::Verlet, 15,
+                                                   500, 0, GpuPath::OneDispatch},
                                            RunCase{"pinned4_verlet_live", "pinned4.json", Integrator::Verlet, 15, 5000,
-                                                   0}),
+                                                   0, GpuPath::General}),
                          [](const ::testing::TestParamInfo<RunCase>& p) { return std::string(p.param.name); });
 
-// The pass runs after the collisions and before the stretch limit, on the general path; a cloth without
-// pins has no tethers to run, and the one-dispatch path says why it does not take them.
-TEST_F(GpuTethers, TheyRunOnTheGeneralPathBeforeTheStretchLimit) {
-  GpuSolver gpu(tethered("pinned2.json", Integrator::Verlet));
+// The pass runs after the collisions and before the stretch limit; a cloth without pins has no tethers
+// to run.
+TEST_F(GpuTethers, TheyRunAfterTheCollisionsBeforeTheStretchLimit) {
+  GpuSolver gpu(tethered("pinned2.json", Integrator::Verlet), {.path = GpuPath::General});
   const std::vector<std::string> passes = gpu.passes();
   const auto at = std::find(passes.begin(), passes.end(), kTetherPassName);
   ASSERT_NE(at, passes.end());
   EXPECT_EQ(at - passes.begin(), 1) << "after forces+integrate (+collide)";
   EXPECT_EQ(*(at + 1), "limit_stretch_colour");
-  EXPECT_FALSE(gpu.oneDispatch());
-  EXPECT_NE(gpu.oneDispatchMisfit().find("tethers"), std::string::npos) << gpu.oneDispatchMisfit();
   GpuSolver sphere(tethered("sphere.json", Integrator::Verlet));
   EXPECT_FALSE(sphere.usesTethers());
   const std::vector<std::string> sphere_passes = sphere.passes();

@@ -39,10 +39,18 @@ layout(std430, binding = kBindingPointMass) readonly buffer PointMassBuffer {
 layout(std430, binding = kBindingColourPartners) readonly buffer ColourPartnersBuffer {
   ColourPartner colourPartners[];  // colour c, point i: colourPartners[c * GROUP_POINTS + i]
 };
+#ifndef TETHER_SLOTS
+#define TETHER_SLOTS 0  // tethers per point; 0: the scene has none, and the phase is not compiled
+#endif
+#if TETHER_SLOTS > 0
+layout(std430, binding = kBindingTethers) readonly buffer TethersBuffer {
+  Tether tethers[];
+};
+#endif
 
 uniform uint u_substeps;  // substeps this dispatch runs
 // Bit 0: forces + integrate (+ collide without self-collision); bit 1: the stretch passes; bit 2:
-// self-collision + collide. Tests run one at a time.
+// self-collision + collide; bit 3: tethers. Tests run one at a time.
 uniform uint u_phases;
 uniform uint u_stretch_passes;  // SimParams::stretch_passes
 uniform uint u_colours;         // spring colours; 0: the Jacobi stretch scheme
@@ -303,6 +311,28 @@ void main() {
 #if COLLIDERS
         if (pin[k] == 0.0) collideObjects(x, vc);
 #endif
+        storeX(i, x);
+        v[k] = vc;
+      }
+      syncGroup();
+    }
+#endif
+#if TETHER_SLOTS > 0
+    if ((u_phases & 8u) != 0u) {
+      // tether.comp for each point: it moves only itself and reads only pins, so no barrier in between.
+      for (uint k = 0u; k < PER_INVOCATION; ++k) {
+        uint i = lid + k * GROUP_SIZE;
+        if (i >= GROUP_POINTS || pin[k] != 0.0) continue;
+        precise vec3 x = loadX(i);
+        precise vec3 vc = v[k];
+        for (uint t = 0u; t < uint(TETHER_SLOTS); ++t) {
+          Tether tether = tethers[i * uint(TETHER_SLOTS) + t];
+          if (tether.anchor == kNoTether) break;
+          if (!pinnedAt(tether.anchor)) continue;
+          precise vec3 c = tetherCorrection(x, loadX(tether.anchor), tether.rest, params.stretch_limit);
+          x += c;
+          vc += c;  // x_prev stays where it was
+        }
         storeX(i, x);
         v[k] = vc;
       }

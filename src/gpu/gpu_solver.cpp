@@ -468,7 +468,6 @@ std::uint32_t GpuSolver::oneGroupBuckets() const {
 }
 
 std::string GpuSolver::oneDispatchMisfit() const {
-  if (usesTethers()) return "tethers run on the general path only (one_group.comp has no tether phase)";
   if (scene_.sim.integrator == Integrator::Xpbd)
     return "the xpbd integrator runs on the general path only (one_group.comp has Verlet's phases)";
   GLint shared = 0;
@@ -500,6 +499,7 @@ void GpuSolver::choosePath(bool constructing) {
   d.emplace_back("GROUP_SIZE", std::to_string(oneGroupSize()));
   d.emplace_back("GROUP_POINTS", std::to_string(topo_.pointCount()));
   d.emplace_back("GROUP_BUCKETS", std::to_string(oneGroupBuckets()));
+  if (usesTethers()) d.emplace_back("TETHER_SLOTS", std::to_string(tether_slots_));
   if (d != one_group_defines_) {
     programs_.one_group = gl::compileCompute("sim/one_group.comp", d);
     one_group_defines_ = d;

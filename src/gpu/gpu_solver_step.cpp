@@ -17,8 +17,8 @@ namespace drape {
 namespace {
 
 // The phases of one_group.comp's substep (u_phases).
-constexpr std::uint32_t kIntegratePhase = 1, kStretchPhase = 2, kSelfCollidePhase = 4;
-constexpr std::uint32_t kAllPhases = kIntegratePhase | kStretchPhase | kSelfCollidePhase;
+constexpr std::uint32_t kIntegratePhase = 1, kStretchPhase = 2, kSelfCollidePhase = 4, kTetherPhase = 8;
+constexpr std::uint32_t kAllPhases = kIntegratePhase | kStretchPhase | kSelfCollidePhase | kTetherPhase;
 
 // What the frame-end copy writes into each slot of the health ring.
 struct HealthSnapshot {
@@ -58,6 +58,7 @@ void GpuSolver::stepFrame() {
 void GpuSolver::runOneGroup(std::uint32_t substeps, std::uint32_t phases, bool check_health) {
   bindShared();
   colour_partners_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColourPartners);
+  if (usesTethers()) tethers_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingTethers);
   const gl::Program& program = programs_.one_group;
   program.setUniform("u_substeps", substeps);
   program.setUniform("u_phases", phases);
@@ -104,7 +105,10 @@ void GpuSolver::collide() {
 }
 
 void GpuSolver::tether() {
-  runStage(Stage::Tether);
+  if (one_group_)
+    runOneGroup(1, kTetherPhase, false);
+  else
+    runStage(Stage::Tether);
 }
 
 void GpuSolver::runStage(Stage stage) {
@@ -250,7 +254,8 @@ double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
       const bool coloured = scene_.sim.stretch_scheme == StretchScheme::GaussSeidel;
       const double stretch =
           coloured ? colouring_.colourCount() * sizeof(gpu::ColourPartner) : kRange + entries * sizeof(gpu::Neighbor);
-      return frame / scene_.sim.steps_per_frame + substep + scene_.sim.stretch_passes * stretch;
+      const double tethers = usesTethers() ? tether_slots_ * sizeof(gpu::Tether) : 0;  // anchors: shared memory
+      return frame / scene_.sim.steps_per_frame + substep + tethers + scene_.sim.stretch_passes * stretch;
     }
     case kXpbdColoured:  // per spring: the entry, both ends' state and inverse mass read, state written
       return double(d.count) *
