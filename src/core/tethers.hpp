@@ -24,7 +24,8 @@ struct Tethers {
 };
 
 // Anchors are each point's `slots` nearest pins along the springs (a Dijkstra search from all pins at once
-// that settles a point once per pin, up to `slots` pins). The rest distance is the straight distance in
+// that settles a point once per pin, up to `slots` pins; on a grid with no more pins than slots, simply
+// every pin), ordered by rest distance, then index. The rest distance is the straight distance in
 // the rest shape for a grid, which is flat and convex, so that is the distance along the cloth; for a mesh
 // it is the length of that shortest spring path, which is never shorter than the distance along the
 // surface, so a tether never holds a mesh tighter than its rest shape. A pinned point has no tethers.
