@@ -91,17 +91,11 @@ TEST_P(GpuXpbdPass, EachPassMatchesTheCpuFloatPass) {
   CpuSolver<float> cpu(scene);
   for (int f = 0; f < c.frames; ++f)
     cpu.stepFrame();
-  // Then substep by substep until the collisions after the sweeps have work.
-  for (int s = 0; s < 3 * scene.sim.steps_per_frame && colliders; ++s) {
-    CpuSolver<float> probe = cpu;
+  gpu_test::stepUntilCollisionsHaveWork(cpu, [](CpuSolver<float>& probe) {
     probe.accumulateForces();
     probe.integrate();
     probe.solveXpbd();
-    const auto solved = probe.readPositions();
-    probe.collide();
-    if (gpu_test::changedPoints(solved, probe.readPositions()) > 0) break;
-    cpu.step();
-  }
+  });
   GpuSolver gpu(scene);
   const Topology& topo = cpu.topology();
   auto cpuState = [&] { return State{cpu.readPositions(), cpu.readDisplacements()}; };

@@ -269,6 +269,7 @@ class GpuSolver final : public Solver {
   void runOneGroup(std::uint32_t substeps, std::uint32_t phases, bool check_health);
   double bytesPerPoint(const PlannedDispatch& d) const;
   void runStage(Stage stage);
+  void runStageOrPhase(Stage stage, std::uint32_t phase);  // the stage's dispatches, or its one-dispatch phase
   void run(const PlannedDispatch& d);
   void checkLimits() const;
   void allocate();

@@ -76,24 +76,15 @@ void GpuSolver::runOneGroup(std::uint32_t substeps, std::uint32_t phases, bool c
 }
 
 void GpuSolver::forcesIntegrate() {
-  if (one_group_)
-    runOneGroup(1, kIntegratePhase, false);
-  else
-    runStage(Stage::Integrate);
+  runStageOrPhase(Stage::Integrate, kIntegratePhase);
 }
 
 void GpuSolver::selfCollide() {
-  if (one_group_)
-    runOneGroup(1, kSelfCollidePhase, false);
-  else
-    runStage(Stage::SelfCollide);
+  runStageOrPhase(Stage::SelfCollide, kSelfCollidePhase);
 }
 
 void GpuSolver::limitStretch() {
-  if (one_group_)
-    runOneGroup(1, kStretchPhase, false);
-  else
-    runStage(Stage::Stretch);
+  runStageOrPhase(Stage::Stretch, kStretchPhase);
 }
 
 void GpuSolver::solveXpbd() {
@@ -105,10 +96,14 @@ void GpuSolver::collide() {
 }
 
 void GpuSolver::tether() {
+  runStageOrPhase(Stage::Tether, kTetherPhase);
+}
+
+void GpuSolver::runStageOrPhase(Stage stage, std::uint32_t phase) {
   if (one_group_)
-    runOneGroup(1, kTetherPhase, false);
+    runOneGroup(1, phase, false);
   else
-    runStage(Stage::Tether);
+    runStage(stage);
 }
 
 void GpuSolver::runStage(Stage stage) {
