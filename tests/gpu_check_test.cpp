@@ -57,7 +57,8 @@ class GpuCheck : public ::testing::Test {
     fs::create_directories(pack / "bin");
     fs::create_directories(pack / "lib" / "compat");
     for (const char* name : {"drape", "gpu_passes_gl_test", "gpu_runs_gl_test", "gpu_determinism_gl_test",
-                             "gpu_grid_gl_test", "gpu_mesh_gl_test", "gpu_solver_gl_test", "gpu_variants_gl_test"}) {
+                             "gpu_grid_gl_test", "gpu_mesh_gl_test", "gpu_xpbd_gl_test", "gpu_tethers_gl_test",
+                             "gpu_solver_gl_test", "gpu_variants_gl_test"}) {
       std::ofstream(pack / "bin" / name) << "#!/bin/sh\n";
       fs::permissions(pack / "bin" / name, fs::perms::owner_all);
     }
@@ -88,7 +89,7 @@ TEST_F(GpuCheck, AnUnknownOptionIsRefused) {
 TEST_F(GpuCheck, ACompletePackPassesTheLayoutCheck) {
   const Result r = run("--check-pack " + quote(fakePack().string()));
   EXPECT_EQ(r.status, 0) << r.out;
-  EXPECT_NE(r.out.find("8 binaries"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("10 binaries"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("abc1234"), std::string::npos) << "names the commit it was built from: " << r.out;
 }
 
