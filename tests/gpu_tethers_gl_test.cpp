@@ -141,6 +141,12 @@ TEST_F(GpuTethers, TheyRunAfterTheCollisionsBeforeTheStretchLimit) {
   EXPECT_EQ(*(at + 1), "limit_stretch_colour");
   GpuSolver sphere(tethered("sphere.json", Integrator::Verlet));
   EXPECT_FALSE(sphere.usesTethers());
+  // On the one-dispatch path, a phase of its kernel at the same place.
+  GpuSolver one(tethered("pinned2.json", Integrator::Verlet), {.path = GpuPath::OneDispatch});
+  const std::vector<std::string> phases = one.passes();
+  ASSERT_GE(phases.size(), 3u);
+  EXPECT_EQ(phases[1], "in-group tether");
+  EXPECT_EQ(phases[2], "in-group limit_stretch_colour");
   const std::vector<std::string> sphere_passes = sphere.passes();
   EXPECT_EQ(std::count(sphere_passes.begin(), sphere_passes.end(), kTetherPassName), 0);
 }

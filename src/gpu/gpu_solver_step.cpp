@@ -282,6 +282,7 @@ std::vector<std::string> GpuSolver::passes() const {
     const bool self = scene_.sim.self_collision;
     out.push_back(std::string("in-group forces+integrate") + (colliders && !self ? "+collide" : ""));
     if (self) out.push_back(std::string("in-group self_collide") + (colliders ? "+collide" : ""));
+    if (usesTethers()) out.push_back(std::string("in-group ") + kTetherPassName);
     const bool coloured = scene_.sim.stretch_scheme == StretchScheme::GaussSeidel;
     for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass)
       for (int c = 0; c < (coloured ? colouring_.colourCount() : 1); ++c)
