@@ -3,7 +3,7 @@
 // to the anchor along the cloth at rest. A pass of the substep projects every point onto these spheres,
 // so a cloth hanging from pins can never be further from them than the stretch limit allows, whatever the
 // resolution: the springs and the local stretch limit carry the load one neighbour per sweep, which at
-// 1024 x 1024 points and 30 substeps is slower than the cloth falls. No GL here.
+// 1024 x 1024 points and 30 substeps is 2.6 m/s, a speed the falling cloth soon nears. No GL here.
 #pragma once
 
 #include "core/topology.hpp"
