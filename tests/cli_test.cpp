@@ -426,7 +426,7 @@ TEST(ExitStatus, BadOptionValuesAreStatusTwoWithOneShortLine) {
       "render " + s + " --out o --integrator XPBD",
       "view " + s + " --integrator",
       "bench --integrator implicit",
-      "accuracy " + s + " --integrator verlet,vbd",
+      "accuracy " + s + " --integrator verlet,rk4",
       "stability --integrator both",
       "stability --xpbd-steps 0",
   };

@@ -735,8 +735,9 @@ Strings bundledScenes() {
 std::string kernelOf(const std::string& pass) {
   const std::pair<const char*, const char*> table[] = {
       {"forces+integrate", "forces_integrate.comp"},
-      {"forces+predict", "forces_integrate.comp"},  // compiled with XPBD=1
+      {"forces+predict", "forces_integrate.comp"},  // compiled with PREDICT=1
       {"xpbd_colour", "xpbd_coloured.comp"},
+      {"vbd_colour", "vbd_coloured.comp"},
       {"collide", "collide.comp"},
       {"tether", "tether.comp"},
       {"pairs_check", "pairs_check.comp"},
@@ -802,7 +803,8 @@ TEST_F(GpuSolverTest, EveryBundledSceneDispatchesExactlyItsPassList) {
     }
   }
   // Variants no bundled scene has: the five-dispatch grid build, the Jacobi stretch scheme, three passes;
-  // XPBD with self-collision and two sweeps, and without it (its own collide pass); tethers.
+  // XPBD with self-collision and two sweeps, and without it (its own collide pass); VBD with two sweeps;
+  // tethers.
   Scene jacobi = standardScene("selfCollision.json");
   jacobi.sim.stretch_scheme = StretchScheme::Jacobi;
   jacobi.sim.stretch_passes = 3;
@@ -812,9 +814,12 @@ TEST_F(GpuSolverTest, EveryBundledSceneDispatchesExactlyItsPassList) {
   Scene xpbd_no_self = standardScene("plane.json");
   xpbd_no_self.sim.integrator = Integrator::Xpbd;
   xpbd_no_self.sim.self_collision = false;
+  Scene vbd = standardScene("plane.json");  // with self-collision: the lists' travel check of its own
+  vbd.sim.integrator = Integrator::Vbd;
+  vbd.sim.iterations = 2;
   Scene tethered = standardScene("pinned4.json");
   tethered.sim.tethers = true;
-  for (const Scene& scene : {smallScene(80, true), jacobi, xpbd, xpbd_no_self, tethered}) {
+  for (const Scene& scene : {smallScene(80, true), jacobi, xpbd, xpbd_no_self, vbd, tethered}) {
     GpuSolver gpu(scene);
     const Strings real = recordFrame(gpu);
     EXPECT_EQ(int(real.size()), gpu.dispatchesPerFrame());

@@ -1,5 +1,6 @@
-// XPBD on the GPU against CpuSolver<float>: each pass alone from the same state, whole runs, and two
-// GPU runs against each other. On llvmpipe all three are bit for bit (docs/design.md section 7).
+// The implicit integrators, XPBD and VBD, on the GPU against CpuSolver<float>: each pass alone from the
+// same state, whole runs, and two GPU runs against each other. On llvmpipe all three are bit for bit
+// (docs/design.md section 7).
 #include "gl_fixture.hpp"
 #include "gpu/gpu_solver.hpp"
 #include "gpu_test_support.hpp"
@@ -25,9 +26,9 @@ const bool kThreaded = [] { return setenv("LP_NUM_THREADS", "2", 1) == 0; }();
 // driver may round division and square root differently, 0 on llvmpipe.
 constexpr double kUlps = 4.0;
 
-Scene xpbdScene(const char* file, int iterations, bool self_collision) {
+Scene xpbdScene(const char* file, int iterations, bool self_collision, Integrator integrator = Integrator::Xpbd) {
   Scene scene = gpu_test::standardScene(file);
-  scene.sim.integrator = Integrator::Xpbd;
+  scene.sim.integrator = integrator;
   scene.sim.iterations = iterations;
   scene.sim.self_collision = scene.sim.self_collision && self_collision;
   return scene;
@@ -43,6 +44,7 @@ struct XpbdCase {
   int frames;  // CPU float frames before the compared state
   int iterations;
   bool self_collision;
+  Integrator integrator = Integrator::Xpbd;
 };
 
 void PrintTo(const XpbdCase& c, std::ostream* os) {
@@ -86,15 +88,17 @@ class GpuXpbdPass : public GlTest, public ::testing::WithParamInterface<XpbdCase
 TEST_P(GpuXpbdPass, EachPassMatchesTheCpuFloatPass) {
   ASSERT_TRUE(kThreaded);
   const XpbdCase c = GetParam();
-  const Scene scene = xpbdScene(c.scene, c.iterations, c.self_collision);
+  const Scene scene = xpbdScene(c.scene, c.iterations, c.self_collision, c.integrator);
   const bool colliders = hasColliders(scene);
+  const bool vbd = c.integrator == Integrator::Vbd;
+  const auto cpuSolve = vbd ? &CpuSolver<float>::solveVbd : &CpuSolver<float>::solveXpbd;
   CpuSolver<float> cpu(scene);
   for (int f = 0; f < c.frames; ++f)
     cpu.stepFrame();
-  gpu_test::stepUntilCollisionsHaveWork(cpu, [](CpuSolver<float>& probe) {
+  gpu_test::stepUntilCollisionsHaveWork(cpu, [&](CpuSolver<float>& probe) {
     probe.accumulateForces();
     probe.integrate();
-    probe.solveXpbd();
+    (probe.*cpuSolve)();
   });
   GpuSolver gpu(scene);
   const Topology& topo = cpu.topology();
@@ -113,9 +117,10 @@ TEST_P(GpuXpbdPass, EachPassMatchesTheCpuFloatPass) {
   const State predicted = cpuState();
   compare("forces+predict", start, predicted, runGpu(start, &GpuSolver::forcesIntegrate));
 
-  cpu.solveXpbd();
+  (cpu.*cpuSolve)();
   const State solved = cpuState();
-  compare("xpbd sweeps", predicted, solved, runGpu(predicted, &GpuSolver::solveXpbd));
+  compare(vbd ? "vbd sweeps" : "xpbd sweeps", predicted, solved,
+          runGpu(predicted, vbd ? &GpuSolver::solveVbd : &GpuSolver::solveXpbd));
 
   State before_stretch = solved;
   if (scene.sim.self_collision) {
@@ -148,15 +153,20 @@ TEST_P(GpuXpbdPass, EachPassMatchesTheCpuFloatPass) {
 
 // The hanging cloths are stretched after 10 frames, the sphere cloth drapes over its sphere after ~48,
 // the plane cloth reaches the floor after ~66, the selfCollision cloth folds onto itself within ~20.
-INSTANTIATE_TEST_SUITE_P(Scenes, GpuXpbdPass,
-                         ::testing::Values(XpbdCase{"pinned2", "pinned2.json", 10, 1, true},
-                                           XpbdCase{"pinned4_3sweeps", "pinned4.json", 10, 3, true},
-                                           XpbdCase{"sphere", "sphere.json", 48, 1, true},
-                                           XpbdCase{"sphere_no_self", "sphere.json", 48, 2, false},
-                                           XpbdCase{"plane_no_self", "plane.json", 65, 1, false},
-                                           XpbdCase{"wind", "wind.json", 10, 1, true},
-                                           XpbdCase{"selfCollision", "selfCollision.json", 60, 2, true}),
-                         [](const ::testing::TestParamInfo<XpbdCase>& p) { return std::string(p.param.name); });
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, GpuXpbdPass,
+    ::testing::Values(XpbdCase{"pinned2", "pinned2.json", 10, 1, true},
+                      XpbdCase{"pinned4_3sweeps", "pinned4.json", 10, 3, true},
+                      XpbdCase{"sphere", "sphere.json", 48, 1, true},
+                      XpbdCase{"sphere_no_self", "sphere.json", 48, 2, false},
+                      XpbdCase{"plane_no_self", "plane.json", 65, 1, false}, XpbdCase{"wind", "wind.json", 10, 1, true},
+                      XpbdCase{"selfCollision", "selfCollision.json", 60, 2, true},
+                      XpbdCase{"vbd_pinned2", "pinned2.json", 10, 1, true, Integrator::Vbd},
+                      XpbdCase{"vbd_pinned4_3sweeps", "pinned4.json", 10, 3, true, Integrator::Vbd},
+                      XpbdCase{"vbd_sphere", "sphere.json", 48, 1, true, Integrator::Vbd},
+                      XpbdCase{"vbd_plane_no_self", "plane.json", 65, 2, false, Integrator::Vbd},
+                      XpbdCase{"vbd_wind", "wind.json", 10, 1, true, Integrator::Vbd}),
+    [](const ::testing::TestParamInfo<XpbdCase>& p) { return std::string(p.param.name); });
 
 class GpuXpbdRun : public GlTest, public ::testing::WithParamInterface<XpbdCase> {};
 
@@ -164,7 +174,7 @@ class GpuXpbdRun : public GlTest, public ::testing::WithParamInterface<XpbdCase>
 // add the per-pass bound, as in tests/gpu_runs_gl_test.cpp.
 TEST_P(GpuXpbdRun, RunsStayWithTheCpuFloatRun) {
   const XpbdCase c = GetParam();
-  const Scene scene = xpbdScene(c.scene, c.iterations, c.self_collision);
+  const Scene scene = xpbdScene(c.scene, c.iterations, c.self_collision, c.integrator);
   GpuSolver gpu(scene);
   CpuSolver<float> cpu(scene);
   const double size = clothSize(scene.cloth);
@@ -189,23 +199,20 @@ TEST_P(GpuXpbdRun, RunsStayWithTheCpuFloatRun) {
   std::printf("%-18s %d frames: largest deviation %.3g of the cloth size\n", c.name, c.frames, worst);
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, GpuXpbdRun,
-                         ::testing::Values(XpbdCase{"pinned2", "pinned2.json", 45, 1, true},
-                                           XpbdCase{"pinned4_4sweeps", "pinned4.json", 45, 4, true},
-                                           XpbdCase{"sphere", "sphere.json", 60, 1, true},
-                                           XpbdCase{"plane_no_self", "plane.json", 75, 1, false},
-                                           XpbdCase{"wind", "wind.json", 45, 2, true}),
-                         [](const ::testing::TestParamInfo<XpbdCase>& p) { return std::string(p.param.name); });
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, GpuXpbdRun,
+    ::testing::Values(XpbdCase{"pinned2", "pinned2.json", 45, 1, true},
+                      XpbdCase{"pinned4_4sweeps", "pinned4.json", 45, 4, true},
+                      XpbdCase{"sphere", "sphere.json", 60, 1, true},
+                      XpbdCase{"plane_no_self", "plane.json", 75, 1, false}, XpbdCase{"wind", "wind.json", 45, 2, true},
+                      XpbdCase{"vbd_pinned2", "pinned2.json", 45, 1, true, Integrator::Vbd},
+                      XpbdCase{"vbd_pinned4_4sweeps", "pinned4.json", 45, 4, true, Integrator::Vbd},
+                      XpbdCase{"vbd_sphere", "sphere.json", 60, 1, true, Integrator::Vbd}),
+    [](const ::testing::TestParamInfo<XpbdCase>& p) { return std::string(p.param.name); });
 
-class GpuXpbdDeterminism : public GlTest {};
-
-// Two GPU runs of the self-collision scene with XPBD (2 sweeps, so the multipliers' buffer is used) are
-// bit-identical, with llvmpipe's work groups racing (kThreaded).
-TEST_F(GpuXpbdDeterminism, RepeatedRunsAreBitIdentical) {
-  ASSERT_TRUE(kThreaded);
-  const Scene scene = xpbdScene("selfCollision.json", 2, true);
+void expectRepeatedRunsBitIdentical(const Scene& scene, int frames) {
   GpuSolver first(scene), second(scene);
-  for (int f = 1; f <= 60; ++f) {
+  for (int f = 1; f <= frames; ++f) {
     first.stepFrame();
     second.stepFrame();
     if (f % 20 != 0) continue;
@@ -214,6 +221,20 @@ TEST_F(GpuXpbdDeterminism, RepeatedRunsAreBitIdentical) {
     ASSERT_EQ(gpu_test::changedPoints(x1, second.readPositions()), 0) << "positions differ after frame " << f;
     ASSERT_EQ(gpu_test::changedPoints(first.readDisplacements(), second.readDisplacements()), 0)
         << "displacements differ after frame " << f;
+  }
+}
+
+class GpuXpbdDeterminism : public GlTest {};
+
+// Two GPU runs of the self-collision scene with XPBD (2 sweeps, so the multipliers' buffer is used), and
+// with VBD (2 sweeps: the prediction's buffer), are bit-identical, with llvmpipe's work groups racing
+// (kThreaded).
+TEST_F(GpuXpbdDeterminism, RepeatedRunsAreBitIdentical) {
+  ASSERT_TRUE(kThreaded);
+  for (Integrator integrator : {Integrator::Xpbd, Integrator::Vbd}) {
+    SCOPED_TRACE(integratorName(integrator));
+    const Scene scene = xpbdScene("selfCollision.json", 2, true, integrator);
+    expectRepeatedRunsBitIdentical(scene, integrator == Integrator::Xpbd ? 60 : 40);
   }
 }
 
@@ -257,6 +278,37 @@ TEST_F(GpuXpbdPlan, PassesFollowTheIntegratorAndSweeps) {
   for (int f = 0; f < 5; ++f)
     sphere.stepFrame();
   EXPECT_TRUE(sphere.health().ok());
+}
+
+// With VBD: the prediction, one dispatch per point colour and sweep (each over that colour's points),
+// then the collisions as for XPBD; switched live from XPBD, which drops the spring-colour dispatches.
+TEST_F(GpuXpbdPlan, VbdDispatchesOncePerPointColourAndSweep) {
+  const auto count = [](const std::vector<std::string>& passes, const char* name) {
+    return std::count(passes.begin(), passes.end(), std::string(name));
+  };
+  GpuSolver plane(xpbdScene("plane.json", 3, false, Integrator::Vbd));
+  const int colours = colourPoints(plane.topology()).colourCount();
+  const std::vector<std::string> p = plane.passes();
+  ASSERT_FALSE(p.empty());
+  EXPECT_EQ(p.front(), "forces+predict");
+  EXPECT_EQ(count(p, "vbd_colour"), 3 * colours);
+  EXPECT_EQ(count(p, "xpbd_colour"), 0);
+  EXPECT_EQ(count(p, "collide"), 1);
+  EXPECT_EQ(plane.dispatchesPerFrame(), int(p.size()) * plane.scene().sim.steps_per_frame + 1);
+
+  GpuSolver sphere(xpbdScene("sphere.json", 1, true));
+  Scene vbd = sphere.scene();
+  vbd.sim.integrator = Integrator::Vbd;
+  vbd.sim.iterations = 2;  // the prediction's buffer, made on the switch
+  sphere.setParams(vbd.cloth, vbd.sim);
+  const std::vector<std::string> s = sphere.passes();
+  EXPECT_EQ(count(s, "xpbd_colour"), 0);
+  EXPECT_EQ(count(s, "vbd_colour"), 2 * colours);
+  EXPECT_EQ(count(s, "pairs_check"), 1);
+  for (int f = 0; f < 5; ++f)
+    sphere.stepFrame();
+  EXPECT_TRUE(sphere.health().ok());
+  EXPECT_GT(maxDeviation(sphere.readPositions(), sphere.topology().initial_positions), 0.01) << "it must move";
 }
 
 }  // namespace

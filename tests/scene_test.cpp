@@ -164,7 +164,7 @@ const PatchCase kPatchCases[] = {
   {"stretch_scheme_number", R"({"simulation": {"stretch_scheme": 1}})", "simulation.stretch_scheme",
    "expected a string"},
   {"integrator_unknown", R"({"simulation": {"integrator": "rk4"}})", "simulation.integrator",
-   "unknown integrator 'rk4' (verlet or xpbd)"},
+   "unknown integrator 'rk4' (verlet, xpbd or vbd)"},
   {"integrator_number", R"({"simulation": {"integrator": 1}})", "simulation.integrator", "expected a string"},
   {"integrator_case", R"({"simulation": {"integrator": "XPBD"}})", "simulation.integrator", "unknown integrator 'XPBD'"},
   {"iterations_zero", R"({"simulation": {"iterations": 0}})", "simulation.iterations", "must be >= 1"},

@@ -2,6 +2,7 @@
 // pointer ImGui reads (ImGuiPanel::overridePointer), on a hidden window (under xvfb-run when there is no
 // display). Each test checks the change reached the solver while it runs, not just the panel's fields.
 #include "app/imgui_panel.hpp"
+#include "core/colouring.hpp"
 #include "core/metrics.hpp"
 #include "core/scene.hpp"
 #include "display_support.hpp"
@@ -138,7 +139,7 @@ TEST(ViewerPanel, StepsPerFrameAndSelfCollisionChangeWhatTheSolverDispatches) {
   EXPECT_EQ(v.solver().scene().cloth.damping, 0.0);
 }
 
-TEST(ViewerPanel, TheXpbdAndTethersCheckboxesSwitchTheRunningSolver) {
+TEST(ViewerPanel, TheIntegratorButtonsAndTethersCheckboxSwitchTheRunningSolver) {
   RUN_WITH_DISPLAY();
   PanelSession s(pinned2());
   Viewer& v = *s.viewer;
@@ -163,6 +164,19 @@ TEST(ViewerPanel, TheXpbdAndTethersCheckboxesSwitchTheRunningSolver) {
   for (int i = 0; i < 20; ++i)
     s.frame(s.away, false);
   EXPECT_TRUE(v.blowUp().empty()) << v.blowUp();
+  // VBD on the same state, its 10 sweeps kept: one dispatch per point colour and sweep.
+  s.click(s.control("vbd").centre());
+  EXPECT_EQ(v.solver().scene().sim.integrator, Integrator::Vbd);
+  const std::vector<std::string> vbd = v.solver().passes();
+  EXPECT_EQ(std::count(vbd.begin(), vbd.end(), "xpbd_colour"), 0);
+  EXPECT_EQ(std::count(vbd.begin(), vbd.end(), "vbd_colour"), 10 * colourPoints(v.solver().topology()).colourCount());
+  for (int i = 0; i < 20; ++i)
+    s.frame(s.away, false);
+  EXPECT_TRUE(v.blowUp().empty()) << v.blowUp();
+  s.click(s.control("verlet").centre());
+  EXPECT_EQ(v.solver().scene().sim.integrator, Integrator::Verlet);
+  s.frame(s.away, false);
+  EXPECT_FALSE(s.panel->controlRect("iterations").has_value()) << "Verlet has no sweeps to set";
 }
 
 TEST(ViewerPanel, CrossingTheStabilityBoundIsReportedAndOneClickFixesIt) {

@@ -20,7 +20,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 COLOURS = {"cpu-xprev": "tab:red", "cpu": "tab:blue", "cpu64": "tab:green", "gpu": "tab:purple",
-           "cpu+xpbd": "tab:cyan", "cpu64+xpbd": "tab:olive", "gpu+xpbd": "tab:pink"}
+           "cpu+xpbd": "tab:cyan", "cpu64+xpbd": "tab:olive", "gpu+xpbd": "tab:pink",
+           "cpu+vbd": "tab:orange", "cpu64+vbd": "tab:brown", "gpu+vbd": "tab:gray"}
+LINESTYLES = {"xpbd": "--", "vbd": ":"}
 MARKERS = {0: "x", 1: "o", 2: "s", 4: "^"}
 
 
@@ -58,9 +60,10 @@ def main():
             xs = [p[0] for p in points]
             # An exact match (error 0) cannot sit on a log axis; draw it at the axis floor instead.
             ys = [max(p[1], 1e-12) for p in points]
-            # XPBD runs ("<solver>+xpbd") dashed beside Verlet's solid lines.
+            # XPBD runs ("<solver>+xpbd") dashed and VBD's dotted beside Verlet's solid lines.
+            integrator = solver.rpartition("+")[2] if "+" in solver else "verlet"
             ax.plot(xs, ys, color=COLOURS.get(solver, "black"), marker=MARKERS.get(passes, "d"), linewidth=1,
-                    linestyle="--" if solver.endswith("+xpbd") else "-", markersize=4, label="%s, %d pass%s" % (solver, passes, "" if passes == 1 else "es"))
+                    linestyle=LINESTYLES.get(integrator, "-"), markersize=4, label="%s, %d pass%s" % (solver, passes, "" if passes == 1 else "es"))
             for x, y, p in zip(xs, ys, points):
                 ax.annotate(str(p[2]), (x, y), textcoords="offset points", xytext=(3, 3), fontsize=6,
                             color=COLOURS.get(solver, "black"))

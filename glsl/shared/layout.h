@@ -54,7 +54,11 @@ DRAPE_CONSTANT(uint, kBindingXpbdLambda, 28u);  // float per coloured spring: XP
 // that colour, if any (ColourPartner, colour-major).
 DRAPE_CONSTANT(uint, kBindingColourPartners, 29u);
 DRAPE_CONSTANT(uint, kBindingTethers, 30u);  // Tether per point and slot (TETHER_SLOTS a point), point-major
-DRAPE_CONSTANT(uint, kBindingCount, 31u);    // binding points used: one more than the largest
+// Vertex Block Descent: the points grouped by colour (core/colouring.hpp), and with more than one sweep
+// per substep the prediction y each point's inertia pulls towards.
+DRAPE_CONSTANT(uint, kBindingColouredPoints, 31u);  // uint per point: point indices grouped by colour
+DRAPE_CONSTANT(uint, kBindingVbdInertia, 32u);      // vec4 per point: xyz the prediction y (iterations > 1)
+DRAPE_CONSTANT(uint, kBindingCount, 33u);           // binding points used: one more than the largest
 
 // Work-group sizes, shared so C++ computes group counts from the same numbers.
 DRAPE_CONSTANT(uint, kLocalSize, 128u);      // per-point and per-bucket kernels

@@ -1,18 +1,19 @@
 // Forces and Verlet integration of one point in one kernel (docs/design.md section 2, steps 1 and 2),
 // followed by what else only needs the point's own new state: its collisions when no self-collision
 // pass sits in between, else the check whether it moved too far for the self-collision lists. Mirrors
-// CpuSolver::accumulateForces, integrate (and collide). With XPBD=1 it is XPBD's prediction instead:
-// no spring gather (the springs are constraints, xpbd_coloured.comp) and nothing fused after it, since
-// the constraint sweeps move the point before collisions and the lists' travel check may look at it.
+// CpuSolver::accumulateForces, integrate (and collide). With PREDICT=1 it is PREDICT's or VBD's prediction
+// instead: no spring gather (the springs are solved implicitly, xpbd_coloured.comp or vbd_coloured.comp)
+// and nothing fused after it, since the sweeps move the point before collisions and the lists' travel
+// check may look at it.
 // Reads *In and writes *Out: the force gather reads the neighbours' positions while other invocations
 // move theirs, so integrating in place would race.
 #include "common.glsl"
 #include "physics.glsl"
 #include "collide.glsl"
-#ifndef XPBD
-#define XPBD 0
+#ifndef PREDICT
+#define PREDICT 0
 #endif
-#if SELF_COLLISION && !XPBD
+#if SELF_COLLISION && !PREDICT
 #include "pair_travel.glsl"
 #endif
 
@@ -46,7 +47,7 @@ void main() {
     vec4 weight = pointMass[i].weight;
 #endif
     precise vec3 f = weight.xyz;
-#if !XPBD
+#if !PREDICT
     // Ascending spring index, the CPU's order, so the sums round alike. Disabled spring types are not
     // in the GPU's adjacency at all.
     for (uint e = offsets[i]; e < offsets[i + 1u]; ++e) {
@@ -62,11 +63,11 @@ void main() {
 #endif
     v = integrateVerlet(v, f * weight.w, params.dt2, params.keep);
     x += v;
-#if COLLIDERS && !SELF_COLLISION && !XPBD
+#if COLLIDERS && !SELF_COLLISION && !PREDICT
     collideObjects(x, v);
 #endif
   }
-#if SELF_COLLISION && !XPBD
+#if SELF_COLLISION && !PREDICT
   checkPairTravel(i, x);
 #endif
   posOut[i] = vec4(x, pin);

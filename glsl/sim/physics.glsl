@@ -131,6 +131,42 @@ float xpbdDistanceCorrection(vec3 xa, vec3 xb, float rest, float w_sum, float al
   return dlambda;
 }
 
+// Vertex Block Descent: one spring's force and Hessian added to a point's block (physics.hpp explains).
+void vbdAddSpring(vec3 x, vec3 xo, float rest, float k, inout vec3 f, inout vec3 h_diag, inout vec3 h_off) {
+  precise vec3 d = xo - x;
+  precise float len = length3(d);
+  if (len <= 0.0) return;
+  precise vec3 fs = (k * (len - rest) / len) * d;
+  f = f + fs;
+  precise float s = len > rest ? 1.0 - rest / len : 0.0;
+  precise float a = k * (1.0 - s) / (len * len);
+  precise float b = k * s;
+  precise vec3 hd = vec3(a * d.x * d.x + b, a * d.y * d.y + b, a * d.z * d.z + b);
+  precise vec3 ho = vec3(a * d.x * d.y, a * d.x * d.z, a * d.y * d.z);
+  h_diag = h_diag + hd;
+  h_off = h_off + ho;
+}
+
+// The Newton step H^-1 f of a point's block by LDL^T (physics.hpp explains).
+vec3 vbdStep(vec3 f, vec3 h_diag, vec3 h_off) {
+  precise float d0 = h_diag.x;
+  if (!(d0 > 0.0)) return vec3(0.0);
+  precise float l10 = h_off.x / d0;
+  precise float l20 = h_off.y / d0;
+  precise float d1 = h_diag.y - l10 * h_off.x;
+  if (!(d1 > 0.0)) return vec3(0.0);
+  precise float l21 = (h_off.z - l20 * h_off.x) / d1;
+  precise float d2 = h_diag.z - l20 * h_off.y - l21 * l21 * d1;
+  if (!(d2 > 0.0)) return vec3(0.0);
+  precise float z0 = f.x;
+  precise float z1 = f.y - l10 * z0;
+  precise float z2 = f.z - l20 * z0 - l21 * z1;
+  precise float x2 = z2 / d2;
+  precise float x1 = z1 / d1 - l21 * x2;
+  precise float x0 = z0 / d0 - l10 * x1 - l20 * x2;
+  return vec3(x0, x1, x2);
+}
+
 vec3 windForce(vec3 normal, vec3 point_velocity, vec3 air_velocity, float drag_area) {
   precise float rel = dot3(air_velocity - point_velocity, normal);
   precise vec3 r = (drag_area * rel) * normal;

@@ -80,16 +80,22 @@ ErrorSample compare(const Scene& scene, const Topology& topo, int frame, const P
   return s;
 }
 
-// An XPBD run is named by its solver with this suffix ("cpu+xpbd"), so that both integrators' runs share
-// the table, the CSV and the plot, each its own column and curve.
-constexpr const char* kXpbdSuffix = "+xpbd";
-
-bool isXpbd(const std::string& run_solver) {
-  return run_solver.size() > 5 && run_solver.compare(run_solver.size() - 5, 5, kXpbdSuffix) == 0;
+// An XPBD or VBD run is named by its solver and the integrator ("cpu+xpbd", "gpu+vbd"), so that every
+// integrator's runs share the table, the CSV and the plot, each its own column and curve.
+Integrator runIntegrator(const std::string& run_solver) {
+  const std::size_t plus = run_solver.rfind('+');
+  if (plus != std::string::npos)
+    for (Integrator i : kIntegrators)
+      if (run_solver.compare(plus + 1, std::string::npos, integratorName(i)) == 0) return i;
+  return Integrator::Verlet;
 }
 
 std::string baseSolver(const std::string& run_solver) {
-  return isXpbd(run_solver) ? run_solver.substr(0, run_solver.size() - 5) : run_solver;
+  return runIntegrator(run_solver) == Integrator::Verlet ? run_solver : run_solver.substr(0, run_solver.rfind('+'));
+}
+
+std::string integratorSuffix(Integrator i) {
+  return i == Integrator::Verlet ? "" : std::string("+") + integratorName(i);
 }
 
 // Every configuration simulates the same material: damping is rescaled to the scene's loss per second.
@@ -114,7 +120,7 @@ void compareWithDouble(std::vector<AccuracyRun>& runs, const std::vector<const s
     AccuracyRun& run = runs[a];
     for (std::size_t b = 0; b < runs.size(); ++b) {
       const AccuracyRun& twin = runs[b];
-      if (twin.solver != (isXpbd(run.solver) ? std::string("cpu64") + kXpbdSuffix : std::string("cpu64")) ||
+      if (twin.solver != "cpu64" + integratorSuffix(runIntegrator(run.solver)) ||
           twin.steps_per_frame != run.steps_per_frame || twin.stretch_passes != run.stretch_passes)
         continue;
       for (std::size_t i = 0; i < run.samples.size() && i < states[a]->size() && i < states[b]->size(); ++i)
@@ -242,8 +248,7 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
   reportDone();  // the references
   auto runOne = [&](SweepJob& job, SolverFactory& maker) {
     AccuracyRun& run = job.run;
-    const Scene s = configure(scene, run.steps_per_frame, run.stretch_passes,
-                              isXpbd(run.solver) ? Integrator::Xpbd : Integrator::Verlet);
+    const Scene s = configure(scene, run.steps_per_frame, run.stretch_passes, runIntegrator(run.solver));
     std::unique_ptr<Solver> solver;
     try {
       solver = maker.make(s, baseSolver(run.solver), {.threads = report.threads_per_run});
@@ -351,7 +356,8 @@ std::string cell(const AccuracyRun* run, double (*figure)(const AccuracyRun&, co
 }
 
 std::string solverLabel(const AccuracyReport& r, const std::string& solver) {
-  if (isXpbd(solver)) return solverLabel(r, baseSolver(solver)) + ", xpbd";
+  if (const Integrator i = runIntegrator(solver); i != Integrator::Verlet)
+    return solverLabel(r, baseSolver(solver)) + ", " + integratorName(i);
   if (isGpuSolver(solver) && r.gl && r.gl->software) return solver + " (llvmpipe)";
   if (solver == "cpu") return "cpu (float, displacement)";
   if (solver == "cpu-xprev") return "cpu-xprev (float, x_prev)";

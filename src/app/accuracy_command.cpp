@@ -35,7 +35,7 @@ struct AccuracyCommandOptions {
   int jobs = 0;
   bool quick = false;
   bool no_plot = false;
-  std::vector<std::string> integrators = {"verlet", "xpbd"};
+  std::vector<std::string> integrators = {"verlet", "xpbd", "vbd"};
 };
 
 // The plot needs Debian's matplotlib, which a pyenv python3 on PATH may not see (docs/design.md section 8).
@@ -82,17 +82,19 @@ void runAccuracyCommand(const AccuracyCommandOptions& c) {
   o.scene = c.scene;
   const Scene scene = loadScene(c.scene);  // bad input fails before the output directory is made
   o.steps = c.quick ? std::vector<int>{5, 10, 30, 120} : c.steps;
-  // Each solver with each integrator: XPBD's runs are "<solver>+xpbd" (cpu-xprev is Verlet's x_prev form).
+  // Each solver with each integrator: XPBD's runs are "<solver>+xpbd", VBD's "<solver>+vbd" (cpu-xprev is
+  // Verlet's x_prev form).
   o.solvers.clear();
   for (const std::string& integrator : c.integrators)
     for (const std::string& solver : c.solvers) {
       if (integrator == "verlet")
         o.solvers.push_back(solver);
       else if (solver != "cpu-xprev")
-        o.solvers.push_back(solver + "+xpbd");
+        o.solvers.push_back(solver + "+" + integrator);
     }
   if (o.solvers.empty())
-    throw CommandError(kExitBadInput, "--integrator xpbd: cpu-xprev is Verlet's x_prev form; name another --solver");
+    throw CommandError(kExitBadInput, "--integrator " + c.integrators.front() +
+                                          ": cpu-xprev is Verlet's x_prev form; name another --solver");
   o.stretch_passes = c.quick ? std::vector<int>{scene.sim.stretch_passes} : c.passes;
   o.times = c.quick ? std::vector<double>{0.5, 1} : c.times;
   o.reference_factor = c.quick ? 8 : c.reference_factor;
@@ -137,7 +139,7 @@ void addAccuracyCommand(CLI::App& app) {
   addListOption(cmd, "--steps", c->steps, "Comma-separated substeps per frame")->check(integerIn(1, kMaxStepsPerFrame));
   addListOption(cmd, "--solver", c->solvers, "Comma-separated solvers")->check(CLI::IsMember(solverNames(true)));
   addListOption(cmd, "--integrator", c->integrators, "Comma-separated integrators, each a curve per solver")
-      ->check(CLI::IsMember({"verlet", "xpbd"}));
+      ->check(CLI::IsMember(integratorNames()));
   addListOption(cmd, "--passes", c->passes, "Comma-separated stretch-limit passes")
       ->check(integerIn(0, kMaxStretchPasses));
   addListOption(cmd, "--times", c->times, "Comma-separated sample times, s")->check(positiveNumberUpTo(kMaxSampleTime));

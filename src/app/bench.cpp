@@ -147,7 +147,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
 std::string describeRun(const BenchRun& r) {
   std::string head =
       fmt::format("{} {}x{} {}", std::filesystem::path(r.scene).stem().string(), r.size, r.size, r.solver);
-  if (r.integrator == "xpbd") head += " xpbd";
+  if (r.integrator != "verlet") head += " " + r.integrator;
   if (r.threads > 0) head += fmt::format(" ({} thread{})", r.threads, r.threads == 1 ? "" : "s");
   if (!r.skipped.empty()) return head + ": skipped (" + r.skipped + ")";
   std::string line = head;
@@ -319,7 +319,7 @@ std::string benchMarkdown(const BenchReport& r) {
     std::string solver = run.solver;
     if (isGpuSolver(run.solver) && r.gl && r.gl->software) solver += " (llvmpipe)";
     if (run.threads > 0) solver += fmt::format(" ×{}", run.threads);
-    if (run.integrator == "xpbd") solver += ", xpbd";
+    if (run.integrator != "verlet") solver += ", " + run.integrator;
     if (!run.skipped.empty()) {
       md += fmt::format("| {} | {} | {} | {} | – | – | – | – | – | – | – | – | skipped: {} |\n", scene, run.size,
                         solver, run.steps_per_frame, run.skipped);

@@ -23,7 +23,7 @@ struct BenchOptions {
   int repeats = 3;                 // timed repeats; median and spread are over these
   double budget_s = 10;            // timed seconds per run: slow runs time fewer frames per repeat (at least 1)
   double peak_gbs = 0;             // the device's peak memory bandwidth; 0: from knownPeakGbs(renderer), if listed
-  // Each of "verlet", "xpbd" in turn replaces every scene's simulation.integrator, a run each; empty: as given.
+  // Each of "verlet", "xpbd", "vbd" in turn replaces every scene's simulation.integrator, a run each; empty: as given.
   std::vector<std::string> integrators;
 };
 
@@ -36,7 +36,7 @@ struct BenchPass {
 struct BenchRun {
   std::string scene;  // file as given
   std::string solver;
-  std::string integrator;  // the scene's simulation.integrator as run: "verlet" or "xpbd"
+  std::string integrator;  // the scene's simulation.integrator as run: "verlet", "xpbd" or "vbd"
   int threads = 0;         // CPU solvers: OpenMP threads; 0 for the GPU
   int size = 0;            // N: the cloth is N x N
   long long points = 0;

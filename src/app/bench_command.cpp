@@ -121,9 +121,10 @@ void addBenchCommand(CLI::App& app) {
   cmd->add_option("--peak-gbs", c->peak_gbs,
                   "The GPU's peak memory bandwidth in GB/s, for the share-of-peak column (default: known GPUs by name)")
       ->check(kPositive);
-  addListOption(cmd, "--integrator", c->integrators,
-                "Comma-separated integrators (verlet, xpbd), a run each; default: the scene's simulation.integrator")
-      ->check(CLI::IsMember({integratorName(Integrator::Verlet), integratorName(Integrator::Xpbd)}));
+  addListOption(
+      cmd, "--integrator", c->integrators,
+      "Comma-separated integrators (verlet, xpbd, vbd), a run each; default: the scene's simulation.integrator")
+      ->check(CLI::IsMember(integratorNames()));
   cmd->add_option("--json", c->json, "Write the results as JSON here (default: stdout)");
   cmd->add_option("--markdown", c->markdown, "Write a markdown table of the results here");
   cmd->add_option(

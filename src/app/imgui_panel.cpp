@@ -146,13 +146,15 @@ void ImGuiPanel::drawParameters(Viewer& viewer) {
   changed |= track(ImGui::SliderInt("stretch passes", &s.stretch_passes, 0, 10), "stretch passes");
   ImGui::SameLine();
   changed |= track(ImGui::Checkbox("tethers", &s.tethers), "tethers");
-  // Verlet or XPBD, switched live: both run on the same state (x and x - x_prev).
-  bool xpbd = s.integrator == Integrator::Xpbd;
-  if (track(ImGui::Checkbox("xpbd", &xpbd), "xpbd")) {
-    s.integrator = xpbd ? Integrator::Xpbd : Integrator::Verlet;
-    changed = true;
+  // Verlet, XPBD or VBD, switched live: all run on the same state (x and x - x_prev).
+  for (Integrator i : kIntegrators) {
+    if (i != Integrator::Verlet) ImGui::SameLine();
+    if (track(ImGui::RadioButton(integratorName(i), s.integrator == i), integratorName(i))) {
+      s.integrator = i;
+      changed = true;
+    }
   }
-  if (xpbd) {
+  if (isImplicit(s.integrator)) {
     ImGui::SameLine();
     changed |= track(ImGui::SliderInt("iterations", &s.iterations, 1, 10), "iterations");
   }
@@ -161,8 +163,9 @@ void ImGuiPanel::drawParameters(Viewer& viewer) {
   // The explicit-integration bound of what is set now (core/stability.hpp), and the way back inside it.
   const StabilityCheck& check = viewer.stability();
   const ImVec4 colour = check.ok ? ImVec4(0.5f, 0.85f, 0.5f, 1.0f) : ImVec4(1.0f, 0.4f, 0.4f, 1.0f);
-  if (s.integrator == Integrator::Xpbd)
-    ImGui::TextColored(colour, "xpbd: no explicit bound (Verlet's dt sqrt(k/m) = %.3g)", check.number);
+  if (isImplicit(s.integrator))
+    ImGui::TextColored(colour, "%s: no explicit bound (Verlet's dt sqrt(k/m) = %.3g)", integratorName(s.integrator),
+                       check.number);
   else
     ImGui::TextColored(colour, "dt sqrt(k/m) = %.3g, stable below %.3g", check.number, check.limit);
   if (!check.ok && check.steps_needed > 0 && check.steps_needed <= 10000) {

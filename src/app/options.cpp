@@ -81,17 +81,26 @@ CLI::Validator positiveNumberUpTo(double max_value) {
       fmt::format("NUMBER in (0 .. {:g}]", max_value));
 }
 
+std::vector<std::string> integratorNames() {
+  std::vector<std::string> names;
+  for (Integrator i : kIntegrators)
+    names.push_back(integratorName(i));
+  return names;
+}
+
 CLI::Option* addIntegratorOption(CLI::App* command, std::string& target) {
   return command
       ->add_option("--integrator", target,
-                   "verlet (CS184's explicit Verlet) or xpbd (springs as constraints, stable at any stiffness); "
-                   "default: the scene's simulation.integrator")
-      ->check(CLI::IsMember({integratorName(Integrator::Verlet), integratorName(Integrator::Xpbd)}));
+                   "verlet (CS184's explicit Verlet), xpbd (springs as constraints) or vbd (Vertex Block Descent, "
+                   "a Newton step per point); the last two are stable at any stiffness; default: the scene's "
+                   "simulation.integrator")
+      ->check(CLI::IsMember(integratorNames()));
 }
 
 void applyIntegrator(Scene& scene, const std::string& name) {
   if (name.empty()) return;
-  scene.sim.integrator = name == integratorName(Integrator::Xpbd) ? Integrator::Xpbd : Integrator::Verlet;
+  for (Integrator i : kIntegrators)
+    if (name == integratorName(i)) scene.sim.integrator = i;
 }
 
 glm::ivec2 parseSize(const std::string& option, const std::string& text, int min_side, int max_side) {

@@ -56,6 +56,7 @@ CLI::Option* addListOption(CLI::App* command, const std::string& name, std::vect
 }
 
 // --integrator verlet|xpbd: when given (`target` not empty), replaces the scene's simulation.integrator.
+std::vector<std::string> integratorNames();  // verlet, xpbd, vbd: what --integrator takes
 CLI::Option* addIntegratorOption(CLI::App* command, std::string& target);
 void applyIntegrator(Scene& scene, const std::string& name);
 

@@ -224,7 +224,8 @@ std::string trend(const StabilityResult& r) {
 }
 
 std::string describe(const StabilityResult& r) {
-  std::string line = fmt::format("{} {}{} substeps{}: ", r.case_name, r.integrator == Integrator::Xpbd ? "xpbd " : "",
+  std::string line = fmt::format("{} {}{} substeps{}: ", r.case_name,
+                                 isImplicit(r.integrator) ? std::string(integratorName(r.integrator)) + " " : "",
                                  r.steps_per_frame, r.guarded ? " (guard)" : "");
   if (r.stable)
     line += fmt::format("stable, max strain {:.3g}, KE end/max {:.2g}, energy {}", r.max_strain,
@@ -238,10 +239,11 @@ std::string describe(const StabilityResult& r) {
 
 StabilityReport runStability(const std::vector<StabilityCase>& cases, const std::vector<int>& steps,
                              const std::function<void(const std::string&)>& progress, int jobs,
-                             const std::vector<int>& xpbd_steps) {
+                             const std::vector<int>& xpbd_steps, const std::vector<Integrator>& implicit) {
   StabilityReport report;
   report.steps = steps;
   report.xpbd_steps = xpbd_steps;
+  report.implicit = xpbd_steps.empty() ? std::vector<Integrator>{} : implicit;
   const auto t0 = std::chrono::steady_clock::now();
   struct Job {
     const StabilityCase* c;
@@ -249,11 +251,12 @@ StabilityReport runStability(const std::vector<StabilityCase>& cases, const std:
     bool guard;
   };
   std::vector<StabilityCase> xpbd_cases;
-  xpbd_cases.reserve(cases.size());
-  for (const StabilityCase& c : cases) {
-    xpbd_cases.push_back(c);
-    xpbd_cases.back().scene.sim.integrator = Integrator::Xpbd;
-  }
+  xpbd_cases.reserve(cases.size() * report.implicit.size());
+  for (Integrator integrator : report.implicit)
+    for (const StabilityCase& c : cases) {
+      xpbd_cases.push_back(c);
+      xpbd_cases.back().scene.sim.integrator = integrator;
+    }
   std::vector<Job> jobs_list;
   for (const StabilityCase& c : cases)
     for (int s : c.xpbd_only ? std::vector<int>{} : steps) {
@@ -322,6 +325,43 @@ std::string markdownRow(const StabilityResult& r, const StabilityResult* guarded
                      guard);
 }
 
+// An implicit integrator's runs: the same cases (and ks 1e8, 1e9) without any guard, with what each cost.
+std::string implicitMarkdown(const StabilityReport& report, const std::vector<StabilityCase>& cases,
+                             Integrator integrator) {
+  const bool xpbd = integrator == Integrator::Xpbd;
+  std::string md =
+      fmt::format("\n{} (simulation.integrator {}, {}), the same cases without the guard, and ks 1e8 and 1e9:\n\n",
+                  xpbd ? "XPBD" : "VBD", integratorName(integrator),
+                  xpbd ? "1 sweep of the springs" : "1 sweep of per-point Newton steps");
+  md += "| case | substeps | stable | first bad frame | max strain | KE end / max | energy | run s |\n";
+  md += "|---|---|---|---|---|---|---|---|\n";
+  for (const StabilityResult& r : report.results) {
+    if (r.integrator != integrator) continue;
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.1f} |\n", r.case_name, r.steps_per_frame,
+                      r.stable ? "yes" : "**no**", r.stable ? "–" : std::to_string(r.first_bad_frame),
+                      r.stable ? fmt::format("{:.3g}", r.max_strain) : "–",
+                      r.stable && r.ke_max > 0 ? fmt::format("{:.2g}", r.ke_end / r.ke_max) : "–", trend(r), r.wall_s);
+  }
+  md += fmt::format("\nLargest stable ks (N/m, of 1e2..1e9) with {} per substep count:\n\n", xpbd ? "XPBD" : "VBD");
+  md += "| substeps | largest stable ks |\n|---|---|\n";
+  for (int s : report.xpbd_steps) {
+    double best = 0;
+    std::vector<std::string> unstable_below;
+    for (const StabilityCase& c : cases)
+      if (const StabilityResult* r = findResult(report, c.name, s, false, integrator);
+          r && (c.sweeps_ks || c.xpbd_only) && r->stable)
+        best = std::max(best, c.scene.cloth.ks);
+    for (const StabilityCase& c : cases)
+      if (const StabilityResult* r = findResult(report, c.name, s, false, integrator);
+          r && (c.sweeps_ks || c.xpbd_only) && !r->stable && c.scene.cloth.ks < best)
+        unstable_below.push_back(fmt::format("{:g}", c.scene.cloth.ks));
+    std::string cell = best > 0 ? fmt::format("{:g}", best) : "none";
+    if (!unstable_below.empty()) cell += fmt::format(" (but {} unstable)", fmt::join(unstable_below, ", "));
+    md += fmt::format("| {} | {} |\n", s, cell);
+  }
+  return md;
+}
+
 }  // namespace
 
 std::string stabilityMarkdown(const StabilityReport& report, const std::vector<StabilityCase>& cases) {
@@ -369,36 +409,8 @@ std::string stabilityMarkdown(const StabilityReport& report, const std::vector<S
     }
     md += fmt::format("| {} | {} | {} |\n", s, cells[0], cells[1]);
   }
-  if (report.xpbd_steps.empty()) return md;
-
-  // XPBD: the same cases (and ks 1e8, 1e9) without any guard, with what each run cost.
-  md += "\nXPBD (simulation.integrator xpbd, 1 sweep), the same cases without the guard, and ks 1e8 and 1e9:\n\n";
-  md += "| case | substeps | stable | first bad frame | max strain | KE end / max | energy | run s |\n";
-  md += "|---|---|---|---|---|---|---|---|\n";
-  for (const StabilityResult& r : report.results) {
-    if (r.integrator != Integrator::Xpbd) continue;
-    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.1f} |\n", r.case_name, r.steps_per_frame,
-                      r.stable ? "yes" : "**no**", r.stable ? "–" : std::to_string(r.first_bad_frame),
-                      r.stable ? fmt::format("{:.3g}", r.max_strain) : "–",
-                      r.stable && r.ke_max > 0 ? fmt::format("{:.2g}", r.ke_end / r.ke_max) : "–", trend(r), r.wall_s);
-  }
-  md += "\nLargest stable ks (N/m, of 1e2..1e9) with XPBD per substep count:\n\n| substeps | largest stable ks |\n";
-  md += "|---|---|\n";
-  for (int s : report.xpbd_steps) {
-    double best = 0;
-    std::vector<std::string> unstable_below;
-    for (const StabilityCase& c : cases)
-      if (const StabilityResult* r = findResult(report, c.name, s, false, Integrator::Xpbd);
-          r && (c.sweeps_ks || c.xpbd_only) && r->stable)
-        best = std::max(best, c.scene.cloth.ks);
-    for (const StabilityCase& c : cases)
-      if (const StabilityResult* r = findResult(report, c.name, s, false, Integrator::Xpbd);
-          r && (c.sweeps_ks || c.xpbd_only) && !r->stable && c.scene.cloth.ks < best)
-        unstable_below.push_back(fmt::format("{:g}", c.scene.cloth.ks));
-    std::string cell = best > 0 ? fmt::format("{:g}", best) : "none";
-    if (!unstable_below.empty()) cell += fmt::format(" (but {} unstable)", fmt::join(unstable_below, ", "));
-    md += fmt::format("| {} | {} |\n", s, cell);
-  }
+  for (Integrator integrator : report.implicit)
+    md += implicitMarkdown(report, cases, integrator);
   return md;
 }
 

@@ -22,7 +22,7 @@ struct StabilityCommandOptions {
   std::string out = "out/stability";
   std::vector<int> steps = {1, 5, 30, 120};
   std::vector<int> xpbd_steps = {1, 5, 30};
-  std::string integrator;          // empty: both
+  std::string integrator;          // empty: all three
   std::vector<std::string> cases;  // empty: all
   int jobs = 0;                    // runs side by side; 0: one per core
 };
@@ -39,12 +39,15 @@ void runStabilityCommand(const StabilityCommandOptions& o) {
   for (const char* name : {"stability.csv", "stability.md"})
     checkOutputFile(fs::path(o.out) / name);  // before the runs, not after them
   const StabilityReport report = runStability(
-      chosen, o.integrator == "xpbd" ? std::vector<int>{} : o.steps,
+      chosen, !o.integrator.empty() && o.integrator != "verlet" ? std::vector<int>{} : o.steps,
       [](const std::string& line) {
         fmt::print(stderr, "stability {}\n", line);
         std::fflush(stderr);
       },
-      o.jobs, o.integrator == "verlet" ? std::vector<int>{} : o.xpbd_steps);
+      o.jobs, o.integrator == "verlet" ? std::vector<int>{} : o.xpbd_steps,
+      o.integrator == "xpbd"  ? std::vector<Integrator>{Integrator::Xpbd}
+      : o.integrator == "vbd" ? std::vector<Integrator>{Integrator::Vbd}
+                              : std::vector<Integrator>{Integrator::Xpbd, Integrator::Vbd});
   const fs::path dir(o.out);
   writeFileAtomically((dir / "stability.csv").string(), stabilityCsv(report));
   const std::string md = stabilityMarkdown(report, chosen);
@@ -65,10 +68,12 @@ void addStabilityCommand(CLI::App& app) {
   for (const StabilityCase& c : stabilityCases())
     names.push_back(c.name);
   addListOption(cmd, "--cases", o->cases, "Comma-separated case names (default: all)")->check(CLI::IsMember(names));
-  addListOption(cmd, "--xpbd-steps", o->xpbd_steps, "Comma-separated substeps per frame for the XPBD runs (no guard)")
+  addListOption(cmd, "--xpbd-steps", o->xpbd_steps,
+                "Comma-separated substeps per frame for the XPBD and VBD runs (no guard)")
       ->check(integerIn(1, kMaxStepsPerFrame));
-  cmd->add_option("--integrator", o->integrator, "Run only verlet (with its guard) or only xpbd (default: both)")
-      ->check(CLI::IsMember({"verlet", "xpbd"}));
+  cmd->add_option("--integrator", o->integrator,
+                  "Run only verlet (with its guard), only xpbd or only vbd (default: all)")
+      ->check(CLI::IsMember(integratorNames()));
   cmd->add_option("--jobs", o->jobs, "Runs side by side, each on its share of the cores (0: one per core)")
       ->check(CLI::Range(0, 1024))
       ->capture_default_str();

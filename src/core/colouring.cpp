@@ -34,4 +34,34 @@ SpringColouring colourSprings(const Topology& topo) {
   return out;
 }
 
+PointColouring colourPoints(const Topology& topo) {
+  const std::size_t n = std::size_t(topo.pointCount());
+  std::vector<int> colour(n, -1);
+  std::vector<std::size_t> seen_at;  // per colour: the last point whose neighbour had it (no clearing per point)
+  int colours = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::uint32_t e = topo.offsets[i]; e < topo.offsets[i + 1]; ++e)
+      if (const int c = colour[topo.adjacency[e].other]; c >= 0) seen_at[std::size_t(c)] = i + 1;
+    int c = 0;
+    while (c < colours && seen_at[std::size_t(c)] == i + 1)
+      ++c;
+    if (c == colours) {
+      ++colours;
+      seen_at.push_back(0);
+    }
+    colour[i] = c;
+  }
+  PointColouring out;
+  out.start.assign(std::size_t(colours) + 1, 0);
+  for (int c : colour)
+    ++out.start[std::size_t(c) + 1];
+  for (int c = 0; c < colours; ++c)
+    out.start[std::size_t(c) + 1] += out.start[std::size_t(c)];
+  out.points.resize(n);
+  std::vector<std::uint32_t> fill(out.start.begin(), out.start.end() - 1);
+  for (std::size_t i = 0; i < n; ++i)
+    out.points[fill[std::size_t(colour[i])]++] = std::uint32_t(i);
+  return out;
+}
+
 }  // namespace drape

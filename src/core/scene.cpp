@@ -487,9 +487,9 @@ StretchScheme readStretchScheme(const Node& n) {
 
 Integrator readIntegrator(const Node& n) {
   const std::string name = n.text();
-  for (Integrator i : {Integrator::Verlet, Integrator::Xpbd})
+  for (Integrator i : kIntegrators)
     if (name == integratorName(i)) return i;
-  n.fail("unknown integrator '" + name + "' (verlet or xpbd)");
+  n.fail("unknown integrator '" + name + "' (verlet, xpbd or vbd)");
 }
 
 SimParams readSimulation(const Node& n) {

@@ -19,11 +19,18 @@ enum class StretchScheme { GaussSeidel, Jacobi };
 inline const char* stretchSchemeName(StretchScheme s) {
   return s == StretchScheme::GaussSeidel ? "gauss_seidel" : "jacobi";
 }
-// How a substep moves the points: CS184's explicit Verlet over spring forces, or XPBD (Macklin et al. 2016,
-// 2019), each spring a distance constraint of compliance 1/k solved on positions (docs/design.md section 2).
-enum class Integrator { Verlet, Xpbd };
+// How a substep moves the points: CS184's explicit Verlet over spring forces; XPBD (Macklin et al. 2016,
+// 2019), each spring a distance constraint of compliance 1/k solved on positions; or Vertex Block Descent
+// (Chen et al. 2024), a Newton step per point on the implicit-Euler energy (docs/design.md section 2).
+enum class Integrator { Verlet, Xpbd, Vbd };
+inline constexpr Integrator kIntegrators[] = {Integrator::Verlet, Integrator::Xpbd, Integrator::Vbd};
 inline const char* integratorName(Integrator i) {
-  return i == Integrator::Verlet ? "verlet" : "xpbd";
+  return i == Integrator::Verlet ? "verlet" : i == Integrator::Xpbd ? "xpbd" : "vbd";
+}
+// XPBD and VBD move every point by its external forces first (the prediction x* = x + keep v + a dt^2) and
+// then solve the springs implicitly on positions; Verlet integrates the spring forces explicitly.
+inline bool isImplicit(Integrator i) {
+  return i != Integrator::Verlet;
 }
 inline constexpr int kSpringTypeCount = 3;
 
@@ -108,7 +115,7 @@ struct SimParams {
   // distance from its nearest pins. Off by default (CS184 has none); what holds a fine cloth from pins.
   bool tethers = false;
   Integrator integrator = Integrator::Verlet;
-  int iterations = 1;  // XPBD: Gauss-Seidel sweeps over the springs per substep (Small Steps: 1)
+  int iterations = 1;  // XPBD, VBD: Gauss-Seidel sweeps (over the springs, or the points) per substep (Small Steps: 1)
   WindSpec wind;
 
   double dt() const { return 1.0 / (frames_per_sec * steps_per_frame); }

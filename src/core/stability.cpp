@@ -79,11 +79,11 @@ StabilityCheck checkStability(const Scene& scene) {
   StabilityCheck c;
   c.number = stabilityNumber(scene);
   c.limit = stabilityLimit(scene.cloth.damping);
-  if (scene.sim.integrator == Integrator::Xpbd) {
-    // The bound is Verlet's: XPBD solves the springs as constraints, whose step stays bounded at any dt.
+  if (isImplicit(scene.sim.integrator)) {
+    // The bound is Verlet's: XPBD and VBD solve the springs implicitly, a step bounded at any dt.
     c.ok = true;
-    c.message = format("xpbd: no explicit-integration bound (Verlet's dt*sqrt(k/m) would be %.3g, limit %.3g)",
-                       c.number, c.limit);
+    c.message = format("%s: no explicit-integration bound (Verlet's dt*sqrt(k/m) would be %.3g, limit %.3g)",
+                       integratorName(scene.sim.integrator), c.number, c.limit);
     return c;
   }
   c.ok = c.number < c.limit;

@@ -12,9 +12,9 @@ namespace drape {
 
 namespace {
 
-enum PassId { kForces, kIntegrate, kXpbd, kSelfCollide, kCollide, kTether, kLimitStretch, kPassCount };
-const char* const kPassNames[kPassCount] = {"forces",  "integrate",     "xpbd_solve",   "self_collide",
-                                            "collide", kTetherPassName, "limit_stretch"};
+enum PassId { kForces, kIntegrate, kXpbd, kVbd, kSelfCollide, kCollide, kTether, kLimitStretch, kPassCount };
+const char* const kPassNames[kPassCount] = {"forces",       "integrate", "xpbd_solve",    "vbd_solve",
+                                            "self_collide", "collide",   kTetherPassName, "limit_stretch"};
 
 }  // namespace
 
@@ -65,6 +65,8 @@ void CpuSolver<T>::refreshDerived() {
   stiffness_.k[int(SpringType::Bending)] = T(derived::bendingStiffness(c));
   for (int t = 0; t < kSpringTypeCount; ++t)
     alpha_tilde_.k[t] = T(derived::xpbdAlphaTilde(c, scene_.sim, SpringType(t)));
+  if (scene_.sim.integrator == Integrator::Vbd && point_colouring_.start.empty())
+    point_colouring_ = colourPoints(topo_);
   // Built the first time a scene or a live change asks for them: a Dijkstra search over the cloth.
   if (scene_.sim.tethers && tether_rest_.empty() && tethers_.slots == 0) {
     tethers_ = buildTethers(topo_);
@@ -95,6 +97,8 @@ bool CpuSolver<T>::needsPass(int pass) const {
   switch (pass) {
     case kXpbd:
       return scene_.sim.integrator == Integrator::Xpbd;
+    case kVbd:
+      return scene_.sim.integrator == Integrator::Vbd;
     case kSelfCollide:
       return scene_.sim.self_collision;
     case kCollide:
@@ -130,6 +134,7 @@ void CpuSolver<T>::step() {
   timed(kForces, [&] { accumulateForces(); });
   timed(kIntegrate, [&] { integrate(); });
   if (needsPass(kXpbd)) timed(kXpbd, [&] { solveXpbd(); });
+  if (needsPass(kVbd)) timed(kVbd, [&] { solveVbd(); });
   if (needsPass(kSelfCollide)) timed(kSelfCollide, [&] { selfCollide(); });
   if (needsPass(kCollide)) timed(kCollide, [&] { collide(); });
   if (needsPass(kTether)) timed(kTether, [&] { tether(); });
@@ -147,8 +152,8 @@ template <class T>
 void CpuSolver<T>::accumulateForces() {
   const ClothSpec& cloth = scene_.cloth;
   const WindSpec& wind = scene_.sim.wind;
-  // XPBD predicts with the external forces only: its springs act in solveXpbd, as constraints.
-  const bool springs = scene_.sim.integrator == Integrator::Verlet;
+  // XPBD and VBD predict with the external forces only: their springs act in solveXpbd or solveVbd.
+  const bool springs = !isImplicit(scene_.sim.integrator);
   const bool enabled[kSpringTypeCount] = {springs && cloth.enable_structural, springs && cloth.enable_shearing,
                                           springs && cloth.enable_bending};
   const vec3 gravity = vec3(scene_.sim.gravity);
@@ -233,6 +238,47 @@ void CpuSolver<T>::solveXpbd() {
         if (displacement) v_[sp.b] += cb;
       }
     });
+}
+
+// Vertex Block Descent (Chen et al. 2024) on the springs: each sweep moves every free point, colour after
+// colour, by a Newton step on its share of the implicit-Euler energy with its neighbours held
+// (physics::vbdAddSpring, vbdStep). Points of a colour share no spring, so a colour is one parallel loop
+// here and one dispatch on the GPU, and the result does not depend on the thread count. The sweeps start
+// from the prediction y = x + keep v + a dt^2 (integrate): a point's own position changes only when its
+// colour runs, so in the first sweep x = y and the inertia's gradient is exactly 0; later sweeps need y,
+// which the first keeps. CS184's damping is in the prediction, as for XPBD.
+template <class T>
+void CpuSolver<T>::solveVbd() {
+  const ClothSpec& cloth = scene_.cloth;
+  const bool enabled[kSpringTypeCount] = {cloth.enable_structural, cloth.enable_shearing, cloth.enable_bending};
+  const bool displacement = form_ == VerletForm::Displacement;
+  const int iterations = scene_.sim.iterations;
+  const T dt2 = dt_ * dt_;
+  if (iterations > 1) inertia_target_.resize(x_.size());
+  for (int sweep = 0; sweep < iterations; ++sweep)
+    for (int colour = 0; colour < point_colouring_.colourCount(); ++colour) {
+      const long long first = point_colouring_.start[std::size_t(colour)];
+      const long long last = point_colouring_.start[std::size_t(colour) + 1];
+      parallelFor(first, last, threads_, [&](long long k) {
+        const std::size_t i = point_colouring_.points[std::size_t(k)];
+        if (topo_.pinned[i]) return;
+        const vec3 x = x_[i];
+        const T inertia = T(1) / (inv_mass_[i] * dt2);  // m / dt^2, from the inverse mass the GPU holds
+        vec3 f(0), h_off(0);
+        vec3 h_diag(inertia);
+        if (sweep > 0) f = (-inertia) * (x - inertia_target_[i]);
+        for (std::uint32_t e = topo_.offsets[i]; e < topo_.offsets[i + 1]; ++e) {
+          const Neighbor& nb = topo_.adjacency[e];
+          const int type = int(nb.type);
+          if (enabled[type])
+            physics::vbdAddSpring(x, x_[nb.other], rest_adjacent_[e], stiffness_.k[type], f, h_diag, h_off);
+        }
+        if (sweep == 0 && iterations > 1) inertia_target_[i] = x;
+        const vec3 dx = physics::vbdStep(f, h_diag, h_off);
+        x_[i] = x + dx;
+        if (displacement) v_[i] += dx;  // x_prev stays: v = x - x_prev is the solved displacement
+      });
+    }
 }
 
 template <class T>

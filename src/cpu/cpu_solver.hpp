@@ -41,6 +41,7 @@ class CpuSolver final : public Solver {
   void accumulateForces();  // gravity + springs + wind -> forces_ (XPBD: gravity + wind, springs are constraints)
   void integrate();         // Verlet, pinned points stay (XPBD: the prediction x* = x + keep v + a dt^2)
   void solveXpbd();         // XPBD: sim.iterations Gauss-Seidel sweeps of the springs as distance constraints
+  void solveVbd();          // VBD: sim.iterations Gauss-Seidel sweeps of per-point Newton steps, colour by colour
   void selfCollide();       // candidate lists, Jacobi, averaged, / steps_per_frame
   void collide();           // each sphere, then each plane
   void tether();            // long-range attachments to the pins (core/tethers.hpp), when the scene asks
@@ -65,6 +66,7 @@ class CpuSolver final : public Solver {
   int threads() const override { return threads_; }
   const CollisionPairs<T>& collisionPairs() const { return pairs_; }
   const Tethers& tethers() const { return tethers_; }
+  const PointColouring& pointColouring() const { return point_colouring_; }
 
  private:
   struct Stiffness {
@@ -98,8 +100,10 @@ class CpuSolver final : public Solver {
   std::vector<T> mass_, inv_mass_, drag_area_;  // per point (derived::pointMass, dragArea)
   T dt_ = 0, keep_ = 1;
   Stiffness stiffness_{};
-  Stiffness alpha_tilde_{};  // XPBD: compliance / dt^2 per spring type
-  std::vector<T> lambda_;    // XPBD: per coloured spring, the multiplier summed over this substep's sweeps
+  Stiffness alpha_tilde_{};           // XPBD: compliance / dt^2 per spring type
+  std::vector<T> lambda_;             // XPBD: per coloured spring, the multiplier summed over this substep's sweeps
+  PointColouring point_colouring_;    // VBD: built the first time the scene asks for VBD
+  std::vector<vec3> inertia_target_;  // VBD with iterations > 1: the prediction y, kept by the first sweep
   long long substeps_ = 0;
   std::vector<PassTiming> timings_;
 };

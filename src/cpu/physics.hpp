@@ -148,6 +148,52 @@ DRAPE_PHYSICS_INLINE T xpbdDistanceCorrection(vec3<T> xa, vec3<T> xb, T rest, T 
   return dlambda;
 }
 
+// Vertex Block Descent (Chen, Macklin, Mueller et al. 2024): one point's Newton step on its share of the
+// implicit-Euler energy, the neighbours held, G(x) = m/(2 dt^2) |x - y|^2 + sum over its springs of
+// k/2 (|xo - x| - rest)^2, y the prediction. The caller sums each spring's force and 3x3 Hessian into the
+// point's block (f, the Hessian's diagonal and its xy, xz, yz entries), adds the inertia, and solves.
+//
+// One spring's share: springForce, and the Hessian k [u u^T + s (I - u u^T)] with u the unit direction
+// and s = 1 - rest/|d| the transverse stiffness of a stretched spring. A compressed spring's s is negative
+// and would make the block indefinite (a Newton step uphill): it is clamped to 0, the usual projection,
+// which keeps the block at least m/dt^2 I, so the step is defined for any k and dt.
+template <class T>
+DRAPE_PHYSICS_INLINE void vbdAddSpring(vec3<T> x, vec3<T> xo, T rest, T k, vec3<T>& f, vec3<T>& h_diag,
+                                       vec3<T>& h_off) {
+  vec3<T> d = xo - x;
+  T len = glm::length(d);
+  if (len <= T(0)) return;
+  f += (k * (len - rest) / len) * d;  // springForce(x, xo, rest, k), its operations in its order
+  T s = len > rest ? T(1) - rest / len : T(0);
+  T a = k * (T(1) - s) / (len * len);  // along u: k, written over d to need no normalised u
+  T b = k * s;
+  h_diag += vec3<T>(a * d.x * d.x + b, a * d.y * d.y + b, a * d.z * d.z + b);
+  h_off += vec3<T>(a * d.x * d.y, a * d.x * d.z, a * d.y * d.z);
+}
+
+// The Newton step dx = H^-1 f of a point's block, by an LDL^T factorisation of the symmetric 3x3 H
+// (no determinant, whose k^3 would overflow float at k = 1e13). H is at least m/dt^2 I, so every pivot is
+// positive; one that is not (a NaN, an overflow) gives no step rather than a wild one.
+template <class T>
+DRAPE_PHYSICS_INLINE vec3<T> vbdStep(vec3<T> f, vec3<T> h_diag, vec3<T> h_off) {
+  T d0 = h_diag.x;
+  if (!(d0 > T(0))) return vec3<T>(0);
+  T l10 = h_off.x / d0;
+  T l20 = h_off.y / d0;
+  T d1 = h_diag.y - l10 * h_off.x;
+  if (!(d1 > T(0))) return vec3<T>(0);
+  T l21 = (h_off.z - l20 * h_off.x) / d1;
+  T d2 = h_diag.z - l20 * h_off.y - l21 * l21 * d1;
+  if (!(d2 > T(0))) return vec3<T>(0);
+  T z0 = f.x;
+  T z1 = f.y - l10 * z0;
+  T z2 = f.z - l20 * z0 - l21 * z1;
+  T x2 = z2 / d2;
+  T x1 = z1 / d1 - l21 * x2;
+  T x0 = z0 / d0 - l10 * x1 - l20 * x2;
+  return vec3<T>(x0, x1, x2);
+}
+
 // Wind: drag along the point's normal, proportional to the normal component of the air velocity
 // relative to the point (sign of n does not matter).
 template <class T>

@@ -74,6 +74,7 @@ GpuSolver::GpuSolver(Scene scene, GpuSolverOptions options, gl::HeadlessContext 
   timer_queries_ = options_.timing && gl::timerQueriesWork();
   resetTimings();
   allocateLambda();
+  allocateVbd();
   allocateTethers();
   compilePrograms();
   choosePath(true);
@@ -87,6 +88,17 @@ void GpuSolver::allocateLambda() {
   if (scene_.sim.integrator != Integrator::Xpbd || scene_.sim.iterations <= 1) return;
   const std::size_t bytes = std::max<std::size_t>(colour_start_.back(), 1) * sizeof(float);
   if (xpbd_lambda_.id() == 0 || xpbd_lambda_.size() < bytes) xpbd_lambda_ = gl::Buffer::create(bytes, nullptr, 0);
+}
+
+void GpuSolver::allocateVbd() {
+  if (scene_.sim.integrator != Integrator::Vbd) return;
+  if (coloured_points_.id() == 0) {
+    const PointColouring colouring = colourPoints(topo_);
+    point_colour_start_ = colouring.start;
+    coloured_points_ = gl::Buffer::fromVector(colouring.points, 0);
+  }
+  if (scene_.sim.iterations > 1 && vbd_inertia_.id() == 0)
+    vbd_inertia_ = gl::Buffer::create(std::size_t(topo_.pointCount()) * sizeof(glm::vec4), nullptr, 0);
 }
 
 void GpuSolver::allocateTethers() {
@@ -392,10 +404,9 @@ gl::Defines GpuSolver::sceneDefines() const {
                    {"WIND", scene_.sim.wind.enabled ? "1" : "0"},
                    {"UNIFORM_MASS", uniformMass() ? "1" : "0"}};
   if (!scene_.meshes.empty()) d.emplace_back("NUM_MESHES", std::to_string(scene_.meshes.size()));
-  if (scene_.sim.integrator == Integrator::Xpbd) {
-    d.emplace_back("XPBD", "1");
-    d.emplace_back("XPBD_LAMBDA", scene_.sim.iterations > 1 ? "1" : "0");
-  }
+  if (isImplicit(scene_.sim.integrator)) d.emplace_back("PREDICT", "1");
+  if (scene_.sim.integrator == Integrator::Xpbd) d.emplace_back("XPBD_LAMBDA", scene_.sim.iterations > 1 ? "1" : "0");
+  if (scene_.sim.integrator == Integrator::Vbd) d.emplace_back("VBD_INERTIA", scene_.sim.iterations > 1 ? "1" : "0");
   return d;
 }
 
@@ -407,8 +418,11 @@ void GpuSolver::compilePrograms() {
   programs_.limit_stretch = gl::compileCompute("sim/limit_stretch.comp", defines_);
   programs_.limit_stretch_coloured = gl::compileCompute("sim/limit_stretch_coloured.comp", defines_);
   programs_.health = gl::compileCompute("sim/health.comp", defines_);
-  if (scene_.sim.integrator == Integrator::Xpbd) {
+  if (scene_.sim.integrator == Integrator::Xpbd)
     programs_.xpbd_coloured = gl::compileCompute("sim/xpbd_coloured.comp", defines_);
+  if (scene_.sim.integrator == Integrator::Vbd)
+    programs_.vbd_coloured = gl::compileCompute("sim/vbd_coloured.comp", defines_);
+  if (isImplicit(scene_.sim.integrator)) {
     const bool colliders = hasColliders();
     if (colliders && !scene_.sim.self_collision) programs_.collide = gl::compileCompute("sim/collide.comp", defines_);
   }
@@ -468,8 +482,9 @@ std::uint32_t GpuSolver::oneGroupBuckets() const {
 }
 
 std::string GpuSolver::oneDispatchMisfit() const {
-  if (scene_.sim.integrator == Integrator::Xpbd)
-    return "the xpbd integrator runs on the general path only (one_group.comp has Verlet's phases)";
+  if (isImplicit(scene_.sim.integrator))
+    return std::string("the ") + integratorName(scene_.sim.integrator) +
+           " integrator runs on the general path only (one_group.comp has Verlet's phases)";
   GLint shared = 0;
   glGetIntegerv(GL_MAX_COMPUTE_SHARED_MEMORY_SIZE, &shared);
   const std::uint64_t n = std::uint64_t(topo_.pointCount());
@@ -534,6 +549,7 @@ void GpuSolver::setParams(const ClothSpec& cloth, const SimParams& sim) {
   checkLimits();
   if (springs_changed) uploadAdjacency();
   allocateLambda();
+  allocateVbd();
   allocateTethers();
   if (scene_.sim.self_collision && grid_points_.id() == 0) allocateGrid();
   uploadParams();

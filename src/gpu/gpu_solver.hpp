@@ -19,9 +19,11 @@
 //   limit_stretch_colour                        Gauss-Seidel stretch scheme: one dispatch per spring colour
 //                                               and stretch pass, each moving both ends of its springs in place
 //   limit_stretch                               Jacobi stretch scheme: once per stretch pass
-// With simulation.integrator xpbd, forces+integrate is XPBD's prediction (no springs, nothing fused), then
-//   xpbd_colour                                 one dispatch per spring colour and sweep: the springs as
-//                                               distance constraints, both ends moved in place
+// With simulation.integrator xpbd or vbd, forces+integrate is the prediction (no springs, nothing fused), then
+//   xpbd_colour                                 XPBD: one dispatch per spring colour and sweep, the springs
+//                                               as distance constraints, both ends moved in place
+//   vbd_colour                                  VBD: one dispatch per point colour and sweep, each point
+//                                               of the colour moved in place by its Newton step
 //   pairs_check                                 the lists' travel check (self-collision), or
 //   collide                                     the points' collisions (no self-collision)
 // before self-collision and the stretch limit as above.
@@ -138,12 +140,11 @@ class GpuSolver final : public Solver {
   void selfCollide();      // CpuSolver selfCollide (+ collide): hash grid, then the Jacobi correction
   void limitStretch();     // CpuSolver limitStretch: sim.stretch_passes dispatches
   void solveXpbd();        // CpuSolver solveXpbd: sim.iterations sweeps of one dispatch per colour (XPBD only)
-  void collide();          // CpuSolver collide, XPBD without self-collision (else it is fused, see below)
+  void solveVbd();         // CpuSolver solveVbd: sim.iterations sweeps of one dispatch per point colour (VBD only)
+  void collide();          // CpuSolver collide, XPBD/VBD without self-collision (else it is fused, see below)
   void tether();           // CpuSolver tether: the long-range attachments, when the scene has them and pins
   bool usesTethers() const { return scene_.sim.tethers && tether_slots_ > 0; }
-  bool collideFusedWithIntegrate() const {
-    return !scene_.sim.self_collision && scene_.sim.integrator == Integrator::Verlet;
-  }
+  bool collideFusedWithIntegrate() const { return !scene_.sim.self_collision && !isImplicit(scene_.sim.integrator); }
   // Replaces the state (positions, displacements) and the substep count (wind depends on time), as
   // CpuSolver::setState; pin flags stay.
   void uploadState(const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& v, long long substeps);
@@ -214,6 +215,7 @@ class GpuSolver final : public Solver {
     kLimitStretchColoured,
     kOneGroup,
     kXpbdColoured,
+    kVbdColoured,
     kCollide,
     kTether,
     kNormals,
@@ -221,20 +223,20 @@ class GpuSolver final : public Solver {
     kHealth,
     kPassCount
   };
-  enum class Stage { Integrate, Xpbd, Collide, SelfCollide, Tether, Stretch };
+  enum class Stage { Integrate, Xpbd, Vbd, Collide, SelfCollide, Tether, Stretch };
   // One dispatch of the substep. The plan is worked out once per scene (buildPlan(), again after a live
   // parameter change): step() runs it, passes() lists it (the -v listing and the bench print that), and
   // tests/gpu_solver_gl_test.cpp holds it against the dispatches really issued.
   struct PlannedDispatch {
-    enum class Size { Points, One, Indirect, Springs };
+    enum class Size { Points, One, Indirect, Springs, ColourPoints };
     PassId pass;
     Stage stage;
     const gl::Program* program;
     Size size;
     bool ping_pong;                      // reads one copy of the state and writes the other, which then is current
     std::uint32_t command = 0;           // Indirect: the PairDispatch command pairs_prepare wrote
-    std::uint32_t first = 0, count = 0;  // Springs: one colour's range of the coloured springs
-    std::uint32_t sweep = 0;             // xpbd_colour: which sweep of the substep (0 resets the multipliers)
+    std::uint32_t first = 0, count = 0;  // Springs, ColourPoints: one colour's range of the coloured springs or points
+    std::uint32_t sweep = 0;             // xpbd_colour, vbd_colour: which sweep of the substep (0 starts it)
     bool writes_commands = false;        // a later dispatch reads its indirect arguments (command barrier)
     bool unless_checked = false;         // only when forces+integrate has not checked the travel (a stage run alone)
   };
@@ -248,7 +250,8 @@ class GpuSolver final : public Solver {
     gl::Program grid_build, grid_scan[3], grid_scatter, grid_rank;
     gl::Program limit_stretch, limit_stretch_coloured;
     gl::Program one_group;               // the one-dispatch path, compiled when it is chosen
-    gl::Program xpbd_coloured, collide;  // XPBD only
+    gl::Program xpbd_coloured, collide;  // XPBD only (collide: VBD too)
+    gl::Program vbd_coloured;            // VBD only
     gl::Program tether;                  // compiled when the scene first asks for tethers
     gl::Program health;
     gl::Program normals, pick[2];  // compiled on first use
@@ -275,6 +278,7 @@ class GpuSolver final : public Solver {
   void allocate();
   void allocateGrid();
   void allocateLambda();
+  void allocateVbd();      // the first time the scene asks for VBD: the point colouring; y with iterations > 1
   void allocateTethers();  // the first time the scene asks for them: anchors on the CPU, the buffer, the kernel
   void uploadParams();
   void uploadAdjacency();
@@ -329,14 +333,17 @@ class GpuSolver final : public Solver {
   gl::Buffer params_, offsets_, neighbors_, colliders_, health_;
   gl::Buffer point_mass_;  // PointMass per point, rewritten with the params
   SpringColouring colouring_;
-  gl::Buffer coloured_springs_;              // ColouredSpring, enabled springs in colour order
-  gl::Buffer xpbd_lambda_;                   // float per coloured spring, XPBD with iterations > 1 only
-  std::vector<std::uint32_t> colour_start_;  // colour c is coloured_springs_[colour_start_[c] .. [c+1])
-  bool one_group_ = false;                   // the one-dispatch path runs this scene
-  gl::Buffer colour_partners_;               // its ColourPartner table (Gauss-Seidel stretch)
-  gl::Buffer tethers_;                       // Tether per point and slot, once the scene asks for them
-  int tether_slots_ = 0;                     // anchors per point; 0: none built, or a cloth without pins
-  gl::Defines one_group_defines_;            // what its kernel was compiled with
+  gl::Buffer coloured_springs_;                    // ColouredSpring, enabled springs in colour order
+  gl::Buffer xpbd_lambda_;                         // float per coloured spring, XPBD with iterations > 1 only
+  std::vector<std::uint32_t> colour_start_;        // colour c is coloured_springs_[colour_start_[c] .. [c+1])
+  std::vector<std::uint32_t> point_colour_start_;  // VBD: colour c is coloured_points_[start[c] .. [c+1])
+  gl::Buffer coloured_points_;                     // VBD: point indices grouped by colour (colourPoints)
+  gl::Buffer vbd_inertia_;                         // VBD with iterations > 1: vec4 per point, the prediction y
+  bool one_group_ = false;                         // the one-dispatch path runs this scene
+  gl::Buffer colour_partners_;                     // its ColourPartner table (Gauss-Seidel stretch)
+  gl::Buffer tethers_;                             // Tether per point and slot, once the scene asks for them
+  int tether_slots_ = 0;                           // anchors per point; 0: none built, or a cloth without pins
+  gl::Defines one_group_defines_;                  // what its kernel was compiled with
   gl::Buffer grid_points_, grid_counts_, grid_start_, grid_blocks_, grid_scatter_, grid_sorted_;
   gl::Buffer pair_control_, pair_anchor_, pair_start_, pair_list_;
   std::uint64_t pair_capacity_ = 0;

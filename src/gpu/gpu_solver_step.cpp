@@ -91,6 +91,10 @@ void GpuSolver::solveXpbd() {
   runStage(Stage::Xpbd);
 }
 
+void GpuSolver::solveVbd() {
+  runStage(Stage::Vbd);
+}
+
 void GpuSolver::collide() {
   runStage(Stage::Collide);
 }
@@ -135,11 +139,21 @@ void GpuSolver::buildPlan() {
     return;
   }
   add(kForcesIntegrate, Stage::Integrate, programs_.forces_integrate, Size::Points, true);
-  const bool xpbd = scene_.sim.integrator == Integrator::Xpbd;
-  if (xpbd) {
-    // In place, as the Gauss-Seidel stretch pass below (CpuSolver::solveXpbd).
-    for (int sweep = 0; sweep < scene_.sim.iterations; ++sweep)
-      addColours(kXpbdColoured, Stage::Xpbd, programs_.xpbd_coloured, std::uint32_t(sweep));
+  const bool implicit = isImplicit(scene_.sim.integrator);
+  if (implicit) {
+    // In place, as the Gauss-Seidel stretch pass below (CpuSolver::solveXpbd, solveVbd).
+    for (int sweep = 0; sweep < scene_.sim.iterations; ++sweep) {
+      if (scene_.sim.integrator == Integrator::Xpbd) {
+        addColours(kXpbdColoured, Stage::Xpbd, programs_.xpbd_coloured, std::uint32_t(sweep));
+        continue;
+      }
+      for (std::size_t c = 0; c + 1 < point_colour_start_.size(); ++c) {
+        add(kVbdColoured, Stage::Vbd, programs_.vbd_coloured, Size::ColourPoints, false);
+        plan_.back().first = point_colour_start_[c];
+        plan_.back().count = point_colour_start_[c + 1] - point_colour_start_[c];
+        plan_.back().sweep = std::uint32_t(sweep);
+      }
+    }
     if (hasColliders() && !scene_.sim.self_collision)
       add(kCollide, Stage::Collide, programs_.collide, Size::Points, true);
   }
@@ -149,7 +163,7 @@ void GpuSolver::buildPlan() {
   if (scene_.sim.self_collision) {
     const Stage stage = Stage::SelfCollide;
     add(kPairsCheck, stage, programs_.pairs_check, Size::Points, false);
-    plan_.back().unless_checked = !xpbd;  // XPBD's prediction does not check: the sweeps move the points after it
+    plan_.back().unless_checked = !implicit;  // the prediction does not check: the sweeps move the points after it
     add(kPairsPrepare, stage, programs_.pairs_prepare, Size::One, false);
     plan_.back().writes_commands = true;
     add(kPairsGridCount, stage, programs_.pairs_grid_count, Size::Indirect, false, gpu::kPairDispatchPoints);
@@ -201,6 +215,15 @@ void GpuSolver::run(const PlannedDispatch& d) {
     xpbd_lambda_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingXpbdLambda);
     program.setUniform("u_sweep", d.sweep);
   }
+  if (d.size == PlannedDispatch::Size::ColourPoints) {
+    coloured_points_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColouredPoints);
+    program.setUniform("u_first", d.first);
+    program.setUniform("u_count", d.count);
+    if (scene_.sim.iterations > 1) {
+      vbd_inertia_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingVbdInertia);
+      program.setUniform("u_sweep", d.sweep);
+    }
+  }
   bindState(current_, 1 - current_);
   switch (d.size) {
     case PlannedDispatch::Size::Points:
@@ -210,6 +233,7 @@ void GpuSolver::run(const PlannedDispatch& d) {
       dispatch(d.pass, program, {1, 1, 1});
       break;
     case PlannedDispatch::Size::Springs:
+    case PlannedDispatch::Size::ColourPoints:
       dispatch(d.pass, program, groupsFor(d.count, gpu::kLocalSize));
       break;
     case PlannedDispatch::Size::Indirect:
@@ -219,8 +243,7 @@ void GpuSolver::run(const PlannedDispatch& d) {
   if (d.ping_pong) current_ = 1 - current_;
   if (d.writes_commands) glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
   // Integrate checks the travel for the lists when self-collision follows; self-collision consumes it.
-  if (d.pass == kForcesIntegrate)
-    pairs_checked_ = scene_.sim.self_collision && scene_.sim.integrator == Integrator::Verlet;
+  if (d.pass == kForcesIntegrate) pairs_checked_ = scene_.sim.self_collision && !isImplicit(scene_.sim.integrator);
   if (d.pass == kSelfCollide) pairs_checked_ = false;
 }
 
@@ -257,6 +280,14 @@ double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
              (sizeof(gpu::ColouredSpring) + 4 * kState + 2 * sizeof(gpu::PointMass) +
               (scene_.sim.iterations > 1 ? 2 * sizeof(float) : 0)) /
              n;
+    case kVbdColoured: {  // per point of the colour: its index, state, weight, adjacency, neighbours; state written
+      const double weight = uniformMass() ? 0 : sizeof(gpu::PointMass);
+      const double inertia = scene_.sim.iterations > 1 ? sizeof(glm::vec4) : 0;  // y written, or read
+      return double(d.count) *
+             (sizeof(std::uint32_t) + 2 * kState + weight + inertia + kRange +
+              entries * (sizeof(gpu::Neighbor) + sizeof(glm::vec4))) /
+             n;
+    }
     case kCollide:  // own state read and written
       return 2 * kState;
     case kTether:  // own state, each slot's entry and anchor position; own state written
@@ -308,7 +339,7 @@ std::string GpuSolver::passName(PassId pass) const {
   const bool colliders = hasColliders();
   switch (pass) {
     case kForcesIntegrate:
-      if (scene_.sim.integrator == Integrator::Xpbd) return "forces+predict";
+      if (isImplicit(scene_.sim.integrator)) return "forces+predict";
       return std::string("forces+integrate") + (scene_.sim.self_collision ? "+pairs_check"
                                                 : colliders               ? "+collide"
                                                                           : "");
@@ -350,6 +381,8 @@ std::string GpuSolver::passName(PassId pass) const {
       return "one_group";
     case kXpbdColoured:
       return "xpbd_colour";
+    case kVbdColoured:
+      return "vbd_colour";
     case kCollide:
       return "collide";
     case kTether:
@@ -681,12 +714,36 @@ long long GpuSolver::deviceMemoryBytes() const {
   std::size_t total = 0;
   for (const StateBuffers& s : state_)
     total += s.position.size() + s.displacement.size();
-  for (const gl::Buffer* b : {&xpbd_lambda_,        &health_ring_,     &params_,       &point_mass_,  &offsets_,
-                              &neighbors_,          &colliders_,       &health_,       &grid_points_, &grid_counts_,
-                              &grid_start_,         &grid_blocks_,     &grid_scatter_, &grid_sorted_, &pair_control_,
-                              &pair_anchor_,        &pair_start_,      &pair_list_,    &normals_,     &tangents_,
-                              &vertex_tri_offsets_, &vertex_tris_,     &triangles_,    &uvs_,         &pick_,
-                              &coloured_springs_,   &colour_partners_, &tethers_})
+  for (const gl::Buffer* b : {&xpbd_lambda_,
+                              &coloured_points_,
+                              &vbd_inertia_,
+                              &health_ring_,
+                              &params_,
+                              &point_mass_,
+                              &offsets_,
+                              &neighbors_,
+                              &colliders_,
+                              &health_,
+                              &grid_points_,
+                              &grid_counts_,
+                              &grid_start_,
+                              &grid_blocks_,
+                              &grid_scatter_,
+                              &grid_sorted_,
+                              &pair_control_,
+                              &pair_anchor_,
+                              &pair_start_,
+                              &pair_list_,
+                              &normals_,
+                              &tangents_,
+                              &vertex_tri_offsets_,
+                              &vertex_tris_,
+                              &triangles_,
+                              &uvs_,
+                              &pick_,
+                              &coloured_springs_,
+                              &colour_partners_,
+                              &tethers_})
     total += b->size();
   return (long long)total;
 }

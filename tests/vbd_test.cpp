@@ -1,0 +1,212 @@
+// Vertex Block Descent on the CPU (no GL): a spring's block and the 3x3 solve worked by hand, the point
+// colouring, float against double, thread-count independence, the pass list, and stability where Verlet
+// at the same substeps fails.
+#include "app/stability_cases.hpp"
+#include "core/colouring.hpp"
+#include "core/metrics.hpp"
+#include "core/stability.hpp"
+#include "cpu/cpu_solver.hpp"
+#include "cpu/physics.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+namespace drape {
+namespace {
+
+Scene vbdScene(const std::string& name, int iterations = 1) {
+  Scene s = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name);
+  s.sim.integrator = Integrator::Vbd;
+  s.sim.iterations = iterations;
+  return s;
+}
+
+// A spring of rest 1 and k = 2 stretched to 1.5 along x, seen from the origin: force k (1.5 - 1) = 1
+// towards the other end; Hessian k along the spring and k (1 - 1/1.5) = 2/3 across it.
+TEST(VbdPhysics, SpringBlockWorkedByHand) {
+  glm::dvec3 f(0), diag(0), off(0);
+  physics::vbdAddSpring(glm::dvec3(0), glm::dvec3(1.5, 0, 0), 1.0, 2.0, f, diag, off);
+  EXPECT_DOUBLE_EQ(f.x, 1.0);
+  EXPECT_EQ(f.y, 0.0);
+  EXPECT_DOUBLE_EQ(diag.x, 2.0);
+  EXPECT_DOUBLE_EQ(diag.y, 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(diag.z, 2.0 / 3.0);
+  EXPECT_EQ(off, glm::dvec3(0));
+  // Compressed to 0.5: pushes away, and the negative transverse term is clamped to 0 (no uphill step).
+  f = diag = off = glm::dvec3(0);
+  physics::vbdAddSpring(glm::dvec3(0), glm::dvec3(0.5, 0, 0), 1.0, 2.0, f, diag, off);
+  EXPECT_DOUBLE_EQ(f.x, -1.0);
+  EXPECT_EQ(diag, glm::dvec3(2.0, 0, 0));
+  // Along the diagonal (1, 1, 0)/sqrt(2), at rest length: k u u^T, off-diagonal xy = k / 2.
+  f = diag = off = glm::dvec3(0);
+  const double r = std::sqrt(0.5);
+  physics::vbdAddSpring(glm::dvec3(0), glm::dvec3(r, r, 0), 1.0, 2.0, f, diag, off);
+  EXPECT_NEAR(f.x, 0.0, 1e-15);
+  EXPECT_NEAR(diag.x, 1.0, 1e-15);
+  EXPECT_NEAR(off.x, 1.0, 1e-15);
+  EXPECT_EQ(off.y, 0.0);
+  // Zero length: no direction, nothing added.
+  f = diag = off = glm::dvec3(0);
+  physics::vbdAddSpring(glm::dvec3(1), glm::dvec3(1), 1.0, 2.0, f, diag, off);
+  EXPECT_EQ(diag, glm::dvec3(0));
+}
+
+// H = [[4, 1, 2], [1, 3, 0], [2, 0, 5]] and x = (1, -2, 3): f = H x = (8, -5, 17).
+TEST(VbdPhysics, StepSolvesTheBlock) {
+  const glm::dvec3 x = physics::vbdStep(glm::dvec3(8, -5, 17), glm::dvec3(4, 3, 5), glm::dvec3(1, 2, 0));
+  EXPECT_NEAR(x.x, 1.0, 1e-14);
+  EXPECT_NEAR(x.y, -2.0, 1e-14);
+  EXPECT_NEAR(x.z, 3.0, 1e-14);
+  // Stiffness 1e13 in float: the pivots stay of the order of k, no k^3 to overflow.
+  const glm::vec3 big =
+      physics::vbdStep(glm::vec3(1e13f, 0, 0), glm::vec3(1e13f, 2e13f, 1e13f), glm::vec3(0.5e13f, 0, 0));
+  EXPECT_TRUE(std::isfinite(big.x) && std::isfinite(big.y) && std::isfinite(big.z));
+  EXPECT_NEAR(big.x, 2.0 / 1.75, 1e-6);
+  // A block that is not positive definite (NaN, or a zero pivot) gives no step.
+  EXPECT_EQ(physics::vbdStep(glm::dvec3(1), glm::dvec3(0, 1, 1), glm::dvec3(0)), glm::dvec3(0));
+  EXPECT_EQ(physics::vbdStep(glm::dvec3(1), glm::dvec3(NAN, 1, 1), glm::dvec3(0)), glm::dvec3(0));
+}
+
+// Every point once, and no spring (of any type) between two points of one colour: what lets a colour's
+// points move at once from their neighbours' latest positions.
+TEST(VbdColouring, NoSpringJoinsTwoPointsOfAColour) {
+  for (const char* file : {"pinned2.json", "sphere.json"}) {
+    const Scene scene = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + file);
+    const Topology topo = buildTopology(scene.cloth);
+    const PointColouring c = colourPoints(topo);
+    ASSERT_EQ(c.points.size(), std::size_t(topo.pointCount()));
+    std::vector<int> colour(c.points.size(), -1);
+    for (int k = 0; k < c.colourCount(); ++k)
+      for (std::uint32_t j = c.start[std::size_t(k)]; j < c.start[std::size_t(k) + 1]; ++j) {
+        ASSERT_EQ(colour[c.points[j]], -1) << "point " << c.points[j] << " twice";
+        colour[c.points[j]] = k;
+      }
+    for (const Spring& s : topo.springs)
+      EXPECT_NE(colour[s.a], colour[s.b]) << file << ": spring " << s.a << "-" << s.b;
+    // A grid point has 12 neighbours: 4 structural, 4 shearing, 4 bending (two steps along a row or
+    // column). The greedy order colours the grid in 7, as the lattice colouring (x + 3y) mod 7 does.
+    std::printf("%s: %d point colours\n", file, c.colourCount());
+    EXPECT_EQ(c.colourCount(), 7) << file;
+  }
+}
+
+TEST(VbdSolver, PassesListThePointSweepOnlyForVbd) {
+  EXPECT_EQ(CpuSolver<float>(vbdScene("sphere.json")).passes(),
+            (std::vector<std::string>{"forces", "integrate", "vbd_solve", "self_collide", "collide", "limit_stretch"}));
+  Scene scene = vbdScene("pinned2.json");
+  EXPECT_TRUE(checkStability(scene).ok) << "no explicit bound for VBD";
+}
+
+// The integrator key changes the physics: VBD's run differs from Verlet's and from XPBD's.
+TEST(VbdSolver, TheIntegratorKeyChangesTheRun) {
+  Scene xpbd = vbdScene("pinned2.json");
+  xpbd.sim.integrator = Integrator::Xpbd;
+  Scene verlet = xpbd;
+  verlet.sim.integrator = Integrator::Verlet;
+  CpuSolver<float> a(verlet), x(xpbd), v(vbdScene("pinned2.json"));
+  for (int f = 0; f < 10; ++f) {
+    a.stepFrame();
+    x.stepFrame();
+    v.stepFrame();
+  }
+  EXPECT_GT(maxDeviation(v.readPositions(), a.readPositions()), 1e-4);
+  EXPECT_GT(maxDeviation(v.readPositions(), x.readPositions()), 1e-4);
+}
+
+// Float against double over one simulated second of the hanging cloths, as for XPBD (tests/xpbd_test.cpp).
+TEST(VbdSolver, FloatStaysCloseToDouble) {
+  for (const auto& [file, iterations] : {std::pair{"pinned2.json", 1}, std::pair{"pinned4.json", 3}}) {
+    const Scene scene = vbdScene(file, iterations);
+    CpuSolver<float> f(scene);
+    CpuSolver<double> d(scene);
+    for (int frame = 0; frame < int(scene.sim.frames_per_sec); ++frame) {
+      f.stepFrame();
+      d.stepFrame();
+    }
+    const double relative = maxDeviation(f.readPositions(), d.readPositions()) / clothSize(scene.cloth);
+    std::printf("%s, %d sweeps: float vs double after 1 s: %.3g of the cloth size\n", file, iterations, relative);
+    EXPECT_LT(relative, 1e-3) << file;
+    EXPECT_GT(maxDeviation(f.readPositions(), f.topology().initial_positions), 0.1) << file << ": it must have moved";
+  }
+}
+
+TEST(VbdSolver, EveryThreadCountGivesTheSameBytes) {
+  const Scene scene = vbdScene("pinned4.json", 2);
+  CpuSolver<float> one(scene, CpuSolverOptions{.threads = 1}), two(scene, CpuSolverOptions{.threads = 2});
+  for (int f = 0; f < 20; ++f) {
+    one.stepFrame();
+    two.stepFrame();
+  }
+  EXPECT_EQ(maxDeviation(one.readPositions(), two.readPositions()), 0.0);
+  EXPECT_EQ(maxDeviation(one.readDisplacements(), two.readDisplacements()), 0.0);
+}
+
+// More sweeps converge further towards the implicit-Euler step: pinned2 hangs with less strain at 10
+// sweeps than at 1, with the stretch limit off.
+TEST(VbdSolver, MoreSweepsStretchLess) {
+  double strain[2];
+  int k = 0;
+  for (int iterations : {1, 10}) {
+    Scene scene = vbdScene("pinned2.json", iterations);
+    scene.sim.stretch_passes = 0;
+    scene.cloth.ks = 1e5;
+    CpuSolver<float> s(scene);
+    for (int f = 0; f < 90; ++f)
+      s.stepFrame();
+    strain[k++] = maxStrain(s.topology(), scene.cloth, s.readPositions());
+  }
+  std::printf("pinned2 at 1e5 N/m, no stretch limit, vbd: max strain %.4f at 1 sweep, %.4f at 10\n", strain[0],
+              strain[1]);
+  EXPECT_LT(strain[1], strain[0]);
+}
+
+// The hanging cloth of `drape stability` at 30 substeps and one sweep: VBD stays finite with its strain
+// bounded and its energy not growing once it hangs (1 s to 2 s), at ks = 1e5, 1e6 and 1e9, where
+// Verlet at 30 substeps grows its energy (1e6) or blows up (1e9) (tests/xpbd_test.cpp).
+TEST(VbdStability, StiffHangingClothIsStableAt30Substeps) {
+  StabilityCase base;
+  for (const StabilityCase& c : stabilityCases())
+    if (c.name == "ks-1e5") base = c;
+  ASSERT_EQ(base.name, "ks-1e5");
+  for (double ks : {1e5, 1e6, 1e9}) {
+    StabilityCase c = base;
+    c.scene.cloth.ks = ks;
+    c.scene.sim.integrator = Integrator::Vbd;
+    c.frames = 90;
+    const StabilityResult one_second = runStabilityCase(c, 30, false);
+    c.frames = 180;
+    const StabilityResult vbd = runStabilityCase(c, 30, false);
+    const double growth = (vbd.energy_end - one_second.energy_end) / vbd.energy_scale;
+    std::printf("ks %.0e, 30 substeps, vbd: %s, max strain %.4f, KE end/max %.2g, energy 1 s -> 2 s %+.3g\n", ks,
+                vbd.stable ? "stable" : "unstable", vbd.max_strain, vbd.ke_end / vbd.ke_max, growth);
+    EXPECT_TRUE(vbd.stable) << "ks " << ks << ": " << vbd.what;
+    EXPECT_LT(vbd.max_strain, 0.2) << "ks " << ks;
+    EXPECT_LT(growth, 0.01) << "ks " << ks << ": energy grew while the cloth hung";
+    EXPECT_LT(vbd.ke_end, 0.01 * vbd.ke_max) << "ks " << ks << ": still moving after 2 s";
+  }
+}
+
+// `drape stability` runs every case with VBD too when asked, never guarded; the markdown has its own
+// table and the CSV names the integrator.
+TEST(VbdStability, TheSweepRunsEveryCaseWithVbd) {
+  std::vector<StabilityCase> cases;
+  for (const StabilityCase& c : stabilityCases())
+    if (c.name == "ks-1e9") cases.push_back(c);
+  ASSERT_EQ(cases.size(), 1u);
+  cases[0].frames = 20;
+  const StabilityReport r = runStability(cases, {30}, {}, 1, {30}, {Integrator::Xpbd, Integrator::Vbd});
+  for (Integrator i : {Integrator::Xpbd, Integrator::Vbd}) {
+    const StabilityResult* x = findResult(r, "ks-1e9", 30, false, i);
+    ASSERT_NE(x, nullptr) << integratorName(i);
+    EXPECT_EQ(x->steps_per_frame, 30);
+    EXPECT_TRUE(x->stable) << integratorName(i) << ": " << x->what;
+  }
+  const std::string md = stabilityMarkdown(r, cases);
+  EXPECT_NE(md.find("VBD (simulation.integrator vbd"), std::string::npos) << md;
+  EXPECT_NE(stabilityCsv(r).find("\nks-1e9,vbd,30,0,30,"), std::string::npos) << stabilityCsv(r);
+}
+
+}  // namespace
+}  // namespace drape
