@@ -15,11 +15,18 @@
 namespace drape {
 namespace {
 
-Scene xpbdScene(const std::string& name, int iterations = 1) {
+Scene xpbdScene(const std::string& name, int iterations = 1, Integrator integrator = Integrator::Xpbd) {
   Scene s = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name);
-  s.sim.integrator = Integrator::Xpbd;
+  s.sim.integrator = integrator;
   s.sim.iterations = iterations;
   return s;
+}
+
+// The properties both implicit integrators must have, XPBD and VBD alike (tests/vbd_test.cpp has VBD's own).
+class ImplicitSolver : public ::testing::TestWithParam<Integrator> {};
+
+std::string integratorParamName(const ::testing::TestParamInfo<Integrator>& p) {
+  return integratorName(p.param);
 }
 
 // A spring of rest 1 stretched to 1.5 along x: C = 0.5.
@@ -85,9 +92,9 @@ TEST(XpbdSolver, TheIntegratorKeyChangesTheRunAndVerletIsUnchanged) {
 // of the size (1.4 mm) is where it would no longer be round-off. Not a scene with contact: there float and
 // double part by 1e-2 of the size within a second, with Verlet as with XPBD (README, accuracy with
 // contact), because a fold amplifies any difference.
-TEST(XpbdSolver, FloatStaysCloseToDouble) {
+TEST_P(ImplicitSolver, FloatStaysCloseToDouble) {
   for (const auto& [file, iterations] : {std::pair{"pinned2.json", 1}, std::pair{"pinned4.json", 3}}) {
-    const Scene scene = xpbdScene(file, iterations);
+    const Scene scene = xpbdScene(file, iterations, GetParam());
     CpuSolver<float> f(scene);
     CpuSolver<double> d(scene);
     for (int frame = 0; frame < int(scene.sim.frames_per_sec); ++frame) {
@@ -95,14 +102,15 @@ TEST(XpbdSolver, FloatStaysCloseToDouble) {
       d.stepFrame();
     }
     const double relative = maxDeviation(f.readPositions(), d.readPositions()) / clothSize(scene.cloth);
-    std::printf("%s, %d sweeps: float vs double after 1 s: %.3g of the cloth size\n", file, iterations, relative);
+    std::printf("%s, %s, %d sweeps: float vs double after 1 s: %.3g of the cloth size\n", file,
+                integratorName(GetParam()), iterations, relative);
     EXPECT_LT(relative, 1e-3) << file;
     EXPECT_GT(maxDeviation(f.readPositions(), f.topology().initial_positions), 0.1) << file << ": it must have moved";
   }
 }
 
-TEST(XpbdSolver, EveryThreadCountGivesTheSameBytes) {
-  const Scene scene = xpbdScene("pinned4.json", 2);
+TEST_P(ImplicitSolver, EveryThreadCountGivesTheSameBytes) {
+  const Scene scene = xpbdScene("pinned4.json", 2, GetParam());
   CpuSolver<float> one(scene, CpuSolverOptions{.threads = 1}), two(scene, CpuSolverOptions{.threads = 2});
   for (int f = 0; f < 20; ++f) {
     one.stepFrame();
@@ -112,13 +120,13 @@ TEST(XpbdSolver, EveryThreadCountGivesTheSameBytes) {
   EXPECT_EQ(maxDeviation(one.readDisplacements(), two.readDisplacements()), 0.0);
 }
 
-// More sweeps hold the springs closer to their rest length (the compliant solution is reached, not
-// merely approached): pinned2 hangs with less strain at 10 sweeps than at 1, with the stretch limit off.
-TEST(XpbdSolver, MoreSweepsStretchLess) {
+// More sweeps hold the springs closer to their rest length (XPBD's compliant solution, VBD's implicit
+// step, converged further): pinned2 hangs with less strain at 10 sweeps than at 1, stretch limit off.
+TEST_P(ImplicitSolver, MoreSweepsStretchLess) {
   double strain[2];
   int k = 0;
   for (int iterations : {1, 10}) {
-    Scene scene = xpbdScene("pinned2.json", iterations);
+    Scene scene = xpbdScene("pinned2.json", iterations, GetParam());
     scene.sim.stretch_passes = 0;
     scene.cloth.ks = 1e5;
     CpuSolver<float> s(scene);
@@ -126,7 +134,8 @@ TEST(XpbdSolver, MoreSweepsStretchLess) {
       s.stepFrame();
     strain[k++] = maxStrain(s.topology(), scene.cloth, s.readPositions());
   }
-  std::printf("pinned2 at 1e5 N/m, no stretch limit: max strain %.4f at 1 sweep, %.4f at 10\n", strain[0], strain[1]);
+  std::printf("pinned2 at 1e5 N/m, no stretch limit, %s: max strain %.4f at 1 sweep, %.4f at 10\n",
+              integratorName(GetParam()), strain[0], strain[1]);
   EXPECT_LT(strain[1], strain[0]);
 }
 
@@ -139,12 +148,12 @@ TEST(XpbdSolver, NoExplicitBoundForXpbd) {
 }
 
 // The hanging cloth of `drape stability` (50 x 50, corners pinned) at 30 substeps and one sweep: XPBD
-// stays finite with its strain bounded and its energy not growing once it hangs (from 1 s to 2 s) at
+// (and VBD) stays finite with its strain bounded and its energy not growing once it hangs (from 1 s to 2 s) at
 // ks = 1e5, 1e6 and 1e9. Verlet at the same 30 substeps is only contained by the stretch limit at 1e6
 // (its energy grows) and blows up at 1e9. (The energy from the start is no measure for XPBD at 1e9: the
 // cloth starts unstretched, and the strain one sweep leaves, which the stretch limit holds at 10 %, is
 // worth 0.5 k C^2 with k = 1e9; what matters is that it does not grow.)
-TEST(XpbdStability, StiffHangingClothIsStableAt30SubstepsWhereVerletIsNot) {
+TEST_P(ImplicitSolver, StiffHangingClothIsStableAt30SubstepsWhereVerletIsNot) {
   StabilityCase base;
   for (const StabilityCase& c : stabilityCases())
     if (c.name == "ks-1e5") base = c;
@@ -152,19 +161,20 @@ TEST(XpbdStability, StiffHangingClothIsStableAt30SubstepsWhereVerletIsNot) {
   for (double ks : {1e5, 1e6, 1e9}) {
     StabilityCase c = base;
     c.scene.cloth.ks = ks;
-    c.scene.sim.integrator = Integrator::Xpbd;
+    c.scene.sim.integrator = GetParam();
     c.frames = 90;
     const StabilityResult one_second = runStabilityCase(c, 30, false);
     c.frames = 180;
     const StabilityResult xpbd = runStabilityCase(c, 30, false);
     const double growth = (xpbd.energy_end - one_second.energy_end) / xpbd.energy_scale;
-    std::printf("ks %.0e, 30 substeps, xpbd: %s, max strain %.4f, KE end/max %.2g, energy 1 s -> 2 s %+.3g\n", ks,
-                xpbd.stable ? "stable" : "unstable", xpbd.max_strain, xpbd.ke_end / xpbd.ke_max, growth);
+    std::printf("ks %.0e, 30 substeps, %s: %s, max strain %.4f, KE end/max %.2g, energy 1 s -> 2 s %+.3g\n", ks,
+                integratorName(GetParam()), xpbd.stable ? "stable" : "unstable", xpbd.max_strain,
+                xpbd.ke_end / xpbd.ke_max, growth);
     EXPECT_TRUE(xpbd.stable) << "ks " << ks << ": " << xpbd.what;
     EXPECT_LT(xpbd.max_strain, 0.2) << "ks " << ks;
     EXPECT_LT(growth, 0.01) << "ks " << ks << ": energy grew while the cloth hung";
     EXPECT_LT(xpbd.ke_end, 0.01 * xpbd.ke_max) << "ks " << ks << ": still moving after 2 s";
-    if (ks < 1e6) continue;
+    if (ks < 1e6 || GetParam() != Integrator::Xpbd) continue;  // Verlet's runs once
     c.scene.sim.integrator = Integrator::Verlet;
     const StabilityResult verlet = runStabilityCase(c, 30, false);
     const double verlet_change = (verlet.energy_end - verlet.energy_start) / verlet.energy_scale;
@@ -202,6 +212,9 @@ TEST(XpbdStability, TheSweepRunsEveryCaseWithXpbdToo) {
   EXPECT_NE(md.find("| ks-1e9 | 30 | yes |"), std::string::npos) << md;
   EXPECT_NE(stabilityCsv(r).find("\nks-1e9,xpbd,30,0,30,"), std::string::npos) << stabilityCsv(r);
 }
+
+INSTANTIATE_TEST_SUITE_P(Integrators, ImplicitSolver, ::testing::Values(Integrator::Xpbd, Integrator::Vbd),
+                         integratorParamName);
 
 }  // namespace
 }  // namespace drape
