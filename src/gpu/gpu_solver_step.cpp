@@ -134,6 +134,15 @@ void GpuSolver::buildPlan() {
       plan_.back().sweep = sweep;
     }
   };
+  // VBD: one dispatch per point colour, each over that colour's range of the coloured points.
+  const auto addPointColours = [&](std::uint32_t sweep) {
+    for (std::size_t c = 0; c + 1 < point_colour_start_.size(); ++c) {
+      add(kVbdColoured, Stage::Vbd, programs_.vbd_coloured, Size::ColourPoints, false);
+      plan_.back().first = point_colour_start_[c];
+      plan_.back().count = point_colour_start_[c + 1] - point_colour_start_[c];
+      plan_.back().sweep = sweep;
+    }
+  };
   if (one_group_) {  // the frame's one dispatch (runOneGroup), not a list per substep
     add(kOneGroup, Stage::Integrate, programs_.one_group, Size::One, false);
     return;
@@ -143,16 +152,10 @@ void GpuSolver::buildPlan() {
   if (implicit) {
     // In place, as the Gauss-Seidel stretch pass below (CpuSolver::solveXpbd, solveVbd).
     for (int sweep = 0; sweep < scene_.sim.iterations; ++sweep) {
-      if (scene_.sim.integrator == Integrator::Xpbd) {
+      if (scene_.sim.integrator == Integrator::Xpbd)
         addColours(kXpbdColoured, Stage::Xpbd, programs_.xpbd_coloured, std::uint32_t(sweep));
-        continue;
-      }
-      for (std::size_t c = 0; c + 1 < point_colour_start_.size(); ++c) {
-        add(kVbdColoured, Stage::Vbd, programs_.vbd_coloured, Size::ColourPoints, false);
-        plan_.back().first = point_colour_start_[c];
-        plan_.back().count = point_colour_start_[c + 1] - point_colour_start_[c];
-        plan_.back().sweep = std::uint32_t(sweep);
-      }
+      else
+        addPointColours(std::uint32_t(sweep));
     }
     if (hasColliders() && !scene_.sim.self_collision)
       add(kCollide, Stage::Collide, programs_.collide, Size::Points, true);
