@@ -429,6 +429,7 @@ TEST(ExitStatus, BadOptionValuesAreStatusTwoWithOneShortLine) {
       "accuracy " + s + " --integrator verlet,rk4",
       "stability --integrator both",
       "stability --xpbd-steps 0",
+      "stability --implicit-steps 1,x",
   };
   for (const std::string& args : cases) {
     const Result r = run(args);

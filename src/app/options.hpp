@@ -39,8 +39,8 @@ CLI::Option* addListOption(CLI::App* command, const std::string& name, std::vect
   auto given = std::make_shared<int>(0);
   CLI::Option* option = command->add_option_function<std::vector<T>>(
       name,
-      [&target, given, name](const std::vector<T>& values) {
-        if (++*given > 1) throw CLI::ValidationError(name, "given more than once");
+      [&target, given, first = name.substr(0, name.find(','))](const std::vector<T>& values) {
+        if (++*given > 1) throw CLI::ValidationError(first, "given more than once");
         target = values;
       },
       description);

@@ -114,7 +114,7 @@ std::vector<StabilityCase> stabilityCases() {
   for (double ks : {1e8, 1e9}) {
     StabilityCase c{"ks-" + decade(ks), fmt::format("ks = {:g} N/m, corners pinned (XPBD only)", ks), baseScene()};
     c.scene.cloth.ks = ks;
-    c.xpbd_only = true;
+    c.implicit_only = true;
     cases.push_back(c);
   }
   {
@@ -239,11 +239,11 @@ std::string describe(const StabilityResult& r) {
 
 StabilityReport runStability(const std::vector<StabilityCase>& cases, const std::vector<int>& steps,
                              const std::function<void(const std::string&)>& progress, int jobs,
-                             const std::vector<int>& xpbd_steps, const std::vector<Integrator>& implicit) {
+                             const std::vector<int>& implicit_steps, const std::vector<Integrator>& implicit) {
   StabilityReport report;
   report.steps = steps;
-  report.xpbd_steps = xpbd_steps;
-  report.implicit = xpbd_steps.empty() ? std::vector<Integrator>{} : implicit;
+  report.implicit_steps = implicit_steps;
+  report.implicit = implicit_steps.empty() ? std::vector<Integrator>{} : implicit;
   const auto t0 = std::chrono::steady_clock::now();
   struct Job {
     const StabilityCase* c;
@@ -259,14 +259,14 @@ StabilityReport runStability(const std::vector<StabilityCase>& cases, const std:
     }
   std::vector<Job> jobs_list;
   for (const StabilityCase& c : cases)
-    for (int s : c.xpbd_only ? std::vector<int>{} : steps) {
+    for (int s : c.implicit_only ? std::vector<int>{} : steps) {
       jobs_list.push_back({&c, s, false});
       Scene probe = c.scene;
       probe.sim.steps_per_frame = s;
       if (autoSubsteps(probe) > s) jobs_list.push_back({&c, s, true});
     }
   for (const StabilityCase& c : xpbd_cases)
-    for (int s : xpbd_steps)
+    for (int s : implicit_steps)
       jobs_list.push_back({&c, s, false});
   report.jobs = jobsFor(jobs, jobs_list.size());
   report.threads_per_run = threadsPerJob(report.jobs);
@@ -344,16 +344,16 @@ std::string implicitMarkdown(const StabilityReport& report, const std::vector<St
   }
   md += fmt::format("\nLargest stable ks (N/m, of 1e2..1e9) with {} per substep count:\n\n", xpbd ? "XPBD" : "VBD");
   md += "| substeps | largest stable ks |\n|---|---|\n";
-  for (int s : report.xpbd_steps) {
+  for (int s : report.implicit_steps) {
     double best = 0;
     std::vector<std::string> unstable_below;
     for (const StabilityCase& c : cases)
       if (const StabilityResult* r = findResult(report, c.name, s, false, integrator);
-          r && (c.sweeps_ks || c.xpbd_only) && r->stable)
+          r && (c.sweeps_ks || c.implicit_only) && r->stable)
         best = std::max(best, c.scene.cloth.ks);
     for (const StabilityCase& c : cases)
       if (const StabilityResult* r = findResult(report, c.name, s, false, integrator);
-          r && (c.sweeps_ks || c.xpbd_only) && !r->stable && c.scene.cloth.ks < best)
+          r && (c.sweeps_ks || c.implicit_only) && !r->stable && c.scene.cloth.ks < best)
         unstable_below.push_back(fmt::format("{:g}", c.scene.cloth.ks));
     std::string cell = best > 0 ? fmt::format("{:g}", best) : "none";
     if (!unstable_below.empty()) cell += fmt::format(" (but {} unstable)", fmt::join(unstable_below, ", "));

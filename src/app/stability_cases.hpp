@@ -28,7 +28,7 @@ struct StabilityCase {
   double crumple = 0.3;            // fraction of the size kept (Crumpled)
   glm::dvec3 start_velocity{0.0};  // m/s (Moving)
   bool sweeps_ks = false;          // one of the ks cases: counted in the largest-stable-ks summary
-  bool xpbd_only = false;          // beyond what Verlet can run in reasonable time (ks 1e8, 1e9): XPBD and VBD only
+  bool implicit_only = false;      // beyond what Verlet can run in reasonable time (ks 1e8, 1e9): XPBD and VBD only
 };
 
 // Every case of the issue: ks 1e2..1e7 (and 1e8, 1e9 for XPBD only), density 1..1e4, damping 0 and 100 %, a heavy cloth
@@ -64,7 +64,7 @@ StabilityResult runStabilityCase(const StabilityCase& c, int steps_per_frame, bo
 
 struct StabilityReport {
   std::vector<int> steps;
-  std::vector<int> xpbd_steps;       // substep counts the implicit integrators ran at (no guard); empty: none ran
+  std::vector<int> implicit_steps;   // substep counts the implicit integrators ran at (no guard); empty: none ran
   std::vector<Integrator> implicit;  // which ran at those counts: XPBD, VBD, or both
   int jobs = 1;                      // runs side by side
   int threads_per_run = 0;           // each run's CPU solver threads
@@ -80,11 +80,11 @@ const StabilityResult* findResult(const StabilityReport& report, const std::stri
 // Runs every case at each substep count, and again with the guard wherever it raises the count; `jobs`
 // runs side by side (0 = one per core, src/app/jobs.hpp), each on its share of the cores. Progress
 // lines come in the order runs finish; the report keeps the order above.
-// With xpbd_steps, every case also runs with each integrator of `implicit` at each of those counts,
+// With implicit_steps, every case also runs with each integrator of `implicit` at each of those counts,
 // without the guard.
 StabilityReport runStability(const std::vector<StabilityCase>& cases, const std::vector<int>& steps,
                              const std::function<void(const std::string&)>& progress = {}, int jobs = 0,
-                             const std::vector<int>& xpbd_steps = {},
+                             const std::vector<int>& implicit_steps = {},
                              const std::vector<Integrator>& implicit = {Integrator::Xpbd});
 
 std::string stabilityCsv(const StabilityReport& report);

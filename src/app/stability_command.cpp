@@ -21,7 +21,7 @@ namespace fs = std::filesystem;
 struct StabilityCommandOptions {
   std::string out = "out/stability";
   std::vector<int> steps = {1, 5, 30, 120};
-  std::vector<int> xpbd_steps = {1, 5, 30};
+  std::vector<int> implicit_steps = {1, 5, 30};
   std::string integrator;          // empty: all three
   std::vector<std::string> cases;  // empty: all
   int jobs = 0;                    // runs side by side; 0: one per core
@@ -44,7 +44,7 @@ void runStabilityCommand(const StabilityCommandOptions& o) {
         fmt::print(stderr, "stability {}\n", line);
         std::fflush(stderr);
       },
-      o.jobs, o.integrator == "verlet" ? std::vector<int>{} : o.xpbd_steps,
+      o.jobs, o.integrator == "verlet" ? std::vector<int>{} : o.implicit_steps,
       o.integrator == "xpbd"  ? std::vector<Integrator>{Integrator::Xpbd}
       : o.integrator == "vbd" ? std::vector<Integrator>{Integrator::Vbd}
                               : std::vector<Integrator>{Integrator::Xpbd, Integrator::Vbd});
@@ -68,7 +68,8 @@ void addStabilityCommand(CLI::App& app) {
   for (const StabilityCase& c : stabilityCases())
     names.push_back(c.name);
   addListOption(cmd, "--cases", o->cases, "Comma-separated case names (default: all)")->check(CLI::IsMember(names));
-  addListOption(cmd, "--xpbd-steps", o->xpbd_steps,
+  // --xpbd-steps: its name from before VBD, kept so existing command lines still run.
+  addListOption(cmd, "--implicit-steps,--xpbd-steps", o->implicit_steps,
                 "Comma-separated substeps per frame for the XPBD and VBD runs (no guard)")
       ->check(integerIn(1, kMaxStepsPerFrame));
   cmd->add_option("--integrator", o->integrator,
