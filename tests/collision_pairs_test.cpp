@@ -10,6 +10,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <set>
 
@@ -186,8 +188,8 @@ TEST(CpuSolverThreads, OneAndTwoThreadsComputeTheSameBytes) {
   }
 }
 
-// Greedy colouring in spring order is optimal on a grid: an interior point has 12 springs, and 12
-// colours suffice.
+// A grid's colouring by direction and parity is optimal: an interior point has 12 springs, and 12
+// colours suffice. A mesh cloth's greedy colouring is held to the same rule.
 TEST(SpringColouring, SpringsOfAColourShareNoPointAndAGridTakesTwelve) {
   Scene scene = cs184Scene("pinned2.json");
   const Topology topo = buildTopology(scene.cloth);
@@ -205,6 +207,55 @@ TEST(SpringColouring, SpringsOfAColourShareNoPointAndAGridTakesTwelve) {
     }
   }
   EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int n) { return n == 1; })) << "each spring exactly once";
+}
+
+// gridColourReach is what the tiled stretch kernel copies around a block, so it must bound how far a
+// change travels through the Gauss-Seidel passes: a point moved before them changes no point further
+// away. Every spring is over the limit here (the grid scaled by 1.3), so each one carries changes on.
+TEST(SpringColouring, GridReachBoundsHowFarTheStretchPassesCarryAChange) {
+  Scene scene = cs184Scene("pinned2.json");
+  scene.sim.self_collision = false;
+  scene.cloth.num_width_points = scene.cloth.num_height_points = 40;
+  const Topology topo = buildTopology(scene.cloth);
+  const SpringColouring colouring = colourSprings(topo);
+  for (const int passes : {1, 2}) {
+    scene.sim.stretch_passes = passes;
+    const int reach = gridColourReach(topo, colouring, passes, 0b111);
+    // Interior springs take 2 colours per direction; a colour carries a change one spring length on:
+    // 1 step for structural and shearing springs, 2 for bending ones, in x: 2 + 4 + 4 = 10 a pass.
+    // Interior springs take 2 colours per direction; a colour carries a change one spring further: in x,
+    // 2 structural + 4 shearing colours of 1 step and 2 bending colours of 2.
+    if (passes == 1) {
+      EXPECT_EQ(reach, 10);
+    }
+    CpuSolver<double> cpu(scene);
+    std::vector<glm::dvec3> x = topo.initial_positions, v(x.size(), glm::dvec3(0.0));
+    for (glm::dvec3& p : x)
+      p *= 1.3;
+    cpu.setState(x, v);
+    cpu.limitStretch();
+    const std::vector<glm::dvec3> base = cpu.readPositions();
+    int farthest = 0;
+    std::vector<glm::ivec2> sources = {{2, 30}, {39, 39}, {20, 1}};
+    for (int sy = 20; sy < 24; ++sy)  // every phase of the colouring's period (bending springs: 4 points)
+      for (int sx = 20; sx < 24; ++sx)
+        sources.emplace_back(sx, sy);
+    for (const glm::ivec2 at : sources) {
+      std::vector<glm::dvec3> moved = x;
+      moved[std::size_t(at.y * topo.W + at.x)] += glm::dvec3(1e-3, -2e-3, 1e-3);
+      cpu.setState(moved, v);
+      cpu.limitStretch();
+      const std::vector<glm::dvec3> after = cpu.readPositions();
+      for (int i = 0; i < topo.pointCount(); ++i) {
+        if (after[std::size_t(i)] == base[std::size_t(i)]) continue;
+        const int d = std::max(std::abs(i % topo.W - at.x), std::abs(i / topo.W - at.y));
+        EXPECT_LE(d, reach) << "moving (" << at.x << ", " << at.y << ") changed point " << i;
+        farthest = std::max(farthest, d);
+      }
+    }
+    std::printf("%d stretch passes: reach %d, farthest change seen %d\n", passes, reach, farthest);
+    EXPECT_EQ(farthest, reach) << "the bound is reached: one further out would copy points for nothing";
+  }
 }
 
 }  // namespace

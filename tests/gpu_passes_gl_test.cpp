@@ -92,6 +92,9 @@ TEST_P(GpuPassTest, EachPassMatchesTheCpuFloatPassWhereItMovesPoints) {
   });
   GpuSolver gpu(scene, {.path = c.path});
   ASSERT_EQ(gpu.oneDispatch(), c.path == GpuPath::OneDispatch) << gpu.oneDispatchMisfit();
+  if (c.path == GpuPath::Tiled) {
+    ASSERT_TRUE(gpu.tiledStretch()) << gpu.tiledStretchMisfit();
+  }
   const Topology& topo = cpu.topology();
   auto cpuState = [&] { return Stage{cpu.readPositions(), cpu.readDisplacements()}; };
   auto runGpu = [&](const Stage& in, void (GpuSolver::*stage)()) {
@@ -169,7 +172,13 @@ INSTANTIATE_TEST_SUITE_P(
         // Self-collision in the work group's own grid, at 32x32 (llvmpipe's 32 KiB of shared memory).
         PassCase{"sphere_self_one", "sphere.json", 48, false, false, true, GpuPath::OneDispatch, 32},
         PassCase{"selfCollision_one", "selfCollision.json", 60, false, false, true, GpuPath::OneDispatch, 32},
-        PassCase{"selfCollision", "selfCollision.json", 60, true, true}),
+        PassCase{"selfCollision", "selfCollision.json", 60, true, true},
+        // The stretch limit's colours in one dispatch of blocks with their rings: 50x50 is 2x2 blocks of
+        // 31 on llvmpipe, 96x96 has blocks with a neighbour on every side.
+        PassCase{"pinned2_tiled", "pinned2.json", 10, false, true, true, GpuPath::Tiled},
+        PassCase{"pinned4_tiled96", "pinned4.json", 10, false, true, false, GpuPath::Tiled, 96},
+        PassCase{"sphere_tiled", "sphere.json", 48, false, true, true, GpuPath::Tiled},
+        PassCase{"selfCollision_tiled", "selfCollision.json", 60, true, true, true, GpuPath::Tiled}),
     [](const ::testing::TestParamInfo<PassCase>& param) { return std::string(param.param.name); });
 
 // The plane response's GLSL twin against physics::collidePlane<float>, case by case, including the

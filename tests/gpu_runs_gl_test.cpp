@@ -83,6 +83,9 @@ TEST_P(GpuRunTest, OneSecondStaysWithTheCpuFloatRun) {
   if (c.size > 0) scene.cloth.num_width_points = scene.cloth.num_height_points = c.size;
   GpuSolver gpu(scene, {.path = c.path});
   ASSERT_EQ(gpu.oneDispatch(), c.path == GpuPath::OneDispatch) << gpu.oneDispatchMisfit();
+  if (c.path == GpuPath::Tiled) {
+    ASSERT_TRUE(gpu.tiledStretch()) << gpu.tiledStretchMisfit();
+  }
   if (gpu.oneDispatch()) {
     EXPECT_EQ(gpu.dispatchesPerFrame(), 1) << "the frame, its health check included";
   }
@@ -105,7 +108,11 @@ INSTANTIATE_TEST_SUITE_P(
                       // Self-collision in the work group's own grid: 32x32 fits the 32 KiB
                       // of shared memory llvmpipe has (50x50 needs 44 KiB with the grid).
                       RunCase{"sphere_self_one", "sphere.json", GpuPath::OneDispatch, false, false, 32},
-                      RunCase{"selfCollision_one", "selfCollision.json", GpuPath::OneDispatch, false, false, 32}),
+                      RunCase{"selfCollision_one", "selfCollision.json", GpuPath::OneDispatch, false, false, 32},
+                      // The stretch limit tiled: blocks and rings in shared memory, same bits.
+                      RunCase{"pinned2_tiled", "pinned2.json", GpuPath::Tiled},
+                      RunCase{"sphere_tiled", "sphere.json", GpuPath::Tiled},
+                      RunCase{"wind_tiled", "wind.json", GpuPath::Tiled}),
     [](const ::testing::TestParamInfo<RunCase>& param) { return std::string(param.param.name); });
 
 double closestPair(const std::vector<glm::dvec3>& x) {

@@ -456,7 +456,8 @@ TEST_F(GpuSolverTest, RecentHealthReportsABlowUpAtMostAFrameLate) {
 }
 
 // A steady-state frame as `drape view` runs it (every substep, the frame-late health check, the normals
-// for drawing) makes the CPU wait for nothing: no buffer read-back, no glFinish, no query result the GPU
+// for drawing), on each path (pinned2 tiled, wind in one dispatch, the others general), makes the CPU
+// wait for nothing: no buffer read-back, no glFinish, no query result the GPU
 // has not written. On selfCollision the list buffer starts too small, so the frames include list
 // rebuilds, the overflow and the buffer's growth, all decided without a read-back.
 TEST_F(GpuSolverTest, SteadyStateFramesReadNothingBack) {
@@ -465,6 +466,7 @@ TEST_F(GpuSolverTest, SteadyStateFramesReadNothingBack) {
     const Scene scene = standardScene(name);
     GpuSolverOptions options;
     if (std::string(name) == "wind.json") options.path = GpuPath::OneDispatch;
+    if (std::string(name) == "pinned2.json") options.path = GpuPath::Tiled;
     if (scene.sim.self_collision) options.pair_capacity = 256;
     GpuSolver gpu(scene, options);
     const auto frame = [&] {
@@ -751,6 +753,8 @@ std::string kernelOf(const std::string& pass) {
       {"grid_scatter", "grid_scatter.comp"},
       {"grid_rank", "grid_rank.comp"},
       {"self_collide", "self_collide.comp"},
+      {"limit_stretch_tiled", "limit_stretch_tiled.comp"},
+      {"forces_tiled", "forces_integrate_tiled.comp"},
       {"limit_stretch_colour", "limit_stretch_coloured.comp"},
       {"limit_stretch", "limit_stretch.comp"},
       {"health", "health.comp"},
@@ -845,6 +849,89 @@ TEST_F(GpuSolverTest, TheOneDispatchPathRunsAFrameInOneDispatch) {
     EXPECT_EQ(recorder.dispatches().size(), 1u);
     // The substep's phases, as the -v listing shows them: forces, then the 12 stretch colours.
     EXPECT_EQ(gpu.passes().size(), 13u);
+  }
+}
+
+// The tiled path: the stretch limit's 12 colours in one dispatch, so a 256x256 cloth without
+// self-collision takes 2 dispatches a substep (issue #10's bound), the same kernels as recorded, and
+// fewer bytes in the traffic model than one dispatch per colour.
+TEST_F(GpuSolverTest, TheTiledPathRunsTheStretchLimitInOneDispatch) {
+  Scene scene = smallScene(256);
+  scene.cloth.pinned = {{0, 0}, {255, 0}};
+  GpuSolver tiled(scene, {.path = GpuPath::Tiled});
+  ASSERT_TRUE(tiled.tiledStretch()) << tiled.tiledStretchMisfit();
+  EXPECT_FALSE(tiled.oneDispatch());
+  EXPECT_EQ(tiled.name(), "gpu-tiled");
+  EXPECT_TRUE(tiled.tiledFromGrid()) << "a flat grid: every direction's springs have one rest length";
+  EXPECT_EQ(tiled.stretchTiling().halo, 10u) << "one pass over the grid colouring reaches 10 points";
+  EXPECT_GE(tiled.stretchTiling().tile, 8u);
+  EXPECT_EQ(tiled.passes(), (Strings{"forces_tiled+integrate", "limit_stretch_tiled"}));
+  EXPECT_DOUBLE_EQ(tiled.dispatchesPerSubstep(), 2.0);
+  EXPECT_EQ(tiled.dispatchesPerFrame(), 2 * scene.sim.steps_per_frame + 1);
+  EXPECT_EQ(recordFrame(tiled), plannedKernels(tiled));
+  GpuSolver general(scene, {.path = GpuPath::General});
+  EXPECT_FALSE(general.tiledStretch());
+  EXPECT_DOUBLE_EQ(general.dispatchesPerSubstep(), 13.0);
+  // Per point: 16-byte positions copied with their rings (2 for forces, 10 for the stretch limit), the
+  // displacement read and the new state written by each kernel; no adjacency, no table, no gathers.
+  const double ring_free = 2 * (sizeof(glm::vec4) + sizeof(glm::vec4) + 2 * sizeof(glm::vec4));
+  EXPECT_GT(tiled.bytesPerPointPerSubstep(), ring_free);
+  EXPECT_LT(tiled.bytesPerPointPerSubstep(), ring_free + 4 * sizeof(glm::vec4)) << "rings under 4 positions a point";
+  EXPECT_LT(tiled.bytesPerPointPerSubstep(), 0.2 * general.bytesPerPointPerSubstep());
+  if (gpu_test::bitIdenticalDevice(tiled.contextInfo())) {
+    general.stepFrame();
+    EXPECT_EQ(gpu_test::changedPoints(general.readPositions(), tiled.readPositions()), 0);
+  }
+
+  // Where it does not apply, forcing it says why; a live change that takes it out of reach (more stretch
+  // passes than a block's ring can hold) moves the solver to the per-colour dispatches and back.
+  for (const bool jacobi : {true, false}) {
+    Scene other = jacobi ? standardScene("pinned2.json") : standardScene("flag.json");
+    if (jacobi) other.sim.stretch_scheme = StretchScheme::Jacobi;
+    try {
+      GpuSolver forced(other, {.path = GpuPath::Tiled});
+      ADD_FAILURE() << (jacobi ? "the Jacobi scheme" : "a mesh cloth") << " was accepted on the tiled path";
+    } catch (const GpuLimitError& e) {
+      EXPECT_NE(std::string(e.what()).find(jacobi ? "Jacobi" : "grid cloth"), std::string::npos) << e.what();
+    }
+  }
+  // A vertical cloth's points are offset by up to 1 mm (CS184), so its rests differ: the table is read.
+  EXPECT_FALSE(GpuSolver(standardScene("wind.json"), {.path = GpuPath::Tiled}).tiledFromGrid());
+  Scene live = standardScene("pinned2.json");
+  live.sim.self_collision = false;
+  GpuSolver gpu(live, {.path = GpuPath::Tiled});
+  EXPECT_TRUE(gpu.tiledFromGrid());
+  CpuSolver<float> cpu(live);
+  GLint shared = 0;
+  glGetIntegerv(GL_MAX_COMPUTE_SHARED_MEMORY_SIZE, &shared);
+  const int too_many = shared <= 49152 ? 4 : 40;  // 4 passes reach 37 points: 82 a side, over 48 KiB
+  for (const int passes : {1, too_many, 2}) {
+    live.sim.stretch_passes = passes;
+    gpu.setParams(live.cloth, live.sim);
+    cpu.setParams(live.cloth, live.sim);
+    EXPECT_EQ(gpu.tiledStretch(), passes != too_many) << passes << " passes: " << gpu.tiledStretchMisfit();
+    gpu.stepFrame();
+    cpu.stepFrame();
+  }
+  // Bending springs off: the reach shrinks (the ring with it) and the forces skip that direction; wind on:
+  // the forces go back to the adjacency kernel (forces_integrate_tiled.comp has none), the stretch limit
+  // stays tiled.
+  live.cloth.enable_bending = false;
+  gpu.setParams(live.cloth, live.sim);
+  cpu.setParams(live.cloth, live.sim);
+  EXPECT_TRUE(gpu.tiledStretch());
+  EXPECT_LT(gpu.stretchTiling().halo, 19u) << "2 passes without bending springs";
+  gpu.stepFrame();
+  cpu.stepFrame();
+  live.sim.wind.enabled = true;
+  live.sim.wind.velocity = glm::dvec3(3.0, 0.0, 1.0);
+  gpu.setParams(live.cloth, live.sim);
+  cpu.setParams(live.cloth, live.sim);
+  EXPECT_EQ(gpu.passes(), (Strings{"forces+integrate", "limit_stretch_tiled"}));
+  gpu.stepFrame();
+  cpu.stepFrame();
+  if (gpu_test::bitIdenticalDevice(gpu.contextInfo())) {
+    EXPECT_EQ(gpu_test::changedPoints(gpu.readPositions(), cpu.readPositions()), 0);
   }
 }
 

@@ -79,7 +79,7 @@ TEST(ListOptions, EachBadItemIsNamedInOneLine) {
 TEST(ListOptions, HelpListsTheChoicesAndDefaults) {
   ListCommand c;
   const std::string help = c.app.help();
-  EXPECT_NE(help.find("cpu,cpu64,gpu,gpu-general,gpu-onedispatch,cpu-xprev"), std::string::npos) << help;
+  EXPECT_NE(help.find("cpu,cpu64,gpu,gpu-general,gpu-tiled,gpu-onedispatch,cpu-xprev"), std::string::npos) << help;
   EXPECT_NE(help.find("32,64"), std::string::npos) << help;
   EXPECT_NE(help.find("INT in [2 .. 2048]"), std::string::npos) << help;
 }
@@ -99,9 +99,10 @@ TEST(Sizes, WidthByHeightWithinBounds) {
 }
 
 TEST(SolverTable, EveryNameMakesThatSolverAndOnlyMeasurementsGetCpuXprev) {
-  EXPECT_EQ(solverNames(false), (std::vector<std::string>{"cpu", "cpu64", "gpu", "gpu-general", "gpu-onedispatch"}));
-  EXPECT_EQ(solverNames(true),
-            (std::vector<std::string>{"cpu", "cpu64", "gpu", "gpu-general", "gpu-onedispatch", "cpu-xprev"}));
+  EXPECT_EQ(solverNames(false),
+            (std::vector<std::string>{"cpu", "cpu64", "gpu", "gpu-general", "gpu-tiled", "gpu-onedispatch"}));
+  EXPECT_EQ(solverNames(true), (std::vector<std::string>{"cpu", "cpu64", "gpu", "gpu-general", "gpu-tiled",
+                                                         "gpu-onedispatch", "cpu-xprev"}));
   Scene scene;
   scene.cloth.num_width_points = 4;
   scene.cloth.num_height_points = 4;

@@ -130,23 +130,13 @@ vec3 forcesIntegrate(uint i, inout vec3 v, float pin, vec4 weight, float time) {
 }
 
 // limit_stretch_coloured.comp seen from one end: point i's spring of colour c moves i by exactly what the
-// per-spring kernel gives that end (the end with the larger index takes -ca when the shares are equal).
-// False where i has no spring of the colour: then it is not touched at all (x + 0 would turn -0 into +0).
+// per-spring kernel gives that end. False where i has no spring of the colour: then it is not touched at
+// all (x + 0 would turn -0 into +0).
 bool stretchColoured(uint i, uint c, out vec3 corr) {
   corr = vec3(0.0);
   ColourPartner p = colourPartners[c * uint(GROUP_POINTS) + i];
   if (p.other == kNoPartner) return false;
-  bool pinned_j = pinnedAt(p.other);
-  float share_i = stretchShare(false, pinned_j);
-  precise vec3 xi = loadX(i);
-  precise vec3 xj = loadX(p.other);
-  float share_j = stretchShare(pinned_j, false);
-  if (i > p.other && share_i == share_j) {
-    precise vec3 cj = stretchCorrection(xj, xi, p.rest, params.stretch_limit, share_j);
-    corr = -cj;
-  } else {
-    corr = stretchCorrection(xi, xj, p.rest, params.stretch_limit, share_i);
-  }
+  corr = stretchOneEnd(loadX(i), loadX(p.other), i > p.other, pinnedAt(p.other), p.rest, params.stretch_limit);
   return true;
 }
 

@@ -108,6 +108,21 @@ float stretchShare(bool pinned_i, bool pinned_j) {
   return pinned_i ? 0.0 : pinned_j ? 1.0 : 0.5;
 }
 
+// limit_stretch_coloured.comp's move of a free end i of spring (a, b), a < b, seen from that end alone:
+// exactly what the per-spring kernel gives it, so a kernel that works per point (one_group.comp,
+// limit_stretch_tiled.comp) matches it bit for bit. With equal shares end b takes -ca, which IEEE
+// negation makes exact; `i_is_b` says which end i is.
+vec3 stretchOneEnd(vec3 xi, vec3 xj, bool i_is_b, bool pinned_j, float rest, float limit) {
+  float share_i = stretchShare(false, pinned_j);
+  float share_j = stretchShare(pinned_j, false);
+  if (i_is_b && share_i == share_j) {
+    precise vec3 cj = stretchCorrection(xj, xi, rest, limit, share_j);
+    return -cj;
+  }
+  precise vec3 ci = stretchCorrection(xi, xj, rest, limit, share_i);
+  return ci;
+}
+
 // Long-range attachment of a free point to a pinned anchor (physics.hpp explains).
 vec3 tetherCorrection(vec3 x, vec3 anchor, float rest, float limit) {
   precise vec3 d = anchor - x;

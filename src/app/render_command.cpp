@@ -292,9 +292,9 @@ void addRenderCommand(CLI::App& app) {
   addListOption(cmd, "--shader", opts->shader, "Shading models, comma-separated, or all")
       ->check(CLI::IsMember(shaderChoices()));
   cmd->add_option("--size", opts->size, "Image size WIDTHxHEIGHT (default 640x480)");
-  cmd->add_option(
-         "--solver", opts->solver,
-         "gpu (default; the path chosen for the device), gpu-general or gpu-onedispatch (forced), cpu or cpu64")
+  cmd->add_option("--solver", opts->solver,
+                  "gpu (default; the path chosen for the device), gpu-general, gpu-tiled or gpu-onedispatch (forced), "
+                  "cpu or cpu64")
       ->check(CLI::IsMember(solverNames(false)));
   addIntegratorOption(cmd, opts->integrator);
   cmd->add_option("--video", opts->video,

@@ -121,8 +121,9 @@ void addSimulateCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("simulate", "Run a scene headless and print a summary");
   cmd->add_option("scene", opts->scene, "Scene JSON file")->required();
   cmd->add_option("--frames", opts->frames, "Frames to simulate")->check(kNonNegative);
-  cmd->add_option("--solver", opts->solver,
-                  "cpu (float), cpu64 (double), gpu (the path chosen for the device), gpu-general or gpu-onedispatch")
+  cmd->add_option(
+         "--solver", opts->solver,
+         "cpu (float), cpu64 (double), gpu (the path chosen for the device), gpu-general, gpu-tiled or gpu-onedispatch")
       ->check(CLI::IsMember(solverNames(false)))
       ->capture_default_str();
   addIntegratorOption(cmd, opts->integrator);

@@ -16,6 +16,7 @@ const std::vector<SolverKind>& solverKinds() {
       {"cpu64", "CPU reference in double", false},
       {"gpu", "OpenGL 4.5 compute shaders, the path chosen for the device", false},
       {"gpu-general", "the GPU's general path: a dispatch per pass and substep", false},
+      {"gpu-tiled", "the general path with the stretch limit in one dispatch of blocks (grid cloths)", false},
       {"gpu-onedispatch", "the GPU's one-dispatch path: a frame in one work group (small cloths)", false},
       {"cpu-xprev", "CPU float with CS184's x_prev form of Verlet (its round-off, measured)", true},
   };
@@ -23,7 +24,7 @@ const std::vector<SolverKind>& solverKinds() {
 }
 
 bool isGpuSolver(const std::string& name) {
-  return name == "gpu" || name == "gpu-general" || name == "gpu-onedispatch";
+  return name == "gpu" || name == "gpu-general" || name == "gpu-tiled" || name == "gpu-onedispatch";
 }
 
 std::vector<std::string> solverNames(bool with_measurement_only) {
@@ -74,6 +75,7 @@ std::unique_ptr<Solver> SolverFactory::makeGpu(const Scene& scene, const std::st
   GpuSolverOptions options;
   options.timing = request.pass_timing;
   options.path = name == "gpu-general"       ? GpuPath::General
+                 : name == "gpu-tiled"       ? GpuPath::Tiled
                  : name == "gpu-onedispatch" ? GpuPath::OneDispatch
                                              : GpuPath::Auto;
   std::unique_ptr<GpuSolver> solver;

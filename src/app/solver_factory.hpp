@@ -25,7 +25,7 @@ struct SolverKind {
 // "cpu"        CpuSolver<float>, displacement form (the GPU's arithmetic)
 // "cpu64"      CpuSolver<double>
 // "gpu"        GpuSolver (OpenGL 4.5 compute), the path chosen per device (GpuPath::Auto)
-// "gpu-general", "gpu-onedispatch"  GpuSolver forced onto one path (GpuPath)
+// "gpu-general", "gpu-tiled", "gpu-onedispatch"  GpuSolver forced onto one path (GpuPath)
 // "cpu-xprev"  CpuSolver<float>, x_prev form (CS184's; measured for its round-off): measurement only
 const std::vector<SolverKind>& solverKinds();
 // The names for CLI::IsMember: every solver, or those that `simulate`, `render` and `view` run.

@@ -80,9 +80,9 @@ void addViewCommand(CLI::App& app) {
   cmd->add_option("-o,--longitudes", opts->longitudes, "Sphere longitude segments (default 40)")
       ->check(CLI::Range(3, 1000));
   cmd->add_option("--shader", opts->shader, "Shading model: " + shadingNames());
-  cmd->add_option(
-         "--solver", opts->solver,
-         "gpu (default; the path chosen for the device), gpu-general or gpu-onedispatch (forced), cpu or cpu64")
+  cmd->add_option("--solver", opts->solver,
+                  "gpu (default; the path chosen for the device), gpu-general, gpu-tiled or gpu-onedispatch (forced), "
+                  "cpu or cpu64")
       ->check(CLI::IsMember(solverNames(false)));
   addIntegratorOption(cmd, opts->integrator);
   auto* frames =

@@ -17,9 +17,25 @@ struct SpringColouring {
   int colourCount() const { return start.empty() ? 0 : int(start.size()) - 1; }
 };
 
-// Greedy in spring order (the smallest colour free at both ends), so the same topology always gets the
-// same colouring. A W x H grid's structural, shearing and bending springs take 12 colours this way.
+// The six directions of a grid's springs, end b minus end a in (x, y), in the order topology.cpp makes
+// them: structural, shearing, bending. glsl/sim/limit_stretch_tiled.comp has the same table.
+inline constexpr int kGridDirectionCount = 6;
+inline constexpr int kGridDirections[kGridDirectionCount][2] = {{1, 0}, {0, 1}, {1, 1}, {-1, 1}, {2, 0}, {0, 2}};
+// Which of them a grid cloth's spring runs in.
+int gridDirection(const Topology& topo, const Spring& s);
+
+// A grid's springs by direction and parity: 12 colours, colour 2 * direction + the parity of the
+// spring's start along it (of half of it for bending springs), each a set of parallel springs every other
+// step (a change travels 10 points in a pass, gridColourReach). A mesh cloth's greedily in spring order (the
+// smallest colour free at both ends). The same topology always gets the same colouring.
 SpringColouring colourSprings(const Topology& topo);
+
+// How far apart, in grid steps along x or y, a point of a grid cloth and a point its result depends on
+// can be after `passes` Gauss-Seidel passes over `colouring`: each colour lets a point take on what its
+// partner in that colour depended on, one spring further out.
+// Springs whose type bit is clear in `type_mask` (bit t: SpringType t) are skipped, as disabled springs
+// are. The tiled stretch kernel copies this many points around its block. Throws for a mesh cloth.
+int gridColourReach(const Topology& topo, const SpringColouring& colouring, int passes, unsigned type_mask);
 
 // A colouring of the points: points of one colour share no spring, so a per-point Gauss-Seidel pass
 // (Vertex Block Descent) can move every point of a colour at once, each from its neighbours' latest

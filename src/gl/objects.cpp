@@ -176,10 +176,10 @@ Program::Program(GLuint linked_program, std::string label) : name_(linked_progra
     std::string name(buffer.data(), static_cast<std::size_t>(length));
     const GLint location = glGetUniformLocation(id(), name.c_str());
     if (location < 0) continue;  // a member of a uniform block, set through its buffer
-    uniforms_[name] = {location, type};
+    uniforms_[name] = {location, type, array_size};
     // Arrays are reported as "name[0]"; their first element is also reachable as "name".
     if (name.size() > 3 && name.compare(name.size() - 3, 3, "[0]") == 0)
-      uniforms_[name.substr(0, name.size() - 3)] = {location, type};
+      uniforms_[name.substr(0, name.size() - 3)] = {location, type, array_size};
   }
   checkDebugErrors();
 }
@@ -281,6 +281,19 @@ void Program::setUniform(const char* name, const glm::vec4& value) const {
 }
 void Program::setUniform(const char* name, const glm::ivec3& value) const {
   glProgramUniform3iv(id(), locate(name, GL_INT_VEC3), 1, glm::value_ptr(value));
+  checkDebugErrors();
+}
+void Program::setUniform(const char* name, const glm::uvec2& value) const {
+  glProgramUniform2uiv(id(), locate(name, GL_UNSIGNED_INT_VEC2), 1, glm::value_ptr(value));
+  checkDebugErrors();
+}
+void Program::setUniform(const char* name, const std::vector<float>& values) const {
+  const GLint location = locate(name, GL_FLOAT);
+  const GLint size = uniforms_.at(name).size;
+  if (GLint(values.size()) > size)
+    throw GlError("uniform '" + std::string(name) + "' of program " + label_ + " holds " + std::to_string(size) +
+                  " floats, set with " + std::to_string(values.size()));
+  glProgramUniform1fv(id(), location, GLsizei(values.size()), values.data());
   checkDebugErrors();
 }
 void Program::setUniform(const char* name, const glm::mat3& value) const {

@@ -155,6 +155,8 @@ class Program {
   void setUniform(const char* name, const glm::vec3& value) const;
   void setUniform(const char* name, const glm::vec4& value) const;
   void setUniform(const char* name, const glm::ivec3& value) const;
+  void setUniform(const char* name, const glm::uvec2& value) const;
+  void setUniform(const char* name, const std::vector<float>& values) const;  // a float[], from element 0
   void setUniform(const char* name, const glm::mat3& value) const;
   void setUniform(const char* name, const glm::mat4& value) const;
 
@@ -168,6 +170,7 @@ class Program {
   struct Uniform {
     GLint location = -1;
     GLenum type = 0;
+    GLint size = 1;  // elements, for an array
   };
   GLint locate(const char* name, GLenum type) const;
 

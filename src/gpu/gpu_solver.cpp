@@ -460,6 +460,8 @@ void GpuSolver::compilePrograms() {
 // kMaxPointsPerInvocation.
 namespace {
 constexpr std::uint32_t kMaxPointsPerInvocation = 8;
+// A smaller block would copy more than (1 + 2 * halo / tile)^2 = 9 points of ring and block per point.
+constexpr std::uint32_t kMinStretchTile = 8;
 
 std::uint64_t oneGroupSharedBytes(std::uint64_t points, std::uint64_t buckets, bool self_collision) {
   const std::uint64_t state = 12 * points + 4 * ((points + 31) / 32);
@@ -499,17 +501,119 @@ std::string GpuSolver::oneDispatchMisfit() const {
   return "";
 }
 
+// The ring a block copies is the colouring's reach (gridColourReach); the block is the largest that fits
+// shared memory with it, at 12 bytes and a pin bit a point, as one_group.comp.
+GpuSolver::StretchTiling GpuSolver::stretchTiling() const {
+  if (!scene_.cloth.isGrid() || scene_.sim.stretch_scheme != StretchScheme::GaussSeidel) return {};
+  unsigned mask = 0;
+  for (int t = 0; t < kSpringTypeCount; ++t)
+    if (enabled_springs_[t]) mask |= 1U << unsigned(t);
+  const int reach = gridColourReach(topo_, colouring_, scene_.sim.stretch_passes, mask);
+  GLint shared = 0, invocations = 0, size_x = 0;
+  glGetIntegerv(GL_MAX_COMPUTE_SHARED_MEMORY_SIZE, &shared);
+  glGetIntegerv(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS, &invocations);
+  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_SIZE, 0, &size_x);
+  const auto max_group = std::uint64_t(std::min(invocations, size_x));
+  std::uint64_t region = 0;
+  while (true) {
+    const std::uint64_t next = region + 1, points = next * next;
+    if (12 * points + 4 * ((points + 31) / 32) > std::uint64_t(shared) || points > max_group * kMaxPointsPerInvocation)
+      break;
+    region = next;
+  }
+  StretchTiling t;
+  t.halo = std::uint32_t(reach);
+  if (region < 2 * std::uint64_t(reach) + kMinStretchTile) return t;
+  t.tile = std::uint32_t(region) - 2 * t.halo;
+  const std::uint64_t per_group = (region * region + kMaxPointsPerInvocation - 1) / kMaxPointsPerInvocation;
+  t.group_size = std::uint32_t(std::min(max_group, (per_group + 31) / 32 * 32));
+  // The forces' copy: positions only, a ring of 2; the block's points are the work, 8 an invocation at most.
+  std::uint64_t forces_region = 0;
+  while (12 * (forces_region + 1) * (forces_region + 1) <= std::uint64_t(shared) &&
+         (forces_region - 3) * (forces_region - 3) <= max_group * kMaxPointsPerInvocation)
+    ++forces_region;
+  t.forces_tile = std::uint32_t(forces_region) - 4;
+  const std::uint64_t forces_points = std::uint64_t(t.forces_tile) * t.forces_tile;
+  t.forces_group_size = std::uint32_t(
+      std::min(max_group, ((forces_points + kMaxPointsPerInvocation - 1) / kMaxPointsPerInvocation + 31) / 32 * 32));
+  return t;
+}
+
+// The tiled forces kernel sums springs found by grid offset with one rest length per direction, and has
+// no wind; XPBD and VBD predict without springs.
+bool GpuSolver::tiledForces() const {
+  return tiled_ && !grid_rests_.empty() && !scene_.sim.wind.enabled && !isImplicit(scene_.sim.integrator);
+}
+
+std::vector<float> GpuSolver::uniformGridRests() const {
+  std::vector<float> rests(kGridDirectionCount, 0.0f);
+  std::vector<bool> seen(kGridDirectionCount, false);
+  for (const Spring& s : topo_.springs) {
+    if (!enabled_springs_[int(s.type)]) continue;
+    const auto d = std::size_t(gridDirection(topo_, s));
+    const float rest = float(s.rest);
+    if (seen[d] && rest != rests[d]) return {};
+    rests[d] = rest;
+    seen[d] = true;
+  }
+  return rests;
+}
+
+std::string GpuSolver::tiledStretchMisfit() const {
+  if (!scene_.cloth.isGrid())
+    return "the tiled stretch limit needs a grid cloth (a mesh cloth's springs have no blocks)";
+  if (scene_.sim.stretch_scheme != StretchScheme::GaussSeidel)
+    return "the Jacobi stretch scheme is one dispatch a pass already; the tiled kernel runs the Gauss-Seidel one";
+  const StretchTiling t = stretchTiling();
+  if (t.tile < kMinStretchTile) {
+    GLint shared = 0;
+    glGetIntegerv(GL_MAX_COMPUTE_SHARED_MEMORY_SIZE, &shared);
+    return std::to_string(scene_.sim.stretch_passes) + " stretch passes reach " + std::to_string(t.halo) +
+           " points around a block, too many for a block of at least " + std::to_string(kMinStretchTile) +
+           " points a side in GL_MAX_COMPUTE_SHARED_MEMORY_SIZE (" + std::to_string(shared) + ")";
+  }
+  return "";
+}
+
 void GpuSolver::choosePath(bool constructing) {
   const std::string misfit = oneDispatchMisfit();
   if (constructing && options_.path == GpuPath::OneDispatch && !misfit.empty())
     throw GpuLimitError("gpu solver: the one-dispatch path does not fit: " + misfit);
-  // Forced, it still gives way to the general path when a live change (self-collision on) makes it misfit.
+  // The colouring's reach is worked out only where the tiled path may run.
+  const bool may_tile = options_.path == GpuPath::Tiled || (options_.path == GpuPath::Auto && !context_info_.software);
+  const std::string tiled_misfit = may_tile ? tiledStretchMisfit() : "not asked for";
+  if (constructing && options_.path == GpuPath::Tiled && !tiled_misfit.empty())
+    throw GpuLimitError("gpu solver: the tiled stretch limit does not apply: " + tiled_misfit);
+  // Forced, either still gives way to the general path when a live change (self-collision on, a stretch
+  // pass more) makes it misfit.
   one_group_ = misfit.empty() &&
                (options_.path == GpuPath::OneDispatch || (options_.path == GpuPath::Auto && !context_info_.software));
-  if (!one_group_) {
+  tiled_ = !one_group_ && may_tile && tiled_misfit.empty();
+  tiling_ = tiled_ ? stretchTiling() : StretchTiling{};
+  grid_rests_ = tiled_ ? uniformGridRests() : std::vector<float>{};
+  if (one_group_ || (tiled_ && grid_rests_.empty()))
+    uploadColourPartners();
+  else
     colour_partners_ = gl::Buffer();
-    return;
+  if (tiled_) {
+    gl::Defines d = defines_;
+    d.emplace_back("GROUP_SIZE", std::to_string(tiling_.group_size));
+    d.emplace_back("TILE", std::to_string(tiling_.tile));
+    d.emplace_back("HALO", std::to_string(tiling_.halo));
+    d.emplace_back("GRID_PARTNERS", grid_rests_.empty() ? "0" : "1");
+    if (d != tiled_defines_) {
+      programs_.limit_stretch_tiled = gl::compileCompute("sim/limit_stretch_tiled.comp", d);
+      programs_.forces_integrate_tiled = gl::Program();
+      tiled_defines_ = d;
+    }
+    if (tiledForces() && programs_.forces_integrate_tiled.id() == 0) {
+      gl::Defines f = defines_;
+      f.emplace_back("GROUP_SIZE", std::to_string(tiling_.forces_group_size));
+      f.emplace_back("TILE", std::to_string(tiling_.forces_tile));
+      programs_.forces_integrate_tiled = gl::compileCompute("sim/forces_integrate_tiled.comp", f);
+    }
   }
+  if (!one_group_) return;
   gl::Defines d = defines_;
   d.emplace_back("GROUP_SIZE", std::to_string(oneGroupSize()));
   d.emplace_back("GROUP_POINTS", std::to_string(topo_.pointCount()));
@@ -519,7 +623,6 @@ void GpuSolver::choosePath(bool constructing) {
     programs_.one_group = gl::compileCompute("sim/one_group.comp", d);
     one_group_defines_ = d;
   }
-  uploadColourPartners();
 }
 
 // Per colour and point, the point's spring of that colour (at most one: springs of a colour share no

@@ -6,6 +6,8 @@
 //   forces+integrate[+collide | +pairs_check]  per point: gather springs (+ wind), Verlet, then the
 //                                               point's collisions, or, when a self-collision pass comes
 //                                               next, whether it moved too far for the candidate lists
+//   forces_tiled+integrate[...]                 the same on the tiled path for a flat grid without wind:
+//                                               blocks in shared memory, springs by grid offset
 //   pairs_prepare                               one invocation: switches the list build below on or off
 //   pairs_grid_count ... pairs_fill             the candidate lists' build (glsl/sim/pairs.glsl), indirect
 //                                               dispatches of zero work groups unless the lists are stale:
@@ -18,6 +20,9 @@
 //                                               collisions
 //   limit_stretch_colour                        Gauss-Seidel stretch scheme: one dispatch per spring colour
 //                                               and stretch pass, each moving both ends of its springs in place
+//   limit_stretch_tiled                         or, on a grid cloth, every colour and pass in one dispatch of
+//                                               blocks that each copy themselves and a ring around them into
+//                                               shared memory (GpuPath::Tiled)
 //   limit_stretch                               Jacobi stretch scheme: once per stretch pass
 // With simulation.integrator xpbd or vbd, forces+integrate is the prediction (no springs, nothing fused), then
 //   xpbd_colour                                 XPBD: one dispatch per spring colour and sweep, the springs
@@ -52,12 +57,15 @@ namespace gpu {
 struct PairState;  // glsl/shared/layout.h
 }
 
-// How a substep is dispatched. General: the plan of dispatches above, any cloth. OneDispatch: every
-// substep of a frame in one work group with the positions (and the self-collision grid) in shared memory
-// (glsl/sim/one_group.comp), for cloths that fit it. Auto: OneDispatch where it fits, on a hardware GPU;
+// How a substep is dispatched. General: the plan of dispatches above, any cloth, the Gauss-Seidel stretch
+// limit one dispatch per colour. Tiled: the same plan with the stretch limit's colours and passes in one
+// dispatch of blocks in shared memory (glsl/sim/limit_stretch_tiled.comp), for grid cloths whose colouring
+// reaches few enough points for a block and its ring to fit. OneDispatch: every substep of a frame in one
+// work group with the positions (and the self-collision grid) in shared memory (glsl/sim/one_group.comp),
+// for cloths that fit it. Auto: OneDispatch where it fits, else Tiled where it applies, on a hardware GPU;
 // on a software renderer (llvmpipe) the general path, which spreads a frame over its threads where one
 // work group runs on one (measured in README.md, "GPU paths").
-enum class GpuPath { Auto, General, OneDispatch };
+enum class GpuPath { Auto, General, Tiled, OneDispatch };
 
 struct GpuSolverOptions {
   GpuPath path = GpuPath::Auto;
@@ -105,9 +113,11 @@ class GpuSolver final : public Solver {
   GpuSolver(const GpuSolver&) = delete;
   GpuSolver& operator=(const GpuSolver&) = delete;
 
-  // "gpu", or the forced path's name ("gpu-general", "gpu-onedispatch"), as the solver factory calls them.
+  // "gpu", or the forced path's name ("gpu-general", "gpu-tiled", "gpu-onedispatch"), as the solver
+  // factory calls them.
   std::string name() const override {
     return options_.path == GpuPath::General       ? "gpu-general"
+           : options_.path == GpuPath::Tiled       ? "gpu-tiled"
            : options_.path == GpuPath::OneDispatch ? "gpu-onedispatch"
                                                    : "gpu";
   }
@@ -131,6 +141,17 @@ class GpuSolver final : public Solver {
   // Whether this scene runs on the one-dispatch path (GpuPath), and, when it cannot, why not ("" if it can).
   bool oneDispatch() const { return one_group_; }
   std::string oneDispatchMisfit() const;
+  // Whether the stretch limit runs as one tiled dispatch a substep (GpuPath), and, when it cannot, why not.
+  bool tiledStretch() const { return tiled_; }
+  // Whether it finds each point's springs from the grid (every direction's rests alike), not the table.
+  bool tiledFromGrid() const { return tiled_ && !grid_rests_.empty(); }
+  std::string tiledStretchMisfit() const;
+  // The tiled kernel's block edge and ring width in points, and its invocations; all 0 when it does not apply.
+  struct StretchTiling {
+    std::uint32_t tile = 0, halo = 0, group_size = 0;
+    std::uint32_t forces_tile = 0, forces_group_size = 0;  // forces_integrate_tiled.comp's (ring 2)
+  };
+  StretchTiling stretchTiling() const;
   std::vector<PassTiming> timings() const override;
   void resetTimings() override;
 
@@ -196,6 +217,7 @@ class GpuSolver final : public Solver {
  private:
   enum PassId {
     kForcesIntegrate,
+    kForcesIntegrateTiled,
     kPairsCheck,
     kPairsPrepare,
     kPairsGridCount,
@@ -213,6 +235,7 @@ class GpuSolver final : public Solver {
     kSelfCollide,
     kLimitStretch,
     kLimitStretchColoured,
+    kLimitStretchTiled,
     kOneGroup,
     kXpbdColoured,
     kVbdColoured,
@@ -228,7 +251,7 @@ class GpuSolver final : public Solver {
   // parameter change): step() runs it, passes() lists it (the -v listing and the bench print that), and
   // tests/gpu_solver_gl_test.cpp holds it against the dispatches really issued.
   struct PlannedDispatch {
-    enum class Size { Points, One, Indirect, Springs, ColourPoints };
+    enum class Size { Points, One, Indirect, Springs, ColourPoints, Tiles };
     PassId pass;
     Stage stage;
     const gl::Program* program;
@@ -249,6 +272,8 @@ class GpuSolver final : public Solver {
     gl::Program pairs_check, pairs_prepare, pairs_grid_count, pairs_count, pairs_scan[3], pairs_fill;
     gl::Program grid_build, grid_scan[3], grid_scatter, grid_rank;
     gl::Program limit_stretch, limit_stretch_coloured;
+    gl::Program limit_stretch_tiled;     // the tiled path, compiled when it is chosen
+    gl::Program forces_integrate_tiled;  // ... and its forces, where the scene allows them
     gl::Program one_group;               // the one-dispatch path, compiled when it is chosen
     gl::Program xpbd_coloured, collide;  // XPBD only (collide: VBD too)
     gl::Program vbd_coloured;            // VBD only
@@ -264,13 +289,19 @@ class GpuSolver final : public Solver {
   void buildPlan();
   void choosePath(bool constructing);  // GpuSolverOptions::path for this scene: one_group_, its kernel and table
   void uploadColourPartners();
-  std::uint32_t oneGroupSize() const;     // the one-dispatch kernel's invocations
-  std::uint32_t oneGroupBuckets() const;  // its in-group self-collision grid's buckets
+  std::vector<float> uniformGridRests() const;  // grid_rests_ as it should be; empty where rests differ
+  std::uint32_t oneGroupSize() const;           // the one-dispatch kernel's invocations
+  std::uint32_t oneGroupBuckets() const;        // its in-group self-collision grid's buckets
   // The one-dispatch kernel: `substeps` substeps of the phases in `phases` (bit 0 forces + integrate
   // (+ collide), bit 1 the stretch passes).
   // With `check_health`, the health check of health.comp on the last state, in the same dispatch.
   void runOneGroup(std::uint32_t substeps, std::uint32_t phases, bool check_health);
   double bytesPerPoint(const PlannedDispatch& d) const;
+  // A tiled kernel's blocks of `tile` along an edge of `points`, and the points they copy along it with
+  // rings of `ring` (clipped to the cloth).
+  static std::uint32_t tileCount(int points, std::uint32_t tile);
+  static std::uint64_t copiedPoints(int points, std::uint32_t tile, std::uint32_t ring);
+  bool tiledForces() const;  // the tiled path gathers forces by grid offset too (forces_integrate_tiled.comp)
   void runStage(Stage stage);
   void runStageOrPhase(Stage stage, std::uint32_t phase);  // the stage's dispatches, or its one-dispatch phase
   void run(const PlannedDispatch& d);
@@ -340,10 +371,16 @@ class GpuSolver final : public Solver {
   gl::Buffer coloured_points_;                     // VBD: point indices grouped by colour (colourPoints)
   gl::Buffer vbd_inertia_;                         // VBD with iterations > 1: vec4 per point, the prediction y
   bool one_group_ = false;                         // the one-dispatch path runs this scene
-  gl::Buffer colour_partners_;                     // its ColourPartner table (Gauss-Seidel stretch)
-  gl::Buffer tethers_;                             // Tether per point and slot, once the scene asks for them
-  int tether_slots_ = 0;                           // anchors per point; 0: none built, or a cloth without pins
-  gl::Defines one_group_defines_;                  // what its kernel was compiled with
+  bool tiled_ = false;                             // the stretch limit runs tiled (GpuPath::Tiled)
+  StretchTiling tiling_;                           // its blocks, when it does
+  // Each grid direction's rest length, when all its enabled springs share one (0: disabled or none): then
+  // the tiled kernel finds partners and rests from the grid instead of the ColourPartner table.
+  std::vector<float> grid_rests_;
+  gl::Buffer colour_partners_;     // ColourPartner table (Gauss-Seidel stretch, per point)
+  gl::Defines tiled_defines_;      // what the tiled kernel was compiled with
+  gl::Buffer tethers_;             // Tether per point and slot, once the scene asks for them
+  int tether_slots_ = 0;           // anchors per point; 0: none built, or a cloth without pins
+  gl::Defines one_group_defines_;  // what its kernel was compiled with
   gl::Buffer grid_points_, grid_counts_, grid_start_, grid_blocks_, grid_scatter_, grid_sorted_;
   gl::Buffer pair_control_, pair_anchor_, pair_start_, pair_list_;
   std::uint64_t pair_capacity_ = 0;

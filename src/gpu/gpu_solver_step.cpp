@@ -147,7 +147,10 @@ void GpuSolver::buildPlan() {
     add(kOneGroup, Stage::Integrate, programs_.one_group, Size::One, false);
     return;
   }
-  add(kForcesIntegrate, Stage::Integrate, programs_.forces_integrate, Size::Points, true);
+  if (tiledForces())
+    add(kForcesIntegrateTiled, Stage::Integrate, programs_.forces_integrate_tiled, Size::Tiles, true);
+  else
+    add(kForcesIntegrate, Stage::Integrate, programs_.forces_integrate, Size::Points, true);
   const bool implicit = isImplicit(scene_.sim.integrator);
   if (implicit) {
     // In place, as the Gauss-Seidel stretch pass below (CpuSolver::solveXpbd, solveVbd).
@@ -192,6 +195,11 @@ void GpuSolver::buildPlan() {
   }
   // In place: a point writes only itself and reads only anchors, which are pinned.
   if (usesTethers()) add(kTether, Stage::Tether, programs_.tether, Size::Points, false);
+  if (tiled_) {  // every colour of every pass in the one dispatch, blocks in shared memory
+    if (scene_.sim.stretch_passes > 0)
+      add(kLimitStretchTiled, Stage::Stretch, programs_.limit_stretch_tiled, Size::Tiles, true);
+    return;
+  }
   for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass) {
     if (scene_.sim.stretch_scheme == StretchScheme::Jacobi) {
       add(kLimitStretch, Stage::Stretch, programs_.limit_stretch, Size::Points, true);
@@ -214,6 +222,19 @@ void GpuSolver::run(const PlannedDispatch& d) {
     program.setUniform("u_count", d.count);
   }
   if (d.pass == kTether) tethers_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingTethers);
+  if (d.pass == kForcesIntegrateTiled) {
+    program.setUniform("u_grid", glm::uvec2(std::uint32_t(topo_.W), std::uint32_t(topo_.H)));
+    program.setUniform("u_rest", grid_rests_);
+  }
+  if (d.pass == kLimitStretchTiled) {
+    if (grid_rests_.empty())
+      colour_partners_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColourPartners);
+    else
+      program.setUniform("u_rest", grid_rests_);
+    program.setUniform("u_grid", glm::uvec2(std::uint32_t(topo_.W), std::uint32_t(topo_.H)));
+    program.setUniform("u_colours", std::uint32_t(colouring_.colourCount()));
+    program.setUniform("u_passes", std::uint32_t(scene_.sim.stretch_passes));
+  }
   if (d.pass == kXpbdColoured && scene_.sim.iterations > 1) {
     xpbd_lambda_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingXpbdLambda);
     program.setUniform("u_sweep", d.sweep);
@@ -242,11 +263,17 @@ void GpuSolver::run(const PlannedDispatch& d) {
     case PlannedDispatch::Size::Indirect:
       dispatchIndirect(d.pass, program, d.command);
       break;
+    case PlannedDispatch::Size::Tiles: {
+      const std::uint32_t tile = d.pass == kForcesIntegrateTiled ? tiling_.forces_tile : tiling_.tile;
+      dispatch(d.pass, program, {tileCount(topo_.W, tile), tileCount(topo_.H, tile), 1});
+      break;
+    }
   }
   if (d.ping_pong) current_ = 1 - current_;
   if (d.writes_commands) glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
   // Integrate checks the travel for the lists when self-collision follows; self-collision consumes it.
-  if (d.pass == kForcesIntegrate) pairs_checked_ = scene_.sim.self_collision && !isImplicit(scene_.sim.integrator);
+  if (d.pass == kForcesIntegrate || d.pass == kForcesIntegrateTiled)
+    pairs_checked_ = scene_.sim.self_collision && !isImplicit(scene_.sim.integrator);
   if (d.pass == kSelfCollide) pairs_checked_ = false;
 }
 
@@ -262,10 +289,25 @@ double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
       const double point = uniformMass() && !scene_.sim.wind.enabled ? 0 : sizeof(gpu::PointMass);
       return kState + point + kRange + entries * (sizeof(gpu::Neighbor) + sizeof(glm::vec4)) + kState;
     }
+    case kForcesIntegrateTiled: {  // every copied point's position; a block point's displacement; new state
+      const double copied = double(copiedPoints(topo_.W, tiling_.forces_tile, 2)) *
+                            double(copiedPoints(topo_.H, tiling_.forces_tile, 2)) / n;
+      return copied * sizeof(glm::vec4) + sizeof(glm::vec4) + kState;
+    }
     case kLimitStretch:  // the same gather (each neighbour's pin flag rides in its position's w)
       return kState + kRange + entries * (sizeof(gpu::Neighbor) + sizeof(glm::vec4)) + kState;
     case kLimitStretchColoured:  // per spring: the entry, both ends' state read and written
       return double(d.count) * (sizeof(gpu::ColouredSpring) + 4 * kState) / n;
+    case kLimitStretchTiled: {  // every copied point's position and, per colour and pass, its table entry
+                                // (none where the grid gives partners and rests); a block point's
+                                // displacement; the block's new state
+      const double copied = double(copiedPoints(topo_.W, tiling_.tile, tiling_.halo)) *
+                            double(copiedPoints(topo_.H, tiling_.tile, tiling_.halo)) / n;
+      const double table = grid_rests_.empty() ? double(scene_.sim.stretch_passes) * colouring_.colourCount() *
+                                                     sizeof(gpu::ColourPartner)
+                                               : 0.0;
+      return copied * (sizeof(glm::vec4) + table) + sizeof(glm::vec4) + kState;
+    }
     case kOneGroup: {  // per substep: the adjacency, the stretch table; the state once per frame
       // Positions are gathered from shared memory, not device memory; self-collision's grid lives there too. The state
       // (and the weight, kept in registers) is read and written once per dispatch, a frame of steps_per_frame substeps.
@@ -300,6 +342,20 @@ double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
     default:  // pairs_prepare: one invocation; the list build: zero work groups while the lists are fresh
       return 0;
   }
+}
+
+std::uint32_t GpuSolver::tileCount(int points, std::uint32_t tile) {
+  return (std::uint32_t(points) + tile - 1) / tile;
+}
+
+// Blocks along one edge, each with its ring clipped to the cloth: the rows (or columns) of points copied.
+std::uint64_t GpuSolver::copiedPoints(int points, std::uint32_t tile, std::uint32_t ring) {
+  std::uint64_t total = 0;
+  for (std::uint32_t b = 0; b < tileCount(points, tile); ++b) {
+    const std::int64_t lo = std::int64_t(b) * tile, hi = std::min<std::int64_t>(lo + tile, points);
+    total += std::uint64_t(std::min<std::int64_t>(hi + ring, points) - std::max<std::int64_t>(lo - ring, 0));
+  }
+  return total;
 }
 
 double GpuSolver::bytesPerPointPerSubstep() const {
@@ -341,6 +397,10 @@ double GpuSolver::dispatchesPerSubstep() const {
 std::string GpuSolver::passName(PassId pass) const {
   const bool colliders = hasColliders();
   switch (pass) {
+    case kForcesIntegrateTiled:
+      return std::string("forces_tiled+integrate") + (scene_.sim.self_collision ? "+pairs_check"
+                                                      : colliders               ? "+collide"
+                                                                                : "");
     case kForcesIntegrate:
       if (isImplicit(scene_.sim.integrator)) return "forces+predict";
       return std::string("forces+integrate") + (scene_.sim.self_collision ? "+pairs_check"
@@ -380,6 +440,8 @@ std::string GpuSolver::passName(PassId pass) const {
       return "limit_stretch";
     case kLimitStretchColoured:
       return "limit_stretch_colour";
+    case kLimitStretchTiled:
+      return "limit_stretch_tiled";
     case kOneGroup:
       return "one_group";
     case kXpbdColoured:
