@@ -11,6 +11,7 @@
 #include "common.glsl"
 #include "physics.glsl"
 #include "collide.glsl"
+#include "grid_springs.glsl"
 #if SELF_COLLISION
 #include "pair_travel.glsl"
 #endif
@@ -26,11 +27,6 @@
 #define REGION_POINTS (REGION * REGION)
 
 layout(local_size_x = GROUP_SIZE) in;
-
-uniform uvec2 u_grid;     // the cloth's points along x (W) and y (H); point (x, y) is y * W + x
-uniform float u_rest[6];  // per direction (limit_stretch_tiled.comp's table): rest length, 0 when disabled
-
-const ivec2 kDirections[6] = ivec2[6](ivec2(1, 0), ivec2(0, 1), ivec2(1, 1), ivec2(-1, 1), ivec2(2, 0), ivec2(0, 2));
 
 shared float sx[3 * REGION_POINTS];
 
@@ -72,10 +68,8 @@ void main() {
         if (rest == 0.0) continue;
         float stiffness = params.stiffness[k / 2];
         ivec2 behind = at - kDirections[k], ahead = at + kDirections[k];
-        if (all(greaterThanEqual(behind, ivec2(0))) && all(lessThan(behind, grid)))
-          f += springForce(x, loadX(here - kDirections[k]), rest, stiffness);
-        if (all(greaterThanEqual(ahead, ivec2(0))) && all(lessThan(ahead, grid)))
-          f += springForce(x, loadX(here + kDirections[k]), rest, stiffness);
+        if (inGrid(behind)) f += springForce(x, loadX(here - kDirections[k]), rest, stiffness);
+        if (inGrid(ahead)) f += springForce(x, loadX(here + kDirections[k]), rest, stiffness);
       }
       v = integrateVerlet(v, f * params.weight.w, params.dt2, params.keep);
       x += v;

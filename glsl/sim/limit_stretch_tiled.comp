@@ -30,7 +30,6 @@
 
 layout(local_size_x = GROUP_SIZE) in;
 
-uniform uvec2 u_grid;    // the cloth's points along x (W) and y (H); point (x, y) is y * W + x
 uniform uint u_colours;  // spring colours
 uniform uint u_passes;   // SimParams::stretch_passes
 
@@ -39,22 +38,10 @@ uniform uint u_passes;   // SimParams::stretch_passes
 #endif
 #if GRID_PARTNERS
 // Where every spring of a direction has the same rest length (a flat grid), the partner and rest of a
-// point's spring of colour c follow from the grid: colourGridSprings in src/core/colouring.cpp gives
-// colour 2 * direction + parity, directions in this order, and the solver passes each direction's rest
-// length (0: its springs are disabled). Nothing per point is read but the state.
-const ivec2 kDirections[6] = ivec2[6](ivec2(1, 0), ivec2(0, 1), ivec2(1, 1), ivec2(-1, 1), ivec2(2, 0), ivec2(0, 2));
-uniform float u_rest[6];
-
-bool inGrid(ivec2 at) {
-  return all(greaterThanEqual(at, ivec2(0))) && all(lessThan(at, ivec2(u_grid)));
-}
-
-// The parity colourGridSprings gives a spring of direction d starting at `start` (in the grid).
-uint springParity(ivec2 start, int d) {
-  int along = kDirections[d].y == 0 ? start.x : start.y;
-  return uint((d >= 4 ? along / 2 : along) % 2);
-}
+// point's spring of colour c follow from the grid: nothing per point is read but the state.
+#include "grid_springs.glsl"
 #else
+uniform uvec2 u_grid;  // the cloth's points along x (W) and y (H); point (x, y) is y * W + x
 layout(std430, binding = kBindingColourPartners) readonly buffer ColourPartnersBuffer {
   ColourPartner colourPartners[];  // colour c, point i: colourPartners[c * point_count + i]
 };
@@ -132,23 +119,12 @@ void main() {
         moves[k] = false;
         if (l >= count || pinnedAt(l)) continue;
 #if GRID_PARTNERS
-        int d = int(c / 2u);
-        float rest = u_rest[d];
-        if (rest == 0.0) continue;
-        ivec2 here = ivec2(lo + uvec2(l % size.x, l / size.x));
-        ivec2 ahead = here + kDirections[d], behind = here - kDirections[d];
-        bool i_is_b;
         ivec2 other;
-        if (inGrid(ahead) && springParity(here, d) == c % 2u) {
-          other = ahead;  // the spring starts here: this point is its end a
-          i_is_b = false;
-        } else if (inGrid(behind) && springParity(behind, d) == c % 2u) {
-          other = behind;
-          i_is_b = true;
-        } else {
+        bool i_is_b;
+        if (!gridPartner(ivec2(lo + uvec2(l % size.x, l / size.x)), c, other, i_is_b))
           continue;  // untouched: x + 0 would turn -0 into +0
-        }
         uvec2 at = uvec2(other);
+        float rest = u_rest[c / 2u];
 #else
         ColourPartner p = colourPartners[c * params.point_count + global[k]];
         if (p.other == kNoPartner) continue;  // untouched: x + 0 would turn -0 into +0

@@ -36,9 +36,18 @@ layout(local_size_x = GROUP_SIZE) in;
 layout(std430, binding = kBindingPointMass) readonly buffer PointMassBuffer {
   PointMass pointMass[];
 };
+#ifndef GRID_SPRINGS
+#define GRID_SPRINGS 0
+#endif
+#if GRID_SPRINGS
+// A flat grid (every direction's springs one rest length): the forces and the stretch colours find each
+// point's springs from the grid, so a substep reads nothing from device memory.
+#include "grid_springs.glsl"
+#else
 layout(std430, binding = kBindingColourPartners) readonly buffer ColourPartnersBuffer {
   ColourPartner colourPartners[];  // colour c, point i: colourPartners[c * GROUP_POINTS + i]
 };
+#endif
 #ifndef TETHER_SLOTS
 #define TETHER_SLOTS 0  // tethers per point; 0: the scene has none, and the phase is not compiled
 #endif
@@ -110,10 +119,21 @@ vec3 forcesIntegrate(uint i, inout vec3 v, float pin, vec4 weight, float time) {
     return x;
   }
   precise vec3 f = weight.xyz;
+#if GRID_SPRINGS
+  // The adjacency's order: per direction, the spring ending here, then the one starting here.
+  ivec2 here = gridAt(i);
+  for (int d = 0; d < 6; ++d) {
+    if (u_rest[d] == 0.0) continue;
+    ivec2 behind = here - kDirections[d], ahead = here + kDirections[d];
+    if (inGrid(behind)) f += springForce(x, loadX(gridIndex(behind)), u_rest[d], params.stiffness[d / 2]);
+    if (inGrid(ahead)) f += springForce(x, loadX(gridIndex(ahead)), u_rest[d], params.stiffness[d / 2]);
+  }
+#else
   for (uint e = offsets[i]; e < offsets[i + 1u]; ++e) {
     Neighbor nb = neighbors[e];
     f += springForce(x, loadX(neighborIndex(nb)), nb.rest, params.stiffness[neighborType(nb)]);
   }
+#endif
 #if WIND
   PointMass m = pointMass[i];
   precise vec3 air =
@@ -134,9 +154,17 @@ vec3 forcesIntegrate(uint i, inout vec3 v, float pin, vec4 weight, float time) {
 // all (x + 0 would turn -0 into +0).
 bool stretchColoured(uint i, uint c, out vec3 corr) {
   corr = vec3(0.0);
+#if GRID_SPRINGS
+  ivec2 other;
+  bool i_is_b;
+  if (!gridPartner(gridAt(i), c, other, i_is_b)) return false;
+  uint j = gridIndex(other);
+  corr = stretchOneEnd(loadX(i), loadX(j), i_is_b, pinnedAt(j), u_rest[c / 2u], params.stretch_limit);
+#else
   ColourPartner p = colourPartners[c * uint(GROUP_POINTS) + i];
   if (p.other == kNoPartner) return false;
   corr = stretchOneEnd(loadX(i), loadX(p.other), i > p.other, pinnedAt(p.other), p.rest, params.stretch_limit);
+#endif
   return true;
 }
 

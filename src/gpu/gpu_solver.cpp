@@ -590,8 +590,9 @@ void GpuSolver::choosePath(bool constructing) {
                (options_.path == GpuPath::OneDispatch || (options_.path == GpuPath::Auto && !context_info_.software));
   tiled_ = !one_group_ && may_tile && tiled_misfit.empty();
   tiling_ = tiled_ ? stretchTiling() : StretchTiling{};
-  grid_rests_ = tiled_ ? uniformGridRests() : std::vector<float>{};
-  if (one_group_ || (tiled_ && grid_rests_.empty()))
+  grid_rests_ = (tiled_ || one_group_) && scene_.cloth.isGrid() ? uniformGridRests() : std::vector<float>{};
+  // The table serves the Gauss-Seidel stretch seen from the points, where the grid cannot.
+  if ((one_group_ || tiled_) && grid_rests_.empty())
     uploadColourPartners();
   else
     colour_partners_ = gl::Buffer();
@@ -619,6 +620,7 @@ void GpuSolver::choosePath(bool constructing) {
   d.emplace_back("GROUP_POINTS", std::to_string(topo_.pointCount()));
   d.emplace_back("GROUP_BUCKETS", std::to_string(oneGroupBuckets()));
   if (usesTethers()) d.emplace_back("TETHER_SLOTS", std::to_string(tether_slots_));
+  if (!grid_rests_.empty()) d.emplace_back("GRID_SPRINGS", "1");
   if (d != one_group_defines_) {
     programs_.one_group = gl::compileCompute("sim/one_group.comp", d);
     one_group_defines_ = d;

@@ -57,9 +57,14 @@ void GpuSolver::stepFrame() {
 
 void GpuSolver::runOneGroup(std::uint32_t substeps, std::uint32_t phases, bool check_health) {
   bindShared();
-  colour_partners_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColourPartners);
-  if (usesTethers()) tethers_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingTethers);
   const gl::Program& program = programs_.one_group;
+  if (!grid_rests_.empty()) {
+    program.setUniform("u_grid", glm::uvec2(std::uint32_t(topo_.W), std::uint32_t(topo_.H)));
+    program.setUniform("u_rest", grid_rests_);
+  } else {
+    colour_partners_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColourPartners);
+  }
+  if (usesTethers()) tethers_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingTethers);
   program.setUniform("u_substeps", substeps);
   program.setUniform("u_phases", phases);
   program.setUniform("u_check_health", check_health);
@@ -311,12 +316,15 @@ double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
     case kOneGroup: {  // per substep: the adjacency, the stretch table; the state once per frame
       // Positions are gathered from shared memory, not device memory; self-collision's grid lives there too. The state
       // (and the weight, kept in registers) is read and written once per dispatch, a frame of steps_per_frame substeps.
+      // A flat grid's springs come from the grid (GRID_SPRINGS): no adjacency, no table.
+      const bool grid = !grid_rests_.empty();
       const double frame = kState + sizeof(glm::vec4) + kState;
-      double substep = kRange + entries * sizeof(gpu::Neighbor);
+      double substep = grid ? 0 : kRange + entries * sizeof(gpu::Neighbor);
       if (scene_.sim.wind.enabled) substep += sizeof(gpu::PointMass);
       const bool coloured = scene_.sim.stretch_scheme == StretchScheme::GaussSeidel;
-      const double stretch =
-          coloured ? colouring_.colourCount() * sizeof(gpu::ColourPartner) : kRange + entries * sizeof(gpu::Neighbor);
+      const double stretch = !coloured ? kRange + entries * sizeof(gpu::Neighbor)
+                             : grid    ? 0
+                                       : colouring_.colourCount() * sizeof(gpu::ColourPartner);
       const double tethers = usesTethers() ? tether_slots_ * sizeof(gpu::Tether) : 0;  // anchors: shared memory
       return frame / scene_.sim.steps_per_frame + substep + tethers + scene_.sim.stretch_passes * stretch;
     }
