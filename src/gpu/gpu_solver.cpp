@@ -460,7 +460,7 @@ void GpuSolver::compilePrograms() {
 // kMaxPointsPerInvocation.
 namespace {
 constexpr std::uint32_t kMaxPointsPerInvocation = 8;
-// A smaller block would copy more than (1 + 2 * halo / tile)^2 = 9 points of ring and block per point.
+// Blocks smaller than this copy too much ring per point they own (with a ring of 10: 12 points each).
 constexpr std::uint32_t kMinStretchTile = 8;
 
 std::uint64_t oneGroupSharedBytes(std::uint64_t points, std::uint64_t buckets, bool self_collision) {
@@ -528,12 +528,14 @@ GpuSolver::StretchTiling GpuSolver::stretchTiling() const {
   const std::uint64_t per_group = (region * region + kMaxPointsPerInvocation - 1) / kMaxPointsPerInvocation;
   t.group_size = std::uint32_t(std::min(max_group, (per_group + 31) / 32 * 32));
   // The forces' copy: positions only, a ring of 2; the block's points are the work, 8 an invocation at most.
-  std::uint64_t forces_region = 0;
-  while (12 * (forces_region + 1) * (forces_region + 1) <= std::uint64_t(shared) &&
-         (forces_region - 3) * (forces_region - 3) <= max_group * kMaxPointsPerInvocation)
-    ++forces_region;
-  t.forces_tile = std::uint32_t(forces_region) - 4;
-  const std::uint64_t forces_points = std::uint64_t(t.forces_tile) * t.forces_tile;
+  std::uint64_t forces_tile = 0;
+  const auto forcesFit = [&](std::uint64_t tile) {
+    return 12 * (tile + 4) * (tile + 4) <= std::uint64_t(shared) && tile * tile <= max_group * kMaxPointsPerInvocation;
+  };
+  while (forcesFit(forces_tile + 1))
+    ++forces_tile;
+  t.forces_tile = std::uint32_t(forces_tile);
+  const std::uint64_t forces_points = forces_tile * forces_tile;
   t.forces_group_size = std::uint32_t(
       std::min(max_group, ((forces_points + kMaxPointsPerInvocation - 1) / kMaxPointsPerInvocation + 31) / 32 * 32));
   return t;
@@ -542,7 +544,8 @@ GpuSolver::StretchTiling GpuSolver::stretchTiling() const {
 // The tiled forces kernel sums springs found by grid offset with one rest length per direction, and has
 // no wind; XPBD and VBD predict without springs.
 bool GpuSolver::tiledForces() const {
-  return tiled_ && !grid_rests_.empty() && !scene_.sim.wind.enabled && !isImplicit(scene_.sim.integrator);
+  return tiled_ && !grid_rests_.empty() && !scene_.sim.wind.enabled && !isImplicit(scene_.sim.integrator) &&
+         tiling_.forces_tile >= kMinStretchTile;
 }
 
 std::vector<float> GpuSolver::uniformGridRests() const {
@@ -560,11 +563,14 @@ std::vector<float> GpuSolver::uniformGridRests() const {
 }
 
 std::string GpuSolver::tiledStretchMisfit() const {
+  return tiledStretchMisfit(stretchTiling());
+}
+
+std::string GpuSolver::tiledStretchMisfit(const StretchTiling& t) const {
   if (!scene_.cloth.isGrid())
     return "the tiled stretch limit needs a grid cloth (a mesh cloth's springs have no blocks)";
   if (scene_.sim.stretch_scheme != StretchScheme::GaussSeidel)
     return "the Jacobi stretch scheme is one dispatch a pass already; the tiled kernel runs the Gauss-Seidel one";
-  const StretchTiling t = stretchTiling();
   if (t.tile < kMinStretchTile) {
     GLint shared = 0;
     glGetIntegerv(GL_MAX_COMPUTE_SHARED_MEMORY_SIZE, &shared);
@@ -581,7 +587,9 @@ void GpuSolver::choosePath(bool constructing) {
     throw GpuLimitError("gpu solver: the one-dispatch path does not fit: " + misfit);
   // The colouring's reach is worked out only where the tiled path may run.
   const bool may_tile = options_.path == GpuPath::Tiled || (options_.path == GpuPath::Auto && !context_info_.software);
-  const std::string tiled_misfit = may_tile ? tiledStretchMisfit() : "not asked for";
+  // Working out the tiling walks every spring once per stretch pass: once here, kept if the path is taken.
+  const StretchTiling tiling = may_tile ? stretchTiling() : StretchTiling{};
+  const std::string tiled_misfit = may_tile ? tiledStretchMisfit(tiling) : "not asked for";
   if (constructing && options_.path == GpuPath::Tiled && !tiled_misfit.empty())
     throw GpuLimitError("gpu solver: the tiled stretch limit does not apply: " + tiled_misfit);
   // Forced, either still gives way to the general path when a live change (self-collision on, a stretch
@@ -589,7 +597,7 @@ void GpuSolver::choosePath(bool constructing) {
   one_group_ = misfit.empty() &&
                (options_.path == GpuPath::OneDispatch || (options_.path == GpuPath::Auto && !context_info_.software));
   tiled_ = !one_group_ && may_tile && tiled_misfit.empty();
-  tiling_ = tiled_ ? stretchTiling() : StretchTiling{};
+  tiling_ = tiled_ ? tiling : StretchTiling{};
   grid_rests_ = (tiled_ || one_group_) && scene_.cloth.isGrid() ? uniformGridRests() : std::vector<float>{};
   // The table serves the Gauss-Seidel stretch seen from the points, where the grid cannot.
   if ((one_group_ || tiled_) && grid_rests_.empty())

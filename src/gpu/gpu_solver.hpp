@@ -290,8 +290,9 @@ class GpuSolver final : public Solver {
   void choosePath(bool constructing);  // GpuSolverOptions::path for this scene: one_group_, its kernel and table
   void uploadColourPartners();
   std::vector<float> uniformGridRests() const;  // grid_rests_ as it should be; empty where rests differ
-  std::uint32_t oneGroupSize() const;           // the one-dispatch kernel's invocations
-  std::uint32_t oneGroupBuckets() const;        // its in-group self-collision grid's buckets
+  std::string tiledStretchMisfit(const StretchTiling& tiling) const;  // tiledStretchMisfit() for a worked-out tiling
+  std::uint32_t oneGroupSize() const;                                 // the one-dispatch kernel's invocations
+  std::uint32_t oneGroupBuckets() const;                              // its in-group self-collision grid's buckets
   // The one-dispatch kernel: `substeps` substeps of the phases in `phases` (bit 0 forces + integrate
   // (+ collide), bit 1 the stretch passes).
   // With `check_health`, the health check of health.comp on the last state, in the same dispatch.
