@@ -36,12 +36,11 @@ uniform uint u_passes;   // SimParams::stretch_passes
 #ifndef GRID_PARTNERS
 #define GRID_PARTNERS 0
 #endif
-#if GRID_PARTNERS
-// Where every spring of a direction has the same rest length (a flat grid), the partner and rest of a
-// point's spring of colour c follow from the grid: nothing per point is read but the state.
+// Where every spring of a direction has the same rest length (a flat grid, GRID_PARTNERS), the partner and
+// rest of a point's spring of colour c follow from the grid: nothing per point is read but the state.
+// Otherwise they come from the ColourPartner table.
 #include "grid_springs.glsl"
-#else
-uniform uvec2 u_grid;  // the cloth's points along x (W) and y (H); point (x, y) is y * W + x
+#if !GRID_PARTNERS
 layout(std430, binding = kBindingColourPartners) readonly buffer ColourPartnersBuffer {
   ColourPartner colourPartners[];  // colour c, point i: colourPartners[c * point_count + i]
 };
@@ -95,7 +94,7 @@ void main() {
     w[k] = vec2(0.0);
     if (l >= count) continue;
     uvec2 at = lo + uvec2(l % size.x, l / size.x);
-    global[k] = at.y * u_grid.x + at.x;
+    global[k] = gridIndex(ivec2(at));
     inside[k] = all(greaterThanEqual(at, tile_lo)) && all(lessThan(at, tile_hi));
     vec4 p = posIn[global[k]];
     storeX(l, p.xyz);
@@ -128,7 +127,7 @@ void main() {
 #else
         ColourPartner p = colourPartners[c * params.point_count + global[k]];
         if (p.other == kNoPartner) continue;  // untouched: x + 0 would turn -0 into +0
-        uvec2 at = uvec2(p.other % u_grid.x, p.other / u_grid.x);
+        uvec2 at = uvec2(gridAt(p.other));
         bool i_is_b = global[k] > p.other;
         float rest = p.rest;
 #endif

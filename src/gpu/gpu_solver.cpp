@@ -622,17 +622,43 @@ void GpuSolver::choosePath(bool constructing) {
       programs_.forces_integrate_tiled = gl::compileCompute("sim/forces_integrate_tiled.comp", f);
     }
   }
-  if (!one_group_) return;
-  gl::Defines d = defines_;
-  d.emplace_back("GROUP_SIZE", std::to_string(oneGroupSize()));
-  d.emplace_back("GROUP_POINTS", std::to_string(topo_.pointCount()));
-  d.emplace_back("GROUP_BUCKETS", std::to_string(oneGroupBuckets()));
-  if (usesTethers()) d.emplace_back("TETHER_SLOTS", std::to_string(tether_slots_));
-  if (!grid_rests_.empty()) d.emplace_back("GRID_SPRINGS", "1");
-  if (d != one_group_defines_) {
-    programs_.one_group = gl::compileCompute("sim/one_group.comp", d);
-    one_group_defines_ = d;
+  if (one_group_) {
+    gl::Defines d = defines_;
+    d.emplace_back("GROUP_SIZE", std::to_string(oneGroupSize()));
+    d.emplace_back("GROUP_POINTS", std::to_string(topo_.pointCount()));
+    d.emplace_back("GROUP_BUCKETS", std::to_string(oneGroupBuckets()));
+    if (usesTethers()) d.emplace_back("TETHER_SLOTS", std::to_string(tether_slots_));
+    if (!grid_rests_.empty()) d.emplace_back("GRID_SPRINGS", "1");
+    if (d != one_group_defines_) {
+      programs_.one_group = gl::compileCompute("sim/one_group.comp", d);
+      one_group_defines_ = d;
+    }
   }
+  setPathUniforms();
+}
+
+// What stays fixed until the next path choice (a live change of parameters makes a new one) is set here
+// once, not on every dispatch.
+void GpuSolver::setPathUniforms() const {
+  const glm::uvec2 grid(std::uint32_t(topo_.W), std::uint32_t(topo_.H));
+  const auto setGrid = [&](const gl::Program& program) {
+    program.setUniform("u_grid", grid);
+    if (!grid_rests_.empty()) program.setUniform("u_rest", grid_rests_);
+  };
+  const std::uint32_t colours = std::uint32_t(colouring_.colourCount());
+  const std::uint32_t passes = std::uint32_t(scene_.sim.stretch_passes);
+  if (one_group_) {
+    const gl::Program& program = programs_.one_group;
+    if (!grid_rests_.empty()) setGrid(program);
+    program.setUniform("u_stretch_passes", passes);
+    program.setUniform("u_colours", scene_.sim.stretch_scheme == StretchScheme::GaussSeidel ? colours : 0u);
+  }
+  if (tiled_) {
+    setGrid(programs_.limit_stretch_tiled);
+    programs_.limit_stretch_tiled.setUniform("u_colours", colours);
+    programs_.limit_stretch_tiled.setUniform("u_passes", passes);
+  }
+  if (tiledForces()) setGrid(programs_.forces_integrate_tiled);
 }
 
 // Per colour and point, the point's spring of that colour (at most one: springs of a colour share no

@@ -289,6 +289,7 @@ class GpuSolver final : public Solver {
   void buildPlan();
   void choosePath(bool constructing);  // GpuSolverOptions::path for this scene: one_group_, its kernel and table
   void uploadColourPartners();
+  void setPathUniforms() const;                 // the chosen path's programs' uniforms that stay until the next choice
   std::vector<float> uniformGridRests() const;  // grid_rests_ as it should be; empty where rests differ
   std::string tiledStretchMisfit(const StretchTiling& tiling) const;  // tiledStretchMisfit() for a worked-out tiling
   std::uint32_t oneGroupSize() const;                                 // the one-dispatch kernel's invocations

@@ -58,19 +58,11 @@ void GpuSolver::stepFrame() {
 void GpuSolver::runOneGroup(std::uint32_t substeps, std::uint32_t phases, bool check_health) {
   bindShared();
   const gl::Program& program = programs_.one_group;
-  if (!grid_rests_.empty()) {
-    program.setUniform("u_grid", glm::uvec2(std::uint32_t(topo_.W), std::uint32_t(topo_.H)));
-    program.setUniform("u_rest", grid_rests_);
-  } else {
-    colour_partners_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColourPartners);
-  }
+  if (grid_rests_.empty()) colour_partners_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColourPartners);
   if (usesTethers()) tethers_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingTethers);
   program.setUniform("u_substeps", substeps);
   program.setUniform("u_phases", phases);
   program.setUniform("u_check_health", check_health);
-  program.setUniform("u_stretch_passes", std::uint32_t(scene_.sim.stretch_passes));
-  const bool coloured = scene_.sim.stretch_scheme == StretchScheme::GaussSeidel;
-  program.setUniform("u_colours", coloured ? std::uint32_t(colouring_.colourCount()) : 0u);
   if (scene_.sim.wind.enabled) {
     program.setUniform("u_first_substep", double(substeps_));
     program.setUniform("u_dt", scene_.sim.dt());
@@ -227,19 +219,8 @@ void GpuSolver::run(const PlannedDispatch& d) {
     program.setUniform("u_count", d.count);
   }
   if (d.pass == kTether) tethers_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingTethers);
-  if (d.pass == kForcesIntegrateTiled) {
-    program.setUniform("u_grid", glm::uvec2(std::uint32_t(topo_.W), std::uint32_t(topo_.H)));
-    program.setUniform("u_rest", grid_rests_);
-  }
-  if (d.pass == kLimitStretchTiled) {
-    if (grid_rests_.empty())
-      colour_partners_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColourPartners);
-    else
-      program.setUniform("u_rest", grid_rests_);
-    program.setUniform("u_grid", glm::uvec2(std::uint32_t(topo_.W), std::uint32_t(topo_.H)));
-    program.setUniform("u_colours", std::uint32_t(colouring_.colourCount()));
-    program.setUniform("u_passes", std::uint32_t(scene_.sim.stretch_passes));
-  }
+  if (d.pass == kLimitStretchTiled && grid_rests_.empty())
+    colour_partners_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColourPartners);
   if (d.pass == kXpbdColoured && scene_.sim.iterations > 1) {
     xpbd_lambda_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingXpbdLambda);
     program.setUniform("u_sweep", d.sweep);
