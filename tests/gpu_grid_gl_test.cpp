@@ -124,6 +124,7 @@ TEST_P(GpuGridTest, MatchesTheCpuGridAndBruteForce) {
     sum += size[b];
     for (std::uint32_t s = grid.start[b]; s < grid.start[b] + size[b]; ++s) {
       ASSERT_EQ(grid.buckets[grid.sorted[s]], b) << "slot " << s;
+      ASSERT_EQ(grid.sorted_anchor[s], points[grid.sorted[s]]) << "slot " << s << ": the anchor's copy";
       if (s > grid.start[b]) {
         ASSERT_LT(grid.sorted[s - 1], grid.sorted[s]) << "bucket " << b << " out of order";
       }

@@ -5,6 +5,7 @@
 #include "gpu/gpu_solver.hpp"
 #include "gpu_test_support.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <ostream>
 
@@ -24,6 +25,7 @@ struct PassCase {
   bool self_collision = true;  // false: turned off, so the collisions fuse into the integrate kernel
   GpuPath path = GpuPath::Auto;
   int size = 0;  // resampled to size x size points (0: as the scene has it)
+  std::uint32_t terms_held = GpuSolverOptions{}.self_terms_held;  // self-collision terms summed in registers
 };
 
 // Test names and CTest listings show the case's name instead of its bytes.
@@ -77,6 +79,21 @@ Stage nudged(const Stage& in, const Topology& topo, bool towards_neighbour) {
   return out;
 }
 
+// Per point, the other points closer than `range` (the nonzero terms of its self-collision sum, up to
+// rounding at the range itself), by brute force.
+std::vector<int> selfCollisionTerms(const std::vector<glm::dvec3>& x, double range) {
+  std::vector<int> terms(x.size(), 0);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (std::size_t j = i + 1; j < x.size(); ++j) {
+      const glm::dvec3 d = x[i] - x[j];
+      if (glm::dot(d, d) < range * range && glm::dot(d, d) > 0) {
+        ++terms[i];
+        ++terms[j];
+      }
+    }
+  return terms;
+}
+
 TEST_P(GpuPassTest, EachPassMatchesTheCpuFloatPassWhereItMovesPoints) {
   const PassCase c = GetParam();
   Scene scene = gpu_test::standardScene(c.scene);
@@ -90,7 +107,7 @@ TEST_P(GpuPassTest, EachPassMatchesTheCpuFloatPassWhereItMovesPoints) {
     probe.accumulateForces();
     probe.integrate();
   });
-  GpuSolver gpu(scene, {.path = c.path});
+  GpuSolver gpu(scene, {.path = c.path, .self_terms_held = c.terms_held});
   ASSERT_EQ(gpu.oneDispatch(), c.path == GpuPath::OneDispatch) << gpu.oneDispatchMisfit();
   if (c.path == GpuPath::Tiled) {
     ASSERT_TRUE(gpu.tiledStretch()) << gpu.tiledStretchMisfit();
@@ -139,6 +156,17 @@ TEST_P(GpuPassTest, EachPassMatchesTheCpuFloatPassWhereItMovesPoints) {
     compare("self_collide(+collide)", in, before_stretch, runGpu(in, &GpuSolver::selfCollide));
     std::printf("%-14s self-collision moved %d points%s\n", c.name, self_moved, c.self_contacts ? "" : " (nudged)");
     EXPECT_GT(self_moved, 0) << "the self-collision pass must have work for the comparison to mean anything";
+    // Points with more nonzero terms than the kernel holds take its re-scanning sum: a case with few
+    // held must have points on both sides, or one of the two sums went unchecked.
+    const std::vector<int> terms = selfCollisionTerms(in.x, 2.0 * scene.cloth.thickness);
+    const auto over = std::count_if(terms.begin(), terms.end(), [&](int n) { return n > int(c.terms_held); });
+    const auto held = std::count_if(terms.begin(), terms.end(), [&](int n) { return n > 0 && n <= int(c.terms_held); });
+    std::printf("%-14s self-collision terms: at most %d a point; %td points within %u held, %td beyond\n", c.name,
+                *std::max_element(terms.begin(), terms.end()), held, c.terms_held, over);
+    if (c.terms_held < GpuSolverOptions{}.self_terms_held) {
+      EXPECT_GT(over, 0) << "no point has more terms than held: the re-scanning sum is not compared";
+      EXPECT_GT(held, 0) << "no point's terms fit: the held sum is not compared";
+    }
   }
 
   // stretch limit.
@@ -173,6 +201,8 @@ INSTANTIATE_TEST_SUITE_P(
         PassCase{"sphere_self_one", "sphere.json", 48, false, false, true, GpuPath::OneDispatch, 32},
         PassCase{"selfCollision_one", "selfCollision.json", 60, false, false, true, GpuPath::OneDispatch, 32},
         PassCase{"selfCollision", "selfCollision.json", 60, true, true},
+        // One term held: the points with more (folded layers) take the kernel's re-scanning sum.
+        PassCase{"selfCollision_held1", "selfCollision.json", 60, true, true, true, GpuPath::Auto, 0, 1},
         // The stretch limit's colours in one dispatch of blocks with their rings: 50x50 is 2x2 blocks of
         // 31 on llvmpipe, 96x96 has blocks with a neighbour on every side.
         PassCase{"pinned2_tiled", "pinned2.json", 10, false, true, true, GpuPath::Tiled},

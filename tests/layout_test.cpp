@@ -97,6 +97,10 @@ TEST(Layout, ArrayElementsAreStd430) {
                {MEMBER(GridPoint, cell_x, Scalar), MEMBER(GridPoint, cell_y, Scalar), MEMBER(GridPoint, cell_z, Scalar),
                 MEMBER(GridPoint, bucket, Scalar), MEMBER(GridPoint, arrival, Scalar)},
                sizeof(GridPoint));
+  expectStd430("GridEntry",
+               {MEMBER(GridEntry, x, Scalar), MEMBER(GridEntry, y, Scalar), MEMBER(GridEntry, z, Scalar),
+                MEMBER(GridEntry, index, Scalar)},
+               sizeof(GridEntry));
   expectStd430("Health",
                {MEMBER(Health, flags, Scalar), MEMBER(Health, first_point, Scalar), MEMBER(Health, pad0, Scalar),
                 MEMBER(Health, pad1, Scalar)},

@@ -33,7 +33,7 @@ DRAPE_CONSTANT(uint, kBindingGridCounts, 9u);         // uint per bucket: points
 DRAPE_CONSTANT(uint, kBindingGridStart, 10u);         // uint per bucket + 1: exclusive prefix sum of counts
 DRAPE_CONSTANT(uint, kBindingGridBlocks, 11u);        // uint per scan block: block totals, then their prefix
 DRAPE_CONSTANT(uint, kBindingGridScatter, 12u);       // uint per point: indices by bucket, in atomic order
-DRAPE_CONSTANT(uint, kBindingGridSorted, 13u);        // uint per point: indices by bucket, ascending within
+DRAPE_CONSTANT(uint, kBindingGridSorted, 13u);        // GridEntry per point: by bucket, ascending index within
 DRAPE_CONSTANT(uint, kBindingHealth, 14u);            // Health
 DRAPE_CONSTANT(uint, kBindingNormals, 15u);           // vec4 per point: unit normal, w = 0
 DRAPE_CONSTANT(uint, kBindingTangents, 16u);          // vec4 per point: unit tangent along +u, w = bitangent sign
@@ -194,6 +194,15 @@ struct PairDispatch {
 struct PairControl {
   PairState state;
   PairDispatch dispatch;
+};
+
+// A slot of the hash grid's cell-ordered copy: the point's anchor and index. The list build scans a
+// bucket's slots in order, so it reads contiguous memory, not a gather per candidate.
+struct GridEntry {
+  float x;  // m, the anchor (the position the grid was built from)
+  float y;
+  float z;
+  uint index;  // the point
 };
 
 // A point's hash-grid cell and bucket, written by the grid count.

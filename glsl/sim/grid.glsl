@@ -6,7 +6,8 @@
 //   scatter each point to gridStart[bucket] + arrival: grouped by bucket, in thread-timing order
 //   rank    each point counts the smaller indices in its bucket and moves to that slot, so every bucket
 //           lists ascending indices, whatever order the atomics ran in (the determinism the
-//           self-collision sums need, and the CPU's order)
+//           self-collision sums need, and the CPU's order); the slot holds a copy of its anchor, so
+//           a query reads a bucket's points as one contiguous range (GridEntry)
 // Up to kScanBlock buckets, one work group does scan, scatter and rank in a single dispatch
 // (grid_build.comp); beyond that they are separate dispatches (grid_scan.comp, grid_scatter.comp,
 // grid_rank.comp).
@@ -38,7 +39,7 @@ layout(std430, binding = kBindingGridScatter) GRID_MEMORY buffer GridScatterBuff
   uint gridScatter[];
 };
 layout(std430, binding = kBindingGridSorted) GRID_MEMORY buffer GridSortedBuffer {
-  uint gridSorted[];
+  GridEntry gridSorted[];
 };
 
 ivec3 gridCell(uint i) {
@@ -60,11 +61,16 @@ void scatterPoint(uint i) {
 }
 
 // O(bucket size) per point; buckets hold a handful of points (one bucket per point on average).
-void rankPoint(uint i) {
+// `anchor`: the position the point was counted at.
+void rankPoint(uint i, vec3 anchor) {
   uint bucket = gridPoints[i].bucket;
   uint first = gridStart[bucket], last = gridStart[bucket + 1u];
   uint rank = 0u;
   for (uint s = first; s < last; ++s)
     rank += gridScatter[s] < i ? 1u : 0u;
-  gridSorted[first + rank] = i;
+  gridSorted[first + rank] = GridEntry(anchor.x, anchor.y, anchor.z, i);
+}
+
+vec3 entryPosition(GridEntry e) {
+  return vec3(e.x, e.y, e.z);
 }

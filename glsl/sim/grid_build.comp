@@ -27,6 +27,6 @@ void main() {
   barrier();
   for (uint k = 0u; k < rounds; ++k) {
     uint i = k * kScanLocalSize + gl_LocalInvocationID.x;
-    if (i < params.point_count) rankPoint(i);
+    if (i < params.point_count) rankPoint(i, pairAnchor[i].xyz);
   }
 }

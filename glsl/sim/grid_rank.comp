@@ -4,10 +4,11 @@
 #define SIM_NO_COLLIDERS
 #define SIM_NO_HEALTH
 #include "grid.glsl"
+#include "pair_travel.glsl"
 
 layout(local_size_x = kLocalSize) in;
 
 void main() {
   uint i = globalIndex();
-  if (i < params.point_count) rankPoint(i);
+  if (i < params.point_count) rankPoint(i, pairAnchor[i].xyz);
 }

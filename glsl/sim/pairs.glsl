@@ -24,11 +24,12 @@ layout(std430, binding = kBindingPairList) buffer PairListBuffer {
 
 #ifndef PAIR_NO_ANCHOR
 // The candidates of point i, the points within pair_reach of its anchor, in grid order (27 cells in
-// z, y, x order, ascending within a cell). Counts them; with `write`, also stores them from
-// pairList[first] on, as far as the buffer's capacity allows.
+// z, y, x order, ascending within a cell), read from the grid's cell-ordered copies: a bucket is one
+// contiguous range, and a copy's cell is worked out again from its anchor as the count did. Counts them; with `write`,
+// also stores them from pairList[first] on, as far as the buffer's capacity allows.
 uint gatherCandidates(uint i, bool write, uint first) {
   vec3 a = pairAnchor[i].xyz;
-  ivec3 cell = gridCell(i);
+  ivec3 cell = cellOf(a, params.inv_pair_cell);  // gridCell(i), without the read
   uint found = 0u;
   for (int dz = -1; dz <= 1; ++dz) {
     for (int dy = -1; dy <= 1; ++dy) {
@@ -37,9 +38,11 @@ uint gatherCandidates(uint i, bool write, uint first) {
         uint bucket = hashCell(n) & params.bucket_mask;
         uint last = gridStart[bucket + 1u];
         for (uint s = gridStart[bucket]; s < last; ++s) {
-          uint j = gridSorted[s];
-          if (j == i || gridCell(j) != n) continue;  // a bucket can hold other cells' points
-          precise vec3 d = a - pairAnchor[j].xyz;
+          GridEntry e = gridSorted[s];
+          uint j = e.index;
+          vec3 aj = entryPosition(e);
+          if (j == i || cellOf(aj, params.inv_pair_cell) != n) continue;  // a bucket can hold other cells' points
+          precise vec3 d = a - aj;
           if (dot3(d, d) >= params.pair_reach2) continue;
           if (write && first + found < pairState.capacity) pairList[first + found] = j;
           ++found;

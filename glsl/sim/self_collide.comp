@@ -20,9 +20,46 @@ ivec3 orderCell(vec3 p) {
   return cellOf(p, params.inv_cell_size);
 }
 
-// The point's own list: one sweep marks the cell orders present, then each order's terms in list
-// (ascending) order.
-void sumListed(uint i, vec3 x, inout vec3 sum, inout int count) {
+#ifndef TERMS_HELD
+#define TERMS_HELD 8  // GpuSolverOptions::self_terms_held
+#endif
+
+// The point's own list, each candidate's position gathered once: the nonzero terms (a handful: points
+// closer than 2 * thickness) are kept in cell order as they are found, stable so that one order's terms
+// stay in list (ascending) order, then summed. A point with more terms than that sums them as
+// sumListedRescanning does.
+bool sumListedHeld(uint i, vec3 x, inout vec3 sum, inout int count) {
+  uint first = pairStart[i], last = pairStart[i + 1u];
+  ivec3 cell_i = orderCell(x);
+  vec3 term[TERMS_HELD];
+  int term_order[TERMS_HELD];
+  int held = 0;
+  for (uint s = first; s < last; ++s) {
+    vec3 xj = posIn[pairList[s]].xyz;
+    vec3 c = selfCollisionCorrection(x, xj, params.thickness);
+    if (c == vec3(0.0)) continue;
+    int order = cellOrder(cell_i, orderCell(xj));
+    if (order < 0) continue;
+    if (held == TERMS_HELD) return false;
+    int t = held++;
+    for (; t > 0 && term_order[t - 1] > order; --t) {
+      term[t] = term[t - 1];
+      term_order[t] = term_order[t - 1];
+    }
+    term[t] = c;
+    term_order[t] = order;
+  }
+  precise vec3 acc = sum;
+  for (int t = 0; t < held; ++t)
+    acc += term[t];
+  sum = acc;
+  count += held;
+  return true;
+}
+
+// The same sum with no terms held: one sweep marks the cell orders present, then each order's terms in
+// list order, gathering the candidates again for each order.
+void sumListedRescanning(uint i, vec3 x, inout vec3 sum, inout int count) {
   precise vec3 acc = sum;
   uint first = pairStart[i], last = pairStart[i + 1u];
   ivec3 cell_i = orderCell(x);
@@ -66,8 +103,9 @@ uint scanGrid(uint i, vec3 x, ivec3 cell_i, int order, uint from, out uint prese
         uint bucket = hashCell(n) & params.bucket_mask;
         uint last = gridStart[bucket + 1u];
         for (uint s = gridStart[bucket]; s < last; ++s) {
-          uint j = gridSorted[s];
-          if (j == i || j < from || j >= best || gridCell(j) != n) continue;
+          GridEntry e = gridSorted[s];
+          uint j = e.index;
+          if (j == i || j < from || j >= best || cellOf(entryPosition(e), params.inv_pair_cell) != n) continue;
           vec3 xj = posIn[j].xyz;
           if (selfCollisionCorrection(x, xj, params.thickness) == vec3(0.0)) continue;
           int o = cellOrder(cell_i, orderCell(xj));
@@ -110,7 +148,7 @@ void main() {
   int count = 0;
   if (pin == 0.0) {
     if (pairStart[i + 1u] <= pairState.capacity) {
-      sumListed(i, x, sum, count);
+      if (!sumListedHeld(i, x, sum, count)) sumListedRescanning(i, x, sum, count);
     } else {
       sumFromGrid(i, x, sum, count);
     }

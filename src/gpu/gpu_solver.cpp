@@ -50,6 +50,7 @@ GpuSolver::GpuSolver(Scene scene, GpuSolverOptions options, gl::HeadlessContext 
   if (glGetString == nullptr || glGetString(GL_VERSION) == nullptr)
     throw std::logic_error("GpuSolver: no current OpenGL 4.5 context (make one, e.g. gl::HeadlessContext::create())");
   context_info_ = gl::queryContextInfo();
+  if (options_.self_terms_held == 0) throw std::invalid_argument("gpu solver: self_terms_held must be at least 1");
   if (options_.buckets != 0 && !std::has_single_bit(options_.buckets))
     throw std::invalid_argument("gpu solver: buckets must be a power of two, not " + std::to_string(options_.buckets));
   for (int t = 0; t < kSpringTypeCount; ++t)
@@ -265,7 +266,7 @@ void GpuSolver::allocateGrid() {
   // Shared by the bucket scan and the lists' point scan.
   grid_blocks_ = gl::Buffer::create(std::max(scanBlocks(), pointScanBlocks()) * sizeof(std::uint32_t), nullptr, 0);
   grid_scatter_ = gl::Buffer::create(n * sizeof(std::uint32_t), nullptr, 0);
-  grid_sorted_ = gl::Buffer::create(n * sizeof(std::uint32_t), nullptr, 0);
+  grid_sorted_ = gl::Buffer::create(n * sizeof(gpu::GridEntry), nullptr, 0);
 
   pair_control_ = gl::Buffer::create(sizeof(gpu::PairControl), nullptr, kUpdatable);
   pair_control_.clear();
@@ -450,7 +451,9 @@ void GpuSolver::compilePrograms() {
       programs_.grid_scatter = gl::compileCompute("sim/grid_scatter.comp", defines_);
       programs_.grid_rank = gl::compileCompute("sim/grid_rank.comp", defines_);
     }
-    programs_.self_collide = gl::compileCompute("sim/self_collide.comp", defines_);
+    gl::Defines held = defines_;
+    held.emplace_back("TERMS_HELD", std::to_string(options_.self_terms_held));
+    programs_.self_collide = gl::compileCompute("sim/self_collide.comp", held);
   }
 }
 

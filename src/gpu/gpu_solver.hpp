@@ -75,6 +75,9 @@ struct GpuSolverOptions {
   std::size_t max_buffer_bytes = 0;  // largest buffer allowed; 0: GL_MAX_SHADER_STORAGE_BLOCK_SIZE
   double pair_margin = kDefaultPairMargin;  // self-collision list skin / (2*thickness), as CpuSolverOptions
   std::size_t pair_capacity = 0;            // list entries the buffer holds at first; 0: estimated from the cloth
+  // Nonzero terms of a point's self-collision sum kept in registers while its list is swept once; a
+  // point with more sums them by sweeping its list again per cell order (same bits, more gathers).
+  std::uint32_t self_terms_held = 8;
 };
 
 // The scene needs more than the GPU allows (buffer size, work groups, memory). Thrown before any
@@ -96,11 +99,12 @@ struct GpuPairs {
 
 // The hash grid as the GPU built it (from the anchor positions of the last list build), read back for tests.
 struct GpuGrid {
-  std::vector<glm::ivec3> cells;       // per point
-  std::vector<std::uint32_t> buckets;  // per point: hashCell(cell) & (bucket count - 1)
-  std::vector<std::uint32_t> arrival;  // per point: its slot in the bucket's atomic (thread-timing) order
-  std::vector<std::uint32_t> start;    // bucket count + 1 prefix sums
-  std::vector<std::uint32_t> sorted;   // point indices grouped by bucket, ascending within one
+  std::vector<glm::ivec3> cells;         // per point
+  std::vector<std::uint32_t> buckets;    // per point: hashCell(cell) & (bucket count - 1)
+  std::vector<std::uint32_t> arrival;    // per point: its slot in the bucket's atomic (thread-timing) order
+  std::vector<std::uint32_t> start;      // bucket count + 1 prefix sums
+  std::vector<std::uint32_t> sorted;     // point indices grouped by bucket, ascending within one
+  std::vector<glm::vec3> sorted_anchor;  // per slot: the copy of sorted[slot]'s anchor
 };
 
 class GpuSolver final : public Solver {

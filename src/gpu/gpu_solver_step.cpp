@@ -645,7 +645,10 @@ GpuGrid GpuSolver::readGrid() {
     grid.arrival.push_back(g.arrival);
   }
   grid.start = grid_start_.download<std::uint32_t>(std::size_t(bucketCount()) + 1);
-  grid.sorted = grid_sorted_.download<std::uint32_t>(n);
+  for (const gpu::GridEntry& e : grid_sorted_.download<gpu::GridEntry>(n)) {
+    grid.sorted.push_back(e.index);
+    grid.sorted_anchor.emplace_back(e.x, e.y, e.z);
+  }
   return grid;
 }
 

@@ -17,7 +17,7 @@ namespace drape::gpu {
 // vec4s at multiples of 16 and is padded to a multiple of 16. tests/layout_test.cpp checks offsets.
 static_assert(sizeof(SimParams) % 16 == 0 && sizeof(Collider) % 16 == 0 && sizeof(Health) % 16 == 0 &&
               sizeof(PickResult) % 16 == 0);
-static_assert(sizeof(Neighbor) == 8 && sizeof(GridPoint) == 20);
+static_assert(sizeof(Neighbor) == 8 && sizeof(GridPoint) == 20 && sizeof(GridEntry) == 16);
 static_assert(std::is_trivially_copyable_v<SimParams> && std::is_standard_layout_v<SimParams>);
 static_assert(kScanBlock == kScanLocalSize * kScanItems);
 
