@@ -85,6 +85,9 @@ TEST_P(GpuRunTest, OneSecondStaysWithTheCpuFloatRun) {
   ASSERT_EQ(gpu.oneDispatch(), c.path == GpuPath::OneDispatch) << gpu.oneDispatchMisfit();
   if (c.path == GpuPath::Tiled) {
     ASSERT_TRUE(gpu.tiledStretch()) << gpu.tiledStretchMisfit();
+    // Each substep's stretch limit fused with the next one's forces, wherever nothing runs between them
+    // and the forces are tiled (no wind).
+    EXPECT_EQ(gpu.fusedFrame(), !scene.sim.self_collision && !scene.sim.wind.enabled);
   }
   if (gpu.oneDispatch()) {
     EXPECT_EQ(gpu.dispatchesPerFrame(), 1) << "the frame, its health check included";
@@ -112,7 +115,11 @@ INSTANTIATE_TEST_SUITE_P(
                       // The stretch limit tiled: blocks and rings in shared memory, same bits.
                       RunCase{"pinned2_tiled", "pinned2.json", GpuPath::Tiled},
                       RunCase{"sphere_tiled", "sphere.json", GpuPath::Tiled},
-                      RunCase{"wind_tiled", "wind.json", GpuPath::Tiled}),
+                      RunCase{"wind_tiled", "wind.json", GpuPath::Tiled},
+                      // ... and fused with the next substep's forces and collisions; at 96x96 (blocks of 27
+                      // on llvmpipe) some blocks have a neighbour on every side.
+                      RunCase{"sphere_fused", "sphere.json", GpuPath::Tiled, true},
+                      RunCase{"pinned2_fused96", "pinned2.json", GpuPath::Tiled, false, false, 96}),
     [](const ::testing::TestParamInfo<RunCase>& param) { return std::string(param.param.name); });
 
 double closestPair(const std::vector<glm::dvec3>& x) {

@@ -516,7 +516,10 @@ GpuSolver::StretchTiling GpuSolver::stretchTiling() const {
   glGetIntegerv(GL_MAX_COMPUTE_SHARED_MEMORY_SIZE, &shared);
   glGetIntegerv(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS, &invocations);
   glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_SIZE, 0, &size_x);
-  const auto max_group = std::uint64_t(std::min(invocations, size_x));
+  return tilingFor(std::uint64_t(shared), std::uint64_t(std::min(invocations, size_x)), reach);
+}
+
+GpuSolver::StretchTiling GpuSolver::tilingFor(std::uint64_t shared, std::uint64_t max_group, int reach) {
   std::uint64_t region = 0;
   while (true) {
     const std::uint64_t next = region + 1, points = next * next;
@@ -528,6 +531,7 @@ GpuSolver::StretchTiling GpuSolver::stretchTiling() const {
   t.halo = std::uint32_t(reach);
   if (region < 2 * std::uint64_t(reach) + kMinStretchTile) return t;
   t.tile = std::uint32_t(region) - 2 * t.halo;
+  t.fused_tile = t.tile >= 4 + kMinStretchTile ? t.tile - 4 : 0;
   const std::uint64_t per_group = (region * region + kMaxPointsPerInvocation - 1) / kMaxPointsPerInvocation;
   t.group_size = std::uint32_t(std::min(max_group, (per_group + 31) / 32 * 32));
   // The forces' copy: positions only, a ring of 2; the block's points are the work, 8 an invocation at most.
@@ -625,6 +629,19 @@ void GpuSolver::choosePath(bool constructing) {
       programs_.forces_integrate_tiled = gl::compileCompute("sim/forces_integrate_tiled.comp", f);
     }
   }
+  // The forces need a ring of 2 stretched points around a block, so the fused copy's ring is 2 wider.
+  fused_frame_ = tiledForces() && !scene_.sim.self_collision && !usesTethers() && scene_.sim.stretch_passes > 0 &&
+                 tiling_.fused_tile >= kMinStretchTile;
+  if (fused_frame_) {
+    gl::Defines f = defines_;
+    f.emplace_back("GROUP_SIZE", std::to_string(tiling_.group_size));
+    f.emplace_back("TILE", std::to_string(tiling_.fused_tile));
+    f.emplace_back("HALO", std::to_string(tiling_.halo + 2));
+    if (f != fused_defines_) {
+      programs_.limit_stretch_forces_tiled = gl::compileCompute("sim/limit_stretch_forces_tiled.comp", f);
+      fused_defines_ = f;
+    }
+  }
   if (one_group_) {
     gl::Defines d = defines_;
     d.emplace_back("GROUP_SIZE", std::to_string(oneGroupSize()));
@@ -662,6 +679,11 @@ void GpuSolver::setPathUniforms() const {
     programs_.limit_stretch_tiled.setUniform("u_passes", passes);
   }
   if (tiledForces()) setGrid(programs_.forces_integrate_tiled);
+  if (fused_frame_) {
+    setGrid(programs_.limit_stretch_forces_tiled);
+    programs_.limit_stretch_forces_tiled.setUniform("u_colours", colours);
+    programs_.limit_stretch_forces_tiled.setUniform("u_passes", passes);
+  }
 }
 
 // Per colour and point, the point's spring of that colour (at most one: springs of a colour share no

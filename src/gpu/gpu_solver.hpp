@@ -138,7 +138,9 @@ class GpuSolver final : public Solver {
   std::vector<std::string> passes() const override;
   // The one-dispatch path checks health inside its dispatch.
   std::vector<std::string> framePasses() const override {
-    return one_group_ ? std::vector<std::string>{} : std::vector<std::string>{passName(kHealth)};
+    if (one_group_) return {};
+    if (fused_frame_) return {passName(kLimitStretchTiled), passName(kHealth)};  // the last substep's stretch limit
+    return {passName(kHealth)};
   }
   int dispatchesPerFrame() const override;
   double dispatchesPerSubstep() const override;
@@ -154,8 +156,19 @@ class GpuSolver final : public Solver {
   struct StretchTiling {
     std::uint32_t tile = 0, halo = 0, group_size = 0;
     std::uint32_t forces_tile = 0, forces_group_size = 0;  // forces_integrate_tiled.comp's (ring 2)
+    std::uint32_t fused_tile = 0;  // limit_stretch_forces_tiled.comp's: the same copy, a ring of halo + 2
   };
   StretchTiling stretchTiling() const;
+  // The tiling for a device with `shared` bytes of shared memory a work group and `max_group` invocations,
+  // for a colouring that reaches `reach` points.
+  static StretchTiling tilingFor(std::uint64_t shared, std::uint64_t max_group, int reach);
+  // The fused kernel's traffic model per point of a W x H grid (bytesPerPointPerSubstep() counts it).
+  static double fusedBytesPerPoint(int W, int H, const StretchTiling& tiling);
+  // Whether stepFrame() fuses each substep's stretch limit with the next substep's forces, integration
+  // and collisions (limit_stretch_forces_tiled.comp): one dispatch a substep, then the last substep's
+  // stretch limit. On the tiled path, with the forces tiled, without self-collision or tethers. step()
+  // alone, which must end on a whole substep, still runs the two kernels.
+  bool fusedFrame() const { return fused_frame_; }
   std::vector<PassTiming> timings() const override;
   void resetTimings() override;
 
@@ -240,6 +253,7 @@ class GpuSolver final : public Solver {
     kLimitStretch,
     kLimitStretchColoured,
     kLimitStretchTiled,
+    kLimitStretchForcesTiled,
     kOneGroup,
     kXpbdColoured,
     kVbdColoured,
@@ -276,12 +290,13 @@ class GpuSolver final : public Solver {
     gl::Program pairs_check, pairs_prepare, pairs_grid_count, pairs_count, pairs_scan[3], pairs_fill;
     gl::Program grid_build, grid_scan[3], grid_scatter, grid_rank;
     gl::Program limit_stretch, limit_stretch_coloured;
-    gl::Program limit_stretch_tiled;     // the tiled path, compiled when it is chosen
-    gl::Program forces_integrate_tiled;  // ... and its forces, where the scene allows them
-    gl::Program one_group;               // the one-dispatch path, compiled when it is chosen
-    gl::Program xpbd_coloured, collide;  // XPBD only (collide: VBD too)
-    gl::Program vbd_coloured;            // VBD only
-    gl::Program tether;                  // compiled when the scene first asks for tethers
+    gl::Program limit_stretch_tiled;         // the tiled path, compiled when it is chosen
+    gl::Program forces_integrate_tiled;      // ... and its forces, where the scene allows them
+    gl::Program limit_stretch_forces_tiled;  // ... and both fused, where stepFrame() fuses them (fusedFrame())
+    gl::Program one_group;                   // the one-dispatch path, compiled when it is chosen
+    gl::Program xpbd_coloured, collide;      // XPBD only (collide: VBD too)
+    gl::Program vbd_coloured;                // VBD only
+    gl::Program tether;                      // compiled when the scene first asks for tethers
     gl::Program health;
     gl::Program normals, pick[2];  // compiled on first use
   };
@@ -293,7 +308,10 @@ class GpuSolver final : public Solver {
   void buildPlan();
   void choosePath(bool constructing);  // GpuSolverOptions::path for this scene: one_group_, its kernel and table
   void uploadColourPartners();
-  void setPathUniforms() const;                 // the chosen path's programs' uniforms that stay until the next choice
+  void setPathUniforms() const;
+  void stepFusedFrame();                        // stepFrame() where fusedFrame()
+  PlannedDispatch fusedDispatch() const;        // its substep's dispatch                 // the chosen path's programs'
+                                                // uniforms that stay until the next choice
   std::vector<float> uniformGridRests() const;  // grid_rests_ as it should be; empty where rests differ
   std::string tiledStretchMisfit(const StretchTiling& tiling) const;  // tiledStretchMisfit() for a worked-out tiling
   std::uint32_t oneGroupSize() const;                                 // the one-dispatch kernel's invocations
@@ -378,10 +396,12 @@ class GpuSolver final : public Solver {
   gl::Buffer vbd_inertia_;                         // VBD with iterations > 1: vec4 per point, the prediction y
   bool one_group_ = false;                         // the one-dispatch path runs this scene
   bool tiled_ = false;                             // the stretch limit runs tiled (GpuPath::Tiled)
+  bool fused_frame_ = false;                       // fusedFrame()
   StretchTiling tiling_;                           // its blocks, when it does
   // Each grid direction's rest length, when all its enabled springs share one (0: disabled or none): then
   // the tiled kernel finds partners and rests from the grid instead of the ColourPartner table.
   std::vector<float> grid_rests_;
+  gl::Defines fused_defines_;      // limit_stretch_forces_tiled's, as compiled
   gl::Buffer colour_partners_;     // ColourPartner table (Gauss-Seidel stretch, per point)
   gl::Defines tiled_defines_;      // what the tiled kernel was compiled with
   gl::Buffer tethers_;             // Tether per point and slot, once the scene asks for them

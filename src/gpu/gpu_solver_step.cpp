@@ -43,6 +43,10 @@ void GpuSolver::step() {
 }
 
 void GpuSolver::stepFrame() {
+  if (fused_frame_) {
+    stepFusedFrame();
+    return;
+  }
   if (!one_group_) {
     Solver::stepFrame();
     return;
@@ -53,6 +57,29 @@ void GpuSolver::stepFrame() {
   substeps_ += substeps;
   health_checked_ = true;
   snapshotHealth();
+}
+
+// The substeps' passes in their own order, cut differently: the first substep's forces, then each
+// substep's stretch limit with the next one's forces (limit_stretch_forces_tiled.comp), then the last
+// substep's stretch limit. u_stretch is off for the first dispatch, which has no stretch limit before it.
+void GpuSolver::stepFusedFrame() {
+  timing_break_ = true;
+  bindShared();
+  const gl::Program& fused = programs_.limit_stretch_forces_tiled;
+  const int substeps = scene_.sim.steps_per_frame;
+  for (int s = 0; s < substeps; ++s) {
+    fused.setUniform("u_stretch", s > 0);
+    run(fusedDispatch());
+  }
+  run(plan_.back());  // limit_stretch_tiled
+  substeps_ += substeps;
+  health_checked_ = false;
+  endFrame();
+}
+
+GpuSolver::PlannedDispatch GpuSolver::fusedDispatch() const {
+  return {kLimitStretchForcesTiled, Stage::Integrate, &programs_.limit_stretch_forces_tiled,
+          PlannedDispatch::Size::Tiles, true};
 }
 
 void GpuSolver::runOneGroup(std::uint32_t substeps, std::uint32_t phases, bool check_health) {
@@ -250,7 +277,9 @@ void GpuSolver::run(const PlannedDispatch& d) {
       dispatchIndirect(d.pass, program, d.command);
       break;
     case PlannedDispatch::Size::Tiles: {
-      const std::uint32_t tile = d.pass == kForcesIntegrateTiled ? tiling_.forces_tile : tiling_.tile;
+      const std::uint32_t tile = d.pass == kForcesIntegrateTiled      ? tiling_.forces_tile
+                                 : d.pass == kLimitStretchForcesTiled ? tiling_.fused_tile
+                                                                      : tiling_.tile;
       dispatch(d.pass, program, {tileCount(topo_.W, tile), tileCount(topo_.H, tile), 1});
       break;
     }
@@ -294,6 +323,8 @@ double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
                                                : 0.0;
       return copied * (sizeof(glm::vec4) + table) + sizeof(glm::vec4) + kState;
     }
+    case kLimitStretchForcesTiled:
+      return fusedBytesPerPoint(topo_.W, topo_.H, tiling_);
     case kOneGroup: {  // per substep: the adjacency, the stretch table; the state once per frame
       // Positions are gathered from shared memory, not device memory; self-collision's grid lives there too. The state
       // (and the weight, kept in registers) is read and written once per dispatch, a frame of steps_per_frame substeps.
@@ -347,7 +378,16 @@ std::uint64_t GpuSolver::copiedPoints(int points, std::uint32_t tile, std::uint3
   return total;
 }
 
+double GpuSolver::fusedBytesPerPoint(int W, int H, const StretchTiling& tiling) {
+  // Every copied point's position (a ring of the reach + 2); a block point's displacement; the new state.
+  const double copied = double(copiedPoints(W, tiling.fused_tile, tiling.halo + 2)) *
+                        double(copiedPoints(H, tiling.fused_tile, tiling.halo + 2)) / (double(W) * double(H));
+  return copied * sizeof(glm::vec4) + sizeof(glm::vec4) + 2 * sizeof(glm::vec4);
+}
+
 double GpuSolver::bytesPerPointPerSubstep() const {
+  if (fused_frame_)  // a fused dispatch a substep, and once a frame the last substep's stretch limit
+    return bytesPerPoint(fusedDispatch()) + bytesPerPoint(plan_.back()) / scene_.sim.steps_per_frame;
   double bytes = 0;
   for (const PlannedDispatch& d : plan_)
     if (!d.unless_checked) bytes += bytesPerPoint(d);
@@ -368,6 +408,7 @@ std::vector<std::string> GpuSolver::passes() const {
         out.push_back(coloured ? "in-group limit_stretch_colour" : "in-group limit_stretch");
     return out;
   }
+  if (fused_frame_) return {passName(kLimitStretchForcesTiled)};  // stepFrame()'s substep
   for (const PlannedDispatch& d : plan_)
     if (!d.unless_checked) out.push_back(passName(d.pass));
   return out;
@@ -380,6 +421,7 @@ int GpuSolver::dispatchesPerFrame() const {
 
 double GpuSolver::dispatchesPerSubstep() const {
   if (one_group_) return 1.0 / double(scene_.sim.steps_per_frame);
+  if (fused_frame_) return double(scene_.sim.steps_per_frame + 1) / double(scene_.sim.steps_per_frame);
   return double(passes().size());
 }
 
@@ -431,6 +473,8 @@ std::string GpuSolver::passName(PassId pass) const {
       return "limit_stretch_colour";
     case kLimitStretchTiled:
       return "limit_stretch_tiled";
+    case kLimitStretchForcesTiled:
+      return std::string("limit_stretch_forces_tiled+integrate") + (colliders ? "+collide" : "");
     case kOneGroup:
       return "one_group";
     case kXpbdColoured:
