@@ -21,18 +21,27 @@ ivec3 orderCell(vec3 p) {
 }
 
 #ifndef TERMS_HELD
-#define TERMS_HELD 8  // GpuSolverOptions::self_terms_held
+#define TERMS_HELD 8  // GpuSolverOptions::self_terms_held; 0: none held (sumListedByOrder alone)
 #endif
+
+#if TERMS_HELD > 0
 
 // The point's own list, each candidate's position gathered once: the nonzero terms (a handful: points
 // closer than 2 * thickness) are kept in cell order as they are found, stable so that one order's terms
 // stay in list (ascending) order, then summed. A point with more terms than that sums them as
-// sumListedRescanning does.
+// sumListedByOrder does. Every loop over the held terms has a constant trip count and selects instead
+// of branching on the slot, so the compiler unrolls it and the terms stay in registers: indexed by a
+// variable, the arrays would go to memory, slower than the gathers they save.
 bool sumListedHeld(uint i, vec3 x, inout vec3 sum, inout int count) {
+  const int kEmpty = 27;  // above every cell order: an empty slot sorts last
   uint first = pairStart[i], last = pairStart[i + 1u];
   ivec3 cell_i = orderCell(x);
   vec3 term[TERMS_HELD];
   int term_order[TERMS_HELD];
+  for (int t = 0; t < TERMS_HELD; ++t) {
+    term[t] = vec3(0.0);
+    term_order[t] = kEmpty;
+  }
   int held = 0;
   for (uint s = first; s < last; ++s) {
     vec3 xj = posIn[pairList[s]].xyz;
@@ -41,34 +50,54 @@ bool sumListedHeld(uint i, vec3 x, inout vec3 sum, inout int count) {
     int order = cellOrder(cell_i, orderCell(xj));
     if (order < 0) continue;
     if (held == TERMS_HELD) return false;
-    int t = held++;
-    for (; t > 0 && term_order[t - 1] > order; --t) {
-      term[t] = term[t - 1];
-      term_order[t] = term_order[t - 1];
+    ++held;
+    // Stable: after every held term of the same or a lower order. Slots from there shift up by one.
+    int at = 0;
+    for (int t = 0; t < TERMS_HELD; ++t)
+      at += term_order[t] <= order ? 1 : 0;
+    for (int t = TERMS_HELD - 1; t > 0; --t) {
+      bool shift = t > at, place = t == at;
+      term[t] = shift ? term[t - 1] : place ? c : term[t];
+      term_order[t] = shift ? term_order[t - 1] : place ? order : term_order[t];
     }
-    term[t] = c;
-    term_order[t] = order;
+    if (at == 0) {
+      term[0] = c;
+      term_order[0] = order;
+    }
   }
   precise vec3 acc = sum;
-  for (int t = 0; t < held; ++t)
-    acc += term[t];
+  for (int t = 0; t < TERMS_HELD; ++t)
+    if (t < held) acc += term[t];
   sum = acc;
   count += held;
   return true;
 }
+#endif
 
-// The same sum with no terms held: one sweep marks the cell orders present, then each order's terms in
-// list order, gathering the candidates again for each order.
-void sumListedRescanning(uint i, vec3 x, inout vec3 sum, inout int count) {
+// The same sum with no terms held: one sweep marks the cell orders present and sums the terms in list
+// order, which is the sum when they all share one order (one term, or several in one cell); otherwise each
+// order's terms in list order, gathering the candidates again for each order.
+void sumListedByOrder(uint i, vec3 x, inout vec3 sum, inout int count) {
   precise vec3 acc = sum;
   uint first = pairStart[i], last = pairStart[i + 1u];
   ivec3 cell_i = orderCell(x);
   uint present = 0u;
+  precise vec3 in_list_order = sum;
+  int found = 0;
   for (uint s = first; s < last; ++s) {
     vec3 xj = posIn[pairList[s]].xyz;
-    if (selfCollisionCorrection(x, xj, params.thickness) == vec3(0.0)) continue;
+    vec3 c = selfCollisionCorrection(x, xj, params.thickness);
+    if (c == vec3(0.0)) continue;
     int order = cellOrder(cell_i, orderCell(xj));
-    if (order >= 0) present |= 1u << uint(order);
+    if (order < 0) continue;
+    present |= 1u << uint(order);
+    in_list_order += c;
+    ++found;
+  }
+  if (bitCount(present) <= 1) {
+    sum = in_list_order;
+    count += found;
+    return;
   }
   while (present != 0u) {
     int order = findLSB(present);
@@ -148,7 +177,10 @@ void main() {
   int count = 0;
   if (pin == 0.0) {
     if (pairStart[i + 1u] <= pairState.capacity) {
-      if (!sumListedHeld(i, x, sum, count)) sumListedRescanning(i, x, sum, count);
+#if TERMS_HELD > 0
+      if (!sumListedHeld(i, x, sum, count))
+#endif
+        sumListedByOrder(i, x, sum, count);
     } else {
       sumFromGrid(i, x, sum, count);
     }

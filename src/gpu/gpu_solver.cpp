@@ -50,7 +50,10 @@ GpuSolver::GpuSolver(Scene scene, GpuSolverOptions options, gl::HeadlessContext 
   if (glGetString == nullptr || glGetString(GL_VERSION) == nullptr)
     throw std::logic_error("GpuSolver: no current OpenGL 4.5 context (make one, e.g. gl::HeadlessContext::create())");
   context_info_ = gl::queryContextInfo();
-  if (options_.self_terms_held == 0) throw std::invalid_argument("gpu solver: self_terms_held must be at least 1");
+  if (options_.self_terms_held < -1 || options_.self_terms_held > 32)
+    throw std::invalid_argument("gpu solver: self_terms_held must be -1 (per device) or 0 to 32, not " +
+                                std::to_string(options_.self_terms_held));
+  terms_held_ = options_.self_terms_held >= 0 ? options_.self_terms_held : context_info_.software ? 0 : 8;
   if (options_.buckets != 0 && !std::has_single_bit(options_.buckets))
     throw std::invalid_argument("gpu solver: buckets must be a power of two, not " + std::to_string(options_.buckets));
   for (int t = 0; t < kSpringTypeCount; ++t)
@@ -452,7 +455,7 @@ void GpuSolver::compilePrograms() {
       programs_.grid_rank = gl::compileCompute("sim/grid_rank.comp", defines_);
     }
     gl::Defines held = defines_;
-    held.emplace_back("TERMS_HELD", std::to_string(options_.self_terms_held));
+    held.emplace_back("TERMS_HELD", std::to_string(terms_held_));
     programs_.self_collide = gl::compileCompute("sim/self_collide.comp", held);
   }
 }

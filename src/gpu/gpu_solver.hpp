@@ -76,8 +76,10 @@ struct GpuSolverOptions {
   double pair_margin = kDefaultPairMargin;  // self-collision list skin / (2*thickness), as CpuSolverOptions
   std::size_t pair_capacity = 0;            // list entries the buffer holds at first; 0: estimated from the cloth
   // Nonzero terms of a point's self-collision sum kept in registers while its list is swept once; a
-  // point with more sums them by sweeping its list again per cell order (same bits, more gathers).
-  std::uint32_t self_terms_held = 8;
+  // point with more sums them by sweeping its list again per cell order (same bits, more gathers). -1:
+  // chosen per device, 8 on a hardware GPU, 0 on a software renderer, where a gather is a cached load and
+  // holding the terms costs more than it saves (README, "Self-collision on the GPU"). At most 32.
+  int self_terms_held = -1;
 };
 
 // The scene needs more than the GPU allows (buffer size, work groups, memory). Thrown before any
@@ -397,6 +399,7 @@ class GpuSolver final : public Solver {
   bool one_group_ = false;                         // the one-dispatch path runs this scene
   bool tiled_ = false;                             // the stretch limit runs tiled (GpuPath::Tiled)
   bool fused_frame_ = false;                       // fusedFrame()
+  int terms_held_ = 0;                             // GpuSolverOptions::self_terms_held as chosen
   StretchTiling tiling_;                           // its blocks, when it does
   // Each grid direction's rest length, when all its enabled springs share one (0: disabled or none): then
   // the tiled kernel finds partners and rests from the grid instead of the ColourPartner table.
