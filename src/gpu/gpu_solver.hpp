@@ -327,6 +327,7 @@ class GpuSolver final : public Solver {
   // rings of `ring` (clipped to the cloth).
   static std::uint32_t tileCount(int points, std::uint32_t tile);
   static std::uint64_t copiedPoints(int points, std::uint32_t tile, std::uint32_t ring);
+  static double copiedPerPoint(int W, int H, std::uint32_t tile, std::uint32_t ring);
   bool tiledForces() const;  // the tiled path gathers forces by grid offset too (forces_integrate_tiled.comp)
   void runStage(Stage stage);
   void runStageOrPhase(Stage stage, std::uint32_t phase);  // the stage's dispatches, or its one-dispatch phase

@@ -67,10 +67,11 @@ void GpuSolver::stepFusedFrame() {
   bindShared();
   const gl::Program& fused = programs_.limit_stretch_forces_tiled;
   const int substeps = scene_.sim.steps_per_frame;
-  for (int s = 0; s < substeps; ++s) {
-    fused.setUniform("u_stretch", s > 0);
+  fused.setUniform("u_stretch", false);
+  run(fusedDispatch());
+  fused.setUniform("u_stretch", true);
+  for (int s = 1; s < substeps; ++s)
     run(fusedDispatch());
-  }
   run(plan_.back());  // limit_stretch_tiled
   substeps_ += substeps;
   health_checked_ = false;
@@ -304,11 +305,8 @@ double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
       const double point = uniformMass() && !scene_.sim.wind.enabled ? 0 : sizeof(gpu::PointMass);
       return kState + point + kRange + entries * (sizeof(gpu::Neighbor) + sizeof(glm::vec4)) + kState;
     }
-    case kForcesIntegrateTiled: {  // every copied point's position; a block point's displacement; new state
-      const double copied = double(copiedPoints(topo_.W, tiling_.forces_tile, 2)) *
-                            double(copiedPoints(topo_.H, tiling_.forces_tile, 2)) / n;
-      return copied * sizeof(glm::vec4) + sizeof(glm::vec4) + kState;
-    }
+    case kForcesIntegrateTiled:  // every copied point's position; a block point's displacement; new state
+      return copiedPerPoint(topo_.W, topo_.H, tiling_.forces_tile, 2) * sizeof(glm::vec4) + sizeof(glm::vec4) + kState;
     case kLimitStretch:  // the same gather (each neighbour's pin flag rides in its position's w)
       return kState + kRange + entries * (sizeof(gpu::Neighbor) + sizeof(glm::vec4)) + kState;
     case kLimitStretchColoured:  // per spring: the entry, both ends' state read and written
@@ -316,8 +314,7 @@ double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
     case kLimitStretchTiled: {  // every copied point's position and, per colour and pass, its table entry
                                 // (none where the grid gives partners and rests); a block point's
                                 // displacement; the block's new state
-      const double copied = double(copiedPoints(topo_.W, tiling_.tile, tiling_.halo)) *
-                            double(copiedPoints(topo_.H, tiling_.tile, tiling_.halo)) / n;
+      const double copied = copiedPerPoint(topo_.W, topo_.H, tiling_.tile, tiling_.halo);
       const double table = grid_rests_.empty() ? double(scene_.sim.stretch_passes) * colouring_.colourCount() *
                                                      sizeof(gpu::ColourPartner)
                                                : 0.0;
@@ -378,11 +375,15 @@ std::uint64_t GpuSolver::copiedPoints(int points, std::uint32_t tile, std::uint3
   return total;
 }
 
+// Points copied into shared memory per cloth point, by blocks of `tile` with rings of `ring` over W x H.
+double GpuSolver::copiedPerPoint(int W, int H, std::uint32_t tile, std::uint32_t ring) {
+  return double(copiedPoints(W, tile, ring)) * double(copiedPoints(H, tile, ring)) / (double(W) * double(H));
+}
+
 double GpuSolver::fusedBytesPerPoint(int W, int H, const StretchTiling& tiling) {
   // Every copied point's position (a ring of the reach + 2); a block point's displacement; the new state.
-  const double copied = double(copiedPoints(W, tiling.fused_tile, tiling.halo + 2)) *
-                        double(copiedPoints(H, tiling.fused_tile, tiling.halo + 2)) / (double(W) * double(H));
-  return copied * sizeof(glm::vec4) + sizeof(glm::vec4) + 2 * sizeof(glm::vec4);
+  return copiedPerPoint(W, H, tiling.fused_tile, tiling.halo + 2) * sizeof(glm::vec4) + sizeof(glm::vec4) +
+         2 * sizeof(glm::vec4);
 }
 
 double GpuSolver::bytesPerPointPerSubstep() const {
