@@ -134,8 +134,10 @@ TEST(Layout, TetherIsTwoScalars) {
 }
 
 TEST(Layout, PerPointArraysHaveTheStridesTheKernelsAssume) {
-  // vec4 positions/displacements/normals/tangents, vec2 uvs, uint indices: std430 strides 16, 8, 4.
+  // vec4 positions/normals/tangents, vec2 uvs, uint indices: std430 strides 16, 8, 4. Displacements are
+  // float[] with 3 a point, which glm::vec3 arrays match.
   EXPECT_EQ(sizeof(glm::vec4), 16u);
+  EXPECT_EQ(sizeof(glm::vec3), 12u);
   EXPECT_EQ(alignof(glm::vec4), 4u) << "glm is not 16-aligned: the structs must place vec4s themselves";
   EXPECT_EQ(sizeof(glm::vec2), 8u);
   EXPECT_EQ(sizeof(uint), 4u);

@@ -20,8 +20,8 @@ using uint = std::uint32_t;
 // Shader storage binding points. Ping-pong passes read the *In buffers and write the *Out ones; the
 // solver binds the two copies of the state to these points alternately.
 DRAPE_CONSTANT(uint, kBindingParams, 0u);             // SimParams
-DRAPE_CONSTANT(uint, kBindingPosIn, 1u);              // vec4 per point: xyz position (m), w pin flag (a copy)
-DRAPE_CONSTANT(uint, kBindingDispIn, 2u);             // vec4 per point: xyz displacement x - x_prev (m), w pin flag
+DRAPE_CONSTANT(uint, kBindingPosIn, 1u);              // vec4 per point: xyz position (m), w pin flag
+DRAPE_CONSTANT(uint, kBindingDispIn, 2u);             // 3 floats per point, packed: displacement x - x_prev (m)
 DRAPE_CONSTANT(uint, kBindingPosOut, 3u);             // the other copy of positions, written by ping-pong passes
 DRAPE_CONSTANT(uint, kBindingDispOut, 4u);            // the other copy of displacements
 DRAPE_CONSTANT(uint, kBindingOffsets, 5u);            // uint per point + 1: CSR offsets into neighbours

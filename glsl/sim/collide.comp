@@ -13,10 +13,11 @@ layout(local_size_x = kLocalSize) in;
 void main() {
   uint i = globalIndex();
   if (i >= params.point_count) return;
-  precise vec3 x = posIn[i].xyz;
-  precise vec3 v = dispIn[i].xyz;
-  float pin = dispIn[i].w;
+  vec4 position = posIn[i];
+  precise vec3 x = position.xyz;
+  precise vec3 v = loadDisp(i);
+  float pin = position.w;
   if (pin == 0.0) collideObjects(x, v);
   posOut[i] = vec4(x, pin);
-  dispOut[i] = vec4(v, pin);
+  storeDisp(i, v);
 }

@@ -41,15 +41,35 @@ layout(std430, binding = kBindingParams) readonly buffer ParamsBuffer {
 layout(std430, binding = kBindingPosIn) STATE_IN_ACCESS buffer PosInBuffer {
   vec4 posIn[];
 };
+// Displacements are packed, 12 bytes a point (vec3[] would be padded to 16): the pin flag rides in the
+// position's w alone, so the state is 28 bytes a point.
 layout(std430, binding = kBindingDispIn) STATE_IN_ACCESS buffer DispInBuffer {
-  vec4 dispIn[];
+  float dispIn[];
 };
 layout(std430, binding = kBindingPosOut) writeonly buffer PosOutBuffer {
   vec4 posOut[];
 };
 layout(std430, binding = kBindingDispOut) writeonly buffer DispOutBuffer {
-  vec4 dispOut[];
+  float dispOut[];
 };
+
+vec3 loadDisp(uint i) {
+  return vec3(dispIn[3u * i], dispIn[3u * i + 1u], dispIn[3u * i + 2u]);
+}
+
+void storeDisp(uint i, vec3 v) {
+  dispOut[3u * i] = v.x;
+  dispOut[3u * i + 1u] = v.y;
+  dispOut[3u * i + 2u] = v.z;
+}
+
+#ifdef STATE_IN_PLACE
+void storeDispInPlace(uint i, vec3 v) {
+  dispIn[3u * i] = v.x;
+  dispIn[3u * i + 1u] = v.y;
+  dispIn[3u * i + 2u] = v.z;
+}
+#endif
 #ifndef SIM_NO_SPRINGS
 layout(std430, binding = kBindingOffsets) readonly buffer OffsetsBuffer {
   uint offsets[];
@@ -76,10 +96,9 @@ uint globalIndex() {
   return gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * kLocalSize) + gl_GlobalInvocationID.x;
 }
 
-// The pin flag rides in w of both the displacement and the position (a neighbour's position is all a
-// gather of it needs).
-bool isPinned(vec4 state) {
-  return state.w != 0.0;
+// The pin flag rides in the position's w (a neighbour's position is all a gather of it needs).
+bool isPinned(vec4 position) {
+  return position.w != 0.0;
 }
 
 uint neighborIndex(Neighbor nb) {

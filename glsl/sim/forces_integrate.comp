@@ -35,9 +35,10 @@ vec3 pointNormal(PointMass m) {
 void main() {
   uint i = globalIndex();
   if (i >= params.point_count) return;
-  precise vec3 x = posIn[i].xyz;
-  precise vec3 v = dispIn[i].xyz;
-  float pin = dispIn[i].w;
+  vec4 position = posIn[i];
+  precise vec3 x = position.xyz;
+  precise vec3 v = loadDisp(i);
+  float pin = position.w;
   if (pin != 0.0) {
     v = vec3(0.0);  // pinned points never move; their force is never needed
   } else {
@@ -71,5 +72,5 @@ void main() {
   checkPairTravel(i, x);
 #endif
   posOut[i] = vec4(x, pin);
-  dispOut[i] = vec4(v, pin);
+  storeDisp(i, v);
 }

@@ -57,9 +57,10 @@ void main() {
     uint i = uint(at.y * grid.x + at.x);
     ivec2 here = at - lo;
     precise vec3 x = loadX(here);
-    vec4 d = dispIn[i];
-    precise vec3 v = d.xyz;
-    if (d.w != 0.0) {
+    // The position's w was read with the copy: the same bytes, not counted twice (GpuSolver::bytesPerPoint).
+    float pin = posIn[i].w;
+    precise vec3 v = loadDisp(i);
+    if (pin != 0.0) {
       v = vec3(0.0);  // pinned points never move; their force is never needed
     } else {
       precise vec3 f = params.weight.xyz;
@@ -80,7 +81,7 @@ void main() {
 #if SELF_COLLISION
     checkPairTravel(i, x);
 #endif
-    posOut[i] = vec4(x, d.w);
-    dispOut[i] = vec4(v, d.w);
+    posOut[i] = vec4(x, pin);
+    storeDisp(i, v);
   }
 }

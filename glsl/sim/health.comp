@@ -10,7 +10,7 @@ void main() {
   uint i = globalIndex();
   if (i >= params.point_count) return;
   vec3 x = posIn[i].xyz;
-  uint flags = stateHealth(x, dispIn[i].xyz);
+  uint flags = stateHealth(x, loadDisp(i));
   // Disabled spring types are not in the adjacency, as scanHealth skips them.
   for (uint e = offsets[i]; e < offsets[i + 1u]; ++e) {
     Neighbor nb = neighbors[e];

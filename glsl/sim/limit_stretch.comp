@@ -8,9 +8,10 @@ layout(local_size_x = kLocalSize) in;
 void main() {
   uint i = globalIndex();
   if (i >= params.point_count) return;
-  precise vec3 x = posIn[i].xyz;
-  precise vec3 v = dispIn[i].xyz;
-  float pin = dispIn[i].w;
+  vec4 position = posIn[i];
+  precise vec3 x = position.xyz;
+  precise vec3 v = loadDisp(i);
+  float pin = position.w;
   precise vec3 sum = vec3(0.0);
   int violated = 0;
   if (pin == 0.0) {
@@ -32,5 +33,5 @@ void main() {
   x += c;
   v += c;  // x_prev stays where it was
   posOut[i] = vec4(x, pin);
-  dispOut[i] = vec4(v, pin);
+  storeDisp(i, v);
 }

@@ -19,21 +19,21 @@ void main() {
   uint k = globalIndex();
   if (k >= u_count) return;
   ColouredSpring s = colouredSprings[u_first + k];
-  vec4 da = dispIn[s.a], db = dispIn[s.b];
-  bool pinned_a = isPinned(da), pinned_b = isPinned(db);
+  vec4 pa = posIn[s.a], pb = posIn[s.b];
+  bool pinned_a = isPinned(pa), pinned_b = isPinned(pb);
   float share_a = stretchShare(pinned_a, pinned_b);
   float share_b = stretchShare(pinned_b, pinned_a);
-  precise vec3 xa = posIn[s.a].xyz;
-  precise vec3 xb = posIn[s.b].xyz;
+  precise vec3 xa = pa.xyz;
+  precise vec3 xb = pb.xyz;
   precise vec3 ca = stretchCorrection(xa, xb, s.rest, params.stretch_limit, share_a);
   // Equal shares: end b's correction is exactly -ca in IEEE arithmetic, as on the CPU.
   precise vec3 cb = share_a == share_b ? -ca : stretchCorrection(xb, xa, s.rest, params.stretch_limit, share_b);
   if (!pinned_a) {
-    posIn[s.a] = vec4(xa + ca, da.w);
-    dispIn[s.a] = vec4(da.xyz + ca, da.w);  // x_prev stays where it was
+    posIn[s.a] = vec4(xa + ca, pa.w);
+    storeDispInPlace(s.a, loadDisp(s.a) + ca);  // x_prev stays where it was
   }
   if (!pinned_b) {
-    posIn[s.b] = vec4(xb + cb, db.w);
-    dispIn[s.b] = vec4(db.xyz + cb, db.w);
+    posIn[s.b] = vec4(xb + cb, pb.w);
+    storeDispInPlace(s.b, loadDisp(s.b) + cb);
   }
 }

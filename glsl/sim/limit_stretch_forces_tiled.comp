@@ -47,7 +47,7 @@ void main() {
     ivec2 at = gridAt(global[k]);
     precise vec3 x = loadX(l);
     precise vec3 vk = v[k];
-    if (w[k].y != 0.0) {
+    if (w[k] != 0.0) {
       vk = vec3(0.0);  // pinned points never move; their force is never needed
     } else {
       precise vec3 f = params.weight.xyz;
@@ -65,7 +65,7 @@ void main() {
       collideObjects(x, vk);
 #endif
     }
-    posOut[global[k]] = vec4(x, w[k].y);
-    dispOut[global[k]] = vec4(vk, w[k].y);
+    posOut[global[k]] = vec4(x, w[k]);
+    storeDisp(global[k], vk);
   }
 }

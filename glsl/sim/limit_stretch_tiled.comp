@@ -30,7 +30,7 @@ void main() {
   for (uint k = 0u; k < PER_INVOCATION; ++k) {
     if (!inside[k]) continue;
     uint l = gl_LocalInvocationID.x + k * uint(GROUP_SIZE);
-    posOut[global[k]] = vec4(loadX(l), w[k].x);
-    dispOut[global[k]] = vec4(v[k], w[k].y);
+    posOut[global[k]] = vec4(loadX(l), w[k]);
+    storeDisp(global[k], v[k]);
   }
 }

@@ -274,9 +274,10 @@ void main() {
     pin[k] = 0.0;
     weight[k] = vec4(0.0);
     if (i >= GROUP_POINTS) continue;
-    storeX(i, posIn[i].xyz);
-    v[k] = dispIn[i].xyz;
-    pin[k] = dispIn[i].w;
+    vec4 position = posIn[i];
+    storeX(i, position.xyz);
+    v[k] = loadDisp(i);
+    pin[k] = position.w;
 #if UNIFORM_MASS
     weight[k] = params.weight;
 #else
@@ -286,7 +287,7 @@ void main() {
   for (uint w = lid; w < (GROUP_POINTS + 31) / 32; w += GROUP_SIZE) {
     uint bits = 0u;
     for (uint b = 0u; b < 32u && w * 32u + b < GROUP_POINTS; ++b)
-      bits |= (isPinned(dispIn[w * 32u + b]) ? 1u : 0u) << b;
+      bits |= (isPinned(posIn[w * 32u + b]) ? 1u : 0u) << b;
     sPinned[w] = bits;
   }
   syncGroup();
@@ -404,6 +405,6 @@ void main() {
       raiseHealth(flags, i);
     }
     posIn[i] = vec4(x, pin[k]);
-    dispIn[i] = vec4(v[k], pin[k]);
+    storeDispInPlace(i, v[k]);
   }
 }

@@ -170,9 +170,10 @@ void sumFromGrid(uint i, vec3 x, inout vec3 sum, inout int count) {
 void main() {
   uint i = globalIndex();
   if (i >= params.point_count) return;
-  precise vec3 x = posIn[i].xyz;
-  precise vec3 v = dispIn[i].xyz;
-  float pin = dispIn[i].w;
+  vec4 position = posIn[i];
+  precise vec3 x = position.xyz;
+  precise vec3 v = loadDisp(i);
+  float pin = position.w;
   precise vec3 sum = vec3(0.0);
   int count = 0;
   if (pin == 0.0) {
@@ -192,5 +193,5 @@ void main() {
   if (pin == 0.0) collideObjects(x, v);
 #endif
   posOut[i] = vec4(x, pin);
-  dispOut[i] = vec4(v, pin);
+  storeDisp(i, v);
 }

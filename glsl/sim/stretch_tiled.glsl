@@ -39,12 +39,12 @@ uvec2 tileLo, tileHi, copyLo, copyHi, copySize;
 uint copyCount;
 
 // Registers per point of the copy (point l = lid + k * GROUP_SIZE): its index in the cloth, whether it is
-// a block point, its w lanes, and for block points the displacement, which moves with the position
-// (x_prev stays where it was).
+// a block point, its position's w (the pin flag), and for block points the displacement, which moves with
+// the position (x_prev stays where it was).
 uint global[PER_INVOCATION];
 bool inside[PER_INVOCATION];
 vec3 v[PER_INVOCATION];
-vec2 w[PER_INVOCATION];  // x: position's w, y: displacement's w (the pin flag, both)
+float w[PER_INVOCATION];
 
 vec3 loadX(uint l) {
   return vec3(sx[3u * l], sx[3u * l + 1u], sx[3u * l + 2u]);
@@ -86,20 +86,16 @@ void loadTile() {
     global[k] = 0u;
     inside[k] = false;
     v[k] = vec3(0.0);
-    w[k] = vec2(0.0);
+    w[k] = 0.0;
     if (l >= copyCount) continue;
     uvec2 at = copyLo + uvec2(l % copySize.x, l / copySize.x);
     global[k] = gridIndex(ivec2(at));
     inside[k] = all(greaterThanEqual(at, tileLo)) && all(lessThan(at, tileHi));
     vec4 p = posIn[global[k]];
     storeX(l, p.xyz);
-    w[k].x = p.w;
+    w[k] = p.w;
     if (isPinned(p)) atomicOr(sPinned[l >> 5u], 1u << (l & 31u));
-    if (inside[k]) {
-      vec4 d = dispIn[global[k]];
-      v[k] = d.xyz;
-      w[k].y = d.w;
-    }
+    if (inside[k]) v[k] = loadDisp(global[k]);
   }
   syncGroup();
 }

@@ -21,10 +21,10 @@ layout(std430, binding = kBindingTethers) readonly buffer TethersBuffer {
 void main() {
   uint i = globalIndex();
   if (i >= params.point_count) return;
-  vec4 disp = dispIn[i];
-  if (isPinned(disp)) return;
-  precise vec3 x = posIn[i].xyz;
-  precise vec3 v = disp.xyz;
+  vec4 position = posIn[i];
+  if (isPinned(position)) return;
+  precise vec3 x = position.xyz;
+  precise vec3 v = loadDisp(i);
   for (uint s = 0u; s < uint(TETHER_SLOTS); ++s) {
     Tether t = tethers[i * uint(TETHER_SLOTS) + s];
     if (t.anchor == kNoTether) break;
@@ -35,6 +35,6 @@ void main() {
     x += c;
     v += c;  // x_prev stays where it was
   }
-  posIn[i] = vec4(x, disp.w);
-  dispIn[i] = vec4(v, disp.w);
+  posIn[i] = vec4(x, position.w);
+  storeDispInPlace(i, v);
 }

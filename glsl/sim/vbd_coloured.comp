@@ -40,14 +40,14 @@ void main() {
   uint k = globalIndex();
   if (k >= u_count) return;
   uint i = colouredPoints[u_first + k];
-  vec4 disp = dispIn[i];
-  if (isPinned(disp)) return;
+  vec4 position = posIn[i];
+  if (isPinned(position)) return;
 #if UNIFORM_MASS
   float w = params.weight.w;
 #else
   float w = pointMass[i].weight.w;
 #endif
-  precise vec3 x = posIn[i].xyz;
+  precise vec3 x = position.xyz;
   precise float inertia = 1.0 / (w * params.dt2);  // m / dt^2
   vec3 f = vec3(0.0);
   vec3 h_diag = vec3(inertia);
@@ -67,6 +67,6 @@ void main() {
     vbdAddSpring(x, posIn[neighborIndex(nb)].xyz, nb.rest, params.stiffness[neighborType(nb)], f, h_diag, h_off);
   }
   precise vec3 dx = vbdStep(f, h_diag, h_off);
-  posIn[i] = vec4(x + dx, disp.w);
-  dispIn[i] = vec4(disp.xyz + dx, disp.w);  // x_prev stays: v = x - x_prev is the solved displacement
+  posIn[i] = vec4(x + dx, position.w);
+  storeDispInPlace(i, loadDisp(i) + dx);  // x_prev stays: v = x - x_prev is the solved displacement
 }

@@ -38,8 +38,8 @@ void main() {
   if (k >= u_count) return;
   uint index = u_first + k;
   ColouredSpring s = colouredSprings[index];
-  vec4 da = dispIn[s.a], db = dispIn[s.b];
-  bool pinned_a = isPinned(da), pinned_b = isPinned(db);
+  vec4 pa = posIn[s.a], pb = posIn[s.b];
+  bool pinned_a = isPinned(pa), pinned_b = isPinned(pb);
   if (pinned_a && pinned_b) return;
   float wa = pinned_a ? 0.0 : pointMass[s.a].weight.w;
   float wb = pinned_b ? 0.0 : pointMass[s.b].weight.w;
@@ -47,8 +47,8 @@ void main() {
 #if XPBD_LAMBDA
   if (u_sweep > 0u) lambda = lambdas[index];
 #endif
-  precise vec3 xa = posIn[s.a].xyz;
-  precise vec3 xb = posIn[s.b].xyz;
+  precise vec3 xa = pa.xyz;
+  precise vec3 xb = pb.xyz;
   precise float w_sum = wa + wb;
   vec3 p;
   precise float dlambda = xpbdDistanceCorrection(xa, xb, s.rest, w_sum, params.alpha_tilde[s.type], lambda, p);
@@ -58,12 +58,12 @@ void main() {
 #endif
   if (!pinned_a) {
     precise vec3 ca = (-wa) * p;
-    posIn[s.a] = vec4(xa + ca, da.w);
-    dispIn[s.a] = vec4(da.xyz + ca, da.w);  // x_prev stays: v = x - x_prev is the constrained displacement
+    posIn[s.a] = vec4(xa + ca, pa.w);
+    storeDispInPlace(s.a, loadDisp(s.a) + ca);  // x_prev stays: v = x - x_prev is the constrained displacement
   }
   if (!pinned_b) {
     precise vec3 cb = wb * p;
-    posIn[s.b] = vec4(xb + cb, db.w);
-    dispIn[s.b] = vec4(db.xyz + cb, db.w);
+    posIn[s.b] = vec4(xb + cb, pb.w);
+    storeDispInPlace(s.b, loadDisp(s.b) + cb);
   }
 }

@@ -217,7 +217,7 @@ void GpuSolver::allocate() {
   const std::size_t n = std::size_t(topo_.pointCount());
   for (StateBuffers& s : state_) {
     s.position = gl::Buffer::create(n * sizeof(glm::vec4), nullptr, kUpdatable);
-    s.displacement = gl::Buffer::create(n * sizeof(glm::vec4), nullptr, kUpdatable);
+    s.displacement = gl::Buffer::create(n * sizeof(glm::vec3), nullptr, kUpdatable);
   }
   params_ = gl::Buffer::create(sizeof(gpu::SimParams), nullptr, kUpdatable);
   point_mass_ = gl::Buffer::create(n * sizeof(gpu::PointMass), nullptr, kUpdatable);
@@ -620,16 +620,12 @@ void GpuSolver::choosePath(bool constructing) {
     d.emplace_back("TILE", std::to_string(tiling_.tile));
     d.emplace_back("HALO", std::to_string(tiling_.halo));
     d.emplace_back("GRID_PARTNERS", grid_rests_.empty() ? "0" : "1");
-    if (d != tiled_defines_) {
-      programs_.limit_stretch_tiled = gl::compileCompute("sim/limit_stretch_tiled.comp", d);
-      programs_.forces_integrate_tiled = gl::Program();
-      tiled_defines_ = d;
-    }
-    if (tiledForces() && programs_.forces_integrate_tiled.id() == 0) {
+    programs_.limit_stretch_tiled.compile("sim/limit_stretch_tiled.comp", d);
+    if (tiledForces()) {
       gl::Defines f = defines_;
       f.emplace_back("GROUP_SIZE", std::to_string(tiling_.forces_group_size));
       f.emplace_back("TILE", std::to_string(tiling_.forces_tile));
-      programs_.forces_integrate_tiled = gl::compileCompute("sim/forces_integrate_tiled.comp", f);
+      programs_.forces_integrate_tiled.compile("sim/forces_integrate_tiled.comp", f);
     }
   }
   // The forces need a ring of 2 stretched points around a block, so the fused copy's ring is 2 wider.
@@ -640,10 +636,7 @@ void GpuSolver::choosePath(bool constructing) {
     f.emplace_back("GROUP_SIZE", std::to_string(tiling_.group_size));
     f.emplace_back("TILE", std::to_string(tiling_.fused_tile));
     f.emplace_back("HALO", std::to_string(tiling_.halo + 2));
-    if (f != fused_defines_) {
-      programs_.limit_stretch_forces_tiled = gl::compileCompute("sim/limit_stretch_forces_tiled.comp", f);
-      fused_defines_ = f;
-    }
+    programs_.limit_stretch_forces_tiled.compile("sim/limit_stretch_forces_tiled.comp", f);
   }
   if (one_group_) {
     gl::Defines d = defines_;
@@ -652,12 +645,15 @@ void GpuSolver::choosePath(bool constructing) {
     d.emplace_back("GROUP_BUCKETS", std::to_string(oneGroupBuckets()));
     if (usesTethers()) d.emplace_back("TETHER_SLOTS", std::to_string(tether_slots_));
     if (!grid_rests_.empty()) d.emplace_back("GRID_SPRINGS", "1");
-    if (d != one_group_defines_) {
-      programs_.one_group = gl::compileCompute("sim/one_group.comp", d);
-      one_group_defines_ = d;
-    }
+    programs_.one_group.compile("sim/one_group.comp", d);
   }
   setPathUniforms();
+}
+
+void GpuSolver::PathProgram::compile(const char* file, const gl::Defines& with) {
+  if (program.id() != 0 && with == defines) return;
+  program = gl::compileCompute(file, with);
+  defines = with;
 }
 
 // What stays fixed until the next path choice (a live change of parameters makes a new one) is set here
@@ -671,22 +667,19 @@ void GpuSolver::setPathUniforms() const {
   const std::uint32_t colours = std::uint32_t(colouring_.colourCount());
   const std::uint32_t passes = std::uint32_t(scene_.sim.stretch_passes);
   if (one_group_) {
-    const gl::Program& program = programs_.one_group;
+    const gl::Program& program = programs_.one_group.program;
     if (!grid_rests_.empty()) setGrid(program);
     program.setUniform("u_stretch_passes", passes);
     program.setUniform("u_colours", scene_.sim.stretch_scheme == StretchScheme::GaussSeidel ? colours : 0u);
   }
-  if (tiled_) {
-    setGrid(programs_.limit_stretch_tiled);
-    programs_.limit_stretch_tiled.setUniform("u_colours", colours);
-    programs_.limit_stretch_tiled.setUniform("u_passes", passes);
-  }
-  if (tiledForces()) setGrid(programs_.forces_integrate_tiled);
-  if (fused_frame_) {
-    setGrid(programs_.limit_stretch_forces_tiled);
-    programs_.limit_stretch_forces_tiled.setUniform("u_colours", colours);
-    programs_.limit_stretch_forces_tiled.setUniform("u_passes", passes);
-  }
+  const auto setStretch = [&](const gl::Program& program) {
+    setGrid(program);
+    program.setUniform("u_colours", colours);
+    program.setUniform("u_passes", passes);
+  };
+  if (tiled_) setStretch(programs_.limit_stretch_tiled.program);
+  if (tiledForces()) setGrid(programs_.forces_integrate_tiled.program);
+  if (fused_frame_) setStretch(programs_.limit_stretch_forces_tiled.program);
 }
 
 // Per colour and point, the point's spring of that colour (at most one: springs of a colour share no

@@ -141,8 +141,11 @@ class GpuSolver final : public Solver {
   // The one-dispatch path checks health inside its dispatch.
   std::vector<std::string> framePasses() const override {
     if (one_group_) return {};
-    if (fused_frame_) return {passName(kLimitStretchTiled), passName(kHealth)};  // the last substep's stretch limit
-    return {passName(kHealth)};
+    std::vector<std::string> out;
+    for (const PlannedDispatch& d : frame_.tail)
+      out.push_back(passName(d.pass));
+    out.push_back(passName(kHealth));
+    return out;
   }
   int dispatchesPerFrame() const override;
   double dispatchesPerSubstep() const override;
@@ -268,8 +271,9 @@ class GpuSolver final : public Solver {
   };
   enum class Stage { Integrate, Xpbd, Vbd, Collide, SelfCollide, Tether, Stretch };
   // One dispatch of the substep. The plan is worked out once per scene (buildPlan(), again after a live
-  // parameter change): step() runs it, passes() lists it (the -v listing and the bench print that), and
-  // tests/gpu_solver_gl_test.cpp holds it against the dispatches really issued.
+  // parameter change): step() runs it, and stepFrame() the frame plan made from it (frame_), which
+  // passes() lists (the -v listing and the bench print that) and tests/gpu_solver_gl_test.cpp holds
+  // against the dispatches really issued.
   struct PlannedDispatch {
     enum class Size { Points, One, Indirect, Springs, ColourPoints, Tiles };
     PassId pass;
@@ -284,18 +288,25 @@ class GpuSolver final : public Solver {
     bool unless_checked = false;         // only when forces+integrate has not checked the travel (a stage run alone)
   };
   struct StateBuffers {
-    gl::Buffer position;      // vec4 per point
-    gl::Buffer displacement;  // vec4 per point, w = pin flag
+    gl::Buffer position;      // vec4 per point, w = pin flag
+    gl::Buffer displacement;  // 3 floats per point, packed (glm::vec3)
+  };
+  // A kernel specialised for the chosen path, with the defines it was compiled with: a new choice (after a
+  // live parameter change) recompiles it only when they change.
+  struct PathProgram {
+    gl::Program program;
+    gl::Defines defines;
+    void compile(const char* file, const gl::Defines& with);
   };
   struct Programs {
     gl::Program forces_integrate, self_collide;
     gl::Program pairs_check, pairs_prepare, pairs_grid_count, pairs_count, pairs_scan[3], pairs_fill;
     gl::Program grid_build, grid_scan[3], grid_scatter, grid_rank;
     gl::Program limit_stretch, limit_stretch_coloured;
-    gl::Program limit_stretch_tiled;         // the tiled path, compiled when it is chosen
-    gl::Program forces_integrate_tiled;      // ... and its forces, where the scene allows them
-    gl::Program limit_stretch_forces_tiled;  // ... and both fused, where stepFrame() fuses them (fusedFrame())
-    gl::Program one_group;                   // the one-dispatch path, compiled when it is chosen
+    PathProgram limit_stretch_tiled;         // the tiled path, compiled when it is chosen
+    PathProgram forces_integrate_tiled;      // ... and its forces, where the scene allows them
+    PathProgram limit_stretch_forces_tiled;  // ... and both fused, where stepFrame() fuses them (fusedFrame())
+    PathProgram one_group;                   // the one-dispatch path, compiled when it is chosen
     gl::Program xpbd_coloured, collide;      // XPBD only (collide: VBD too)
     gl::Program vbd_coloured;                // VBD only
     gl::Program tether;                      // compiled when the scene first asks for tethers
@@ -307,13 +318,11 @@ class GpuSolver final : public Solver {
     gl::Query query;
   };
 
-  void buildPlan();
+  void buildPlan();                    // plan_, then frame_ from it
+  void planSubstep();                  // plan_
   void choosePath(bool constructing);  // GpuSolverOptions::path for this scene: one_group_, its kernel and table
   void uploadColourPartners();
-  void setPathUniforms() const;
-  void stepFusedFrame();                        // stepFrame() where fusedFrame()
-  PlannedDispatch fusedDispatch() const;        // its substep's dispatch                 // the chosen path's programs'
-                                                // uniforms that stay until the next choice
+  void setPathUniforms() const;                 // the chosen path's programs' uniforms that stay until the next choice
   std::vector<float> uniformGridRests() const;  // grid_rests_ as it should be; empty where rests differ
   std::string tiledStretchMisfit(const StretchTiling& tiling) const;  // tiledStretchMisfit() for a worked-out tiling
   std::uint32_t oneGroupSize() const;                                 // the one-dispatch kernel's invocations
@@ -368,7 +377,7 @@ class GpuSolver final : public Solver {
   gl::Query takeQuery();  // a timestamp query, recorded now
   // Adds up the pass times of the timestamps the GPU has written; with `wait`, of all of them.
   void resolveQueries(bool wait) const;
-  void writePoint(std::uint32_t index, const glm::vec4* position, const glm::vec4* displacement);
+  void writePoint(std::uint32_t index, const glm::vec4* position, const glm::vec3* displacement);
   void endFrame() override;
   void snapshotHealth();  // after the frame's health pass: copy into the next ring slot, then a fence
   void forgetSnapshots();
@@ -405,12 +414,9 @@ class GpuSolver final : public Solver {
   // Each grid direction's rest length, when all its enabled springs share one (0: disabled or none): then
   // the tiled kernel finds partners and rests from the grid instead of the ColourPartner table.
   std::vector<float> grid_rests_;
-  gl::Defines fused_defines_;      // limit_stretch_forces_tiled's, as compiled
-  gl::Buffer colour_partners_;     // ColourPartner table (Gauss-Seidel stretch, per point)
-  gl::Defines tiled_defines_;      // what the tiled kernel was compiled with
-  gl::Buffer tethers_;             // Tether per point and slot, once the scene asks for them
-  int tether_slots_ = 0;           // anchors per point; 0: none built, or a cloth without pins
-  gl::Defines one_group_defines_;  // what its kernel was compiled with
+  gl::Buffer colour_partners_;  // ColourPartner table (Gauss-Seidel stretch, per point)
+  gl::Buffer tethers_;          // Tether per point and slot, once the scene asks for them
+  int tether_slots_ = 0;        // anchors per point; 0: none built, or a cloth without pins
   gl::Buffer grid_points_, grid_counts_, grid_start_, grid_blocks_, grid_scatter_, grid_sorted_;
   gl::Buffer pair_control_, pair_anchor_, pair_start_, pair_list_;
   std::uint64_t pair_capacity_ = 0;
@@ -418,6 +424,14 @@ class GpuSolver final : public Solver {
   gl::Buffer normals_, tangents_, vertex_tri_offsets_, vertex_tris_, triangles_, uvs_, pick_;
   Programs programs_;
   std::vector<PlannedDispatch> plan_;
+  // What stepFrame() dispatches off the one-dispatch path, worked out with plan_: `substep` steps_per_frame
+  // times, then `tail` once, then the health check (endFrame()). passes(), framePasses(), the dispatch
+  // counts and the traffic model read it. Mostly the substep is plan_ and the tail empty; on the fused
+  // frame (fusedFrame()) the substep is the one fused dispatch and the tail the last substep's stretch limit.
+  struct FramePlan {
+    std::vector<PlannedDispatch> substep, tail;
+  };
+  FramePlan frame_;
   gl::Defines defines_;
   bool enabled_springs_[kSpringTypeCount] = {true, true, true};
 

@@ -23,38 +23,38 @@ void GpuSolver::computeNormals() {
   glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
 }
 
-void GpuSolver::writePoint(std::uint32_t index, const glm::vec4* position, const glm::vec4* displacement) {
+void GpuSolver::writePoint(std::uint32_t index, const glm::vec4* position, const glm::vec3* displacement) {
   if (index >= std::uint32_t(topo_.pointCount()))
     throw std::out_of_range("GpuSolver: point " + std::to_string(index) + " outside a cloth of " +
                             std::to_string(topo_.pointCount()) + " points");
   // Host writes into a buffer that shaders wrote: the update barrier orders them after those writes.
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   if (position) state_[current_].position.upload(index * sizeof(glm::vec4), sizeof(glm::vec4), position);
-  if (displacement) state_[current_].displacement.upload(index * sizeof(glm::vec4), sizeof(glm::vec4), displacement);
+  if (displacement) state_[current_].displacement.upload(index * sizeof(glm::vec3), sizeof(glm::vec3), displacement);
   health_checked_ = false;
 }
 
 void GpuSolver::setPosition(std::uint32_t index, glm::vec3 position) {
   const bool pinned = (index < topo_.pinned.size() && topo_.pinned[index] != 0) || int(index) == held_;
-  const glm::vec4 p(position, pinned ? 1.0f : 0.0f);  // w: the pin flag, as the displacement's
+  const glm::vec4 p(position, pinned ? 1.0f : 0.0f);  // w: the pin flag
   writePoint(index, &p, nullptr);
 }
 
 void GpuSolver::holdPoint(int index, glm::vec3 target) {
   if (held_ >= 0 && held_ != index) releasePoint();
-  const glm::vec4 p(target, 1.0f);            // w: pinned
-  const glm::vec4 v(0.0f, 0.0f, 0.0f, 1.0f);  // pinned: integrate keeps it where it is, stretch pulls others
+  const glm::vec4 p(target, 1.0f);  // w: pinned, so integrate keeps it where it is and stretch pulls others
+  const glm::vec3 v(0.0f);
   writePoint(std::uint32_t(index), &p, &v);
   held_ = index;
 }
 
 void GpuSolver::releasePoint() {
   if (held_ < 0) return;
-  // A held point was pinned, so its displacement is zero: it starts again at rest, with its own pin flag.
+  // A held point was pinned, so its displacement is zero: it starts again at rest, with its own pin flag
+  // in the position's w (xyz stays).
   const float pin = topo_.pinned[std::size_t(held_)] ? 1.0f : 0.0f;
-  const glm::vec4 v(0.0f, 0.0f, 0.0f, pin);
+  const glm::vec3 v(0.0f);
   writePoint(std::uint32_t(held_), nullptr, &v);
-  // The position's w carries the same flag (the stretch limit reads it from there); xyz stays.
   state_[current_].position.upload(std::size_t(held_) * sizeof(glm::vec4) + 3 * sizeof(float), sizeof(float), &pin);
   held_ = -1;
 }

@@ -27,6 +27,11 @@ struct HealthSnapshot {
 };
 static_assert(sizeof(HealthSnapshot) == sizeof(gpu::Health) + sizeof(gpu::PairState), "the ring's size (allocate())");
 
+// The state a point, as the buffers lay it out: bytesPerPoint counts these.
+constexpr double kPosition = sizeof(glm::vec4);      // w: the pin flag
+constexpr double kDisplacement = sizeof(glm::vec3);  // packed
+constexpr double kState = kPosition + kDisplacement;
+
 }  // namespace
 
 void GpuSolver::step() {
@@ -43,49 +48,35 @@ void GpuSolver::step() {
 }
 
 void GpuSolver::stepFrame() {
-  if (fused_frame_) {
-    stepFusedFrame();
-    return;
-  }
-  if (!one_group_) {
-    Solver::stepFrame();
-    return;
-  }
   timing_break_ = true;
   const int substeps = scene_.sim.steps_per_frame;
-  runOneGroup(std::uint32_t(substeps), kAllPhases, true);  // the health check too: the whole frame is one dispatch
-  substeps_ += substeps;
-  health_checked_ = true;
-  snapshotHealth();
-}
-
-// The substeps' passes in their own order, cut differently: the first substep's forces, then each
-// substep's stretch limit with the next one's forces (limit_stretch_forces_tiled.comp), then the last
-// substep's stretch limit. u_stretch is off for the first dispatch, which has no stretch limit before it.
-void GpuSolver::stepFusedFrame() {
-  timing_break_ = true;
+  if (one_group_) {
+    runOneGroup(std::uint32_t(substeps), kAllPhases, true);  // the health check too: the whole frame is one dispatch
+    substeps_ += substeps;
+    health_checked_ = true;
+    snapshotHealth();
+    return;
+  }
   bindShared();
-  const gl::Program& fused = programs_.limit_stretch_forces_tiled;
-  const int substeps = scene_.sim.steps_per_frame;
-  fused.setUniform("u_stretch", false);
-  run(fusedDispatch());
-  fused.setUniform("u_stretch", true);
-  for (int s = 1; s < substeps; ++s)
-    run(fusedDispatch());
-  run(plan_.back());  // limit_stretch_tiled
-  substeps_ += substeps;
+  // The fused kernel runs the previous substep's stretch limit before its forces; the frame's first
+  // substep has none before it.
+  const gl::Program& fused = programs_.limit_stretch_forces_tiled.program;
+  if (fused_frame_) fused.setUniform("u_stretch", false);
+  for (int s = 0; s < substeps; ++s) {
+    for (const PlannedDispatch& d : frame_.substep)
+      run(d);
+    ++substeps_;  // wind's time
+    if (fused_frame_ && s == 0) fused.setUniform("u_stretch", true);
+  }
+  for (const PlannedDispatch& d : frame_.tail)
+    run(d);
   health_checked_ = false;
   endFrame();
 }
 
-GpuSolver::PlannedDispatch GpuSolver::fusedDispatch() const {
-  return {kLimitStretchForcesTiled, Stage::Integrate, &programs_.limit_stretch_forces_tiled,
-          PlannedDispatch::Size::Tiles, true};
-}
-
 void GpuSolver::runOneGroup(std::uint32_t substeps, std::uint32_t phases, bool check_health) {
   bindShared();
-  const gl::Program& program = programs_.one_group;
+  const gl::Program& program = programs_.one_group.program;
   if (grid_rests_.empty()) colour_partners_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingColourPartners);
   if (usesTethers()) tethers_.bindBase(GL_SHADER_STORAGE_BUFFER, gpu::kBindingTethers);
   program.setUniform("u_substeps", substeps);
@@ -142,6 +133,20 @@ void GpuSolver::runStage(Stage stage) {
 }
 
 void GpuSolver::buildPlan() {
+  planSubstep();
+  // The fused frame cuts the substeps' passes differently, in their own order: each substep's stretch
+  // limit with the next one's forces (limit_stretch_forces_tiled.comp), then the last one's stretch limit.
+  if (fused_frame_) {
+    frame_.substep = {{kLimitStretchForcesTiled, Stage::Integrate, &programs_.limit_stretch_forces_tiled.program,
+                       PlannedDispatch::Size::Tiles, true}};
+    frame_.tail = {plan_.back()};  // limit_stretch_tiled
+  } else {
+    frame_.substep = plan_;
+    frame_.tail.clear();
+  }
+}
+
+void GpuSolver::planSubstep() {
   using Size = PlannedDispatch::Size;
   plan_.clear();
   const auto add = [this](PassId pass, Stage stage, const gl::Program& program, Size size, bool ping_pong,
@@ -169,11 +174,11 @@ void GpuSolver::buildPlan() {
     }
   };
   if (one_group_) {  // the frame's one dispatch (runOneGroup), not a list per substep
-    add(kOneGroup, Stage::Integrate, programs_.one_group, Size::One, false);
+    add(kOneGroup, Stage::Integrate, programs_.one_group.program, Size::One, false);
     return;
   }
   if (tiledForces())
-    add(kForcesIntegrateTiled, Stage::Integrate, programs_.forces_integrate_tiled, Size::Tiles, true);
+    add(kForcesIntegrateTiled, Stage::Integrate, programs_.forces_integrate_tiled.program, Size::Tiles, true);
   else
     add(kForcesIntegrate, Stage::Integrate, programs_.forces_integrate, Size::Points, true);
   const bool implicit = isImplicit(scene_.sim.integrator);
@@ -222,7 +227,7 @@ void GpuSolver::buildPlan() {
   if (usesTethers()) add(kTether, Stage::Tether, programs_.tether, Size::Points, false);
   if (tiled_) {  // every colour of every pass in the one dispatch, blocks in shared memory
     if (scene_.sim.stretch_passes > 0)
-      add(kLimitStretchTiled, Stage::Stretch, programs_.limit_stretch_tiled, Size::Tiles, true);
+      add(kLimitStretchTiled, Stage::Stretch, programs_.limit_stretch_tiled.program, Size::Tiles, true);
     return;
   }
   for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass) {
@@ -295,7 +300,8 @@ void GpuSolver::run(const PlannedDispatch& d) {
 
 double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
   const double n = double(topo_.pointCount());
-  constexpr double kState = 2 * sizeof(glm::vec4);  // position and displacement (pin flag in w)
+  // Bytes loaded and stored: a gather as often as it is issued; a tiled kernel's copy once per work group
+  // (a ring copied by two groups twice), and what the group reads again of what it copied not at all.
   constexpr double kRange = 2 * sizeof(std::uint32_t);
   const double entries = double(neighbors_.size() / sizeof(gpu::Neighbor)) / n;  // springs seen from a point
   const double candidates = double(pair_entries_) / n;
@@ -306,7 +312,7 @@ double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
       return kState + point + kRange + entries * (sizeof(gpu::Neighbor) + sizeof(glm::vec4)) + kState;
     }
     case kForcesIntegrateTiled:  // every copied point's position; a block point's displacement; new state
-      return copiedPerPoint(topo_.W, topo_.H, tiling_.forces_tile, 2) * sizeof(glm::vec4) + sizeof(glm::vec4) + kState;
+      return copiedPerPoint(topo_.W, topo_.H, tiling_.forces_tile, 2) * kPosition + kDisplacement + kState;
     case kLimitStretch:  // the same gather (each neighbour's pin flag rides in its position's w)
       return kState + kRange + entries * (sizeof(gpu::Neighbor) + sizeof(glm::vec4)) + kState;
     case kLimitStretchColoured:  // per spring: the entry, both ends' state read and written
@@ -318,7 +324,7 @@ double GpuSolver::bytesPerPoint(const PlannedDispatch& d) const {
       const double table = grid_rests_.empty() ? double(scene_.sim.stretch_passes) * colouring_.colourCount() *
                                                      sizeof(gpu::ColourPartner)
                                                : 0.0;
-      return copied * (sizeof(glm::vec4) + table) + sizeof(glm::vec4) + kState;
+      return copied * (kPosition + table) + kDisplacement + kState;
     }
     case kLimitStretchForcesTiled:
       return fusedBytesPerPoint(topo_.W, topo_.H, tiling_);
@@ -382,17 +388,16 @@ double GpuSolver::copiedPerPoint(int W, int H, std::uint32_t tile, std::uint32_t
 
 double GpuSolver::fusedBytesPerPoint(int W, int H, const StretchTiling& tiling) {
   // Every copied point's position (a ring of the reach + 2); a block point's displacement; the new state.
-  return copiedPerPoint(W, H, tiling.fused_tile, tiling.halo + 2) * sizeof(glm::vec4) + sizeof(glm::vec4) +
-         2 * sizeof(glm::vec4);
+  return copiedPerPoint(W, H, tiling.fused_tile, tiling.halo + 2) * kPosition + kDisplacement + kState;
 }
 
 double GpuSolver::bytesPerPointPerSubstep() const {
-  if (fused_frame_)  // a fused dispatch a substep, and once a frame the last substep's stretch limit
-    return bytesPerPoint(fusedDispatch()) + bytesPerPoint(plan_.back()) / scene_.sim.steps_per_frame;
-  double bytes = 0;
-  for (const PlannedDispatch& d : plan_)
-    if (!d.unless_checked) bytes += bytesPerPoint(d);
-  return bytes;
+  double substep = 0, tail = 0;
+  for (const PlannedDispatch& d : frame_.substep)
+    if (!d.unless_checked) substep += bytesPerPoint(d);
+  for (const PlannedDispatch& d : frame_.tail)
+    tail += bytesPerPoint(d);
+  return substep + tail / scene_.sim.steps_per_frame;
 }
 
 std::vector<std::string> GpuSolver::passes() const {
@@ -409,8 +414,7 @@ std::vector<std::string> GpuSolver::passes() const {
         out.push_back(coloured ? "in-group limit_stretch_colour" : "in-group limit_stretch");
     return out;
   }
-  if (fused_frame_) return {passName(kLimitStretchForcesTiled)};  // stepFrame()'s substep
-  for (const PlannedDispatch& d : plan_)
+  for (const PlannedDispatch& d : frame_.substep)
     if (!d.unless_checked) out.push_back(passName(d.pass));
   return out;
 }
@@ -422,8 +426,8 @@ int GpuSolver::dispatchesPerFrame() const {
 
 double GpuSolver::dispatchesPerSubstep() const {
   if (one_group_) return 1.0 / double(scene_.sim.steps_per_frame);
-  if (fused_frame_) return double(scene_.sim.steps_per_frame + 1) / double(scene_.sim.steps_per_frame);
-  return double(passes().size());
+  const double substeps = scene_.sim.steps_per_frame;
+  return (double(passes().size()) * substeps + double(frame_.tail.size())) / substeps;
 }
 
 std::string GpuSolver::passName(PassId pass) const {
@@ -625,12 +629,10 @@ void GpuSolver::resetTimings() {
 
 void GpuSolver::reset() {
   const std::size_t n = std::size_t(topo_.pointCount());
-  std::vector<glm::vec4> x(n), v(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const float pin = topo_.pinned[i] ? 1.0f : 0.0f;
-    x[i] = glm::vec4(glm::vec3(topo_.initial_positions[i]), pin);
-    v[i] = glm::vec4(0.0f, 0.0f, 0.0f, pin);
-  }
+  std::vector<glm::vec4> x(n);
+  const std::vector<glm::vec3> v(n, glm::vec3(0.0f));
+  for (std::size_t i = 0; i < n; ++i)
+    x[i] = glm::vec4(glm::vec3(topo_.initial_positions[i]), topo_.pinned[i] ? 1.0f : 0.0f);
   // Uploads must not overtake shader writes still in flight to the same buffers.
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   current_ = 0;
@@ -646,11 +648,12 @@ void GpuSolver::uploadState(const std::vector<glm::dvec3>& x, const std::vector<
   const std::size_t n = std::size_t(topo_.pointCount());
   if (x.size() != n || v.size() != n)
     throw std::invalid_argument("GpuSolver::uploadState: expected " + std::to_string(n) + " points");
-  std::vector<glm::vec4> px(n), pv(n);
+  std::vector<glm::vec4> px(n);
+  std::vector<glm::vec3> pv(n);
   for (std::size_t i = 0; i < n; ++i) {
     const bool pinned = topo_.pinned[i] != 0 || int(i) == held_;
     px[i] = glm::vec4(glm::vec3(x[i]), pinned ? 1.0f : 0.0f);
-    pv[i] = glm::vec4(glm::vec3(v[i]), pinned ? 1.0f : 0.0f);
+    pv[i] = glm::vec3(v[i]);
   }
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   state_[current_].position.upload(px);
@@ -672,10 +675,10 @@ std::vector<glm::dvec3> GpuSolver::readPositions() {
 
 std::vector<glm::dvec3> GpuSolver::readDisplacements() {
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  const auto v = state_[current_].displacement.download<glm::vec4>(std::size_t(topo_.pointCount()));
+  const auto v = state_[current_].displacement.download<glm::vec3>(std::size_t(topo_.pointCount()));
   std::vector<glm::dvec3> out(v.size());
   for (std::size_t i = 0; i < v.size(); ++i)
-    out[i] = glm::dvec3(glm::vec3(v[i]));
+    out[i] = glm::dvec3(v[i]);
   return out;
 }
 
