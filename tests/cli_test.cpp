@@ -178,6 +178,21 @@ TEST(Cli, SummaryReportsTheColliders) {
   EXPECT_NE(r.out.find("cpu64"), std::string::npos) << r.out;
 }
 
+// The files come before the summary: a summary that cannot be written (stdout on a full disk) is an error
+// that costs nothing already computed.
+TEST(Cli, TheOutputIsWrittenBeforeTheSummary) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const fs::path out = tempDir() / "before_summary.json", err = tempDir() / "before_summary.err";
+  fs::remove(out);
+  const std::string command = std::string(DRAPE_BINARY) + " simulate " + scene("pinned2.json") + " --frames 1 --out " +
+                              out.string() + " >/dev/full 2>" + err.string() + " </dev/null";
+  const int raw = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(raw));
+  EXPECT_EQ(WEXITSTATUS(raw), 1) << slurp(err);
+  EXPECT_EQ(slurp(err), "drape: simulate: cannot write the summary to standard output: No space left on device\n");
+  EXPECT_EQ(slurp(out).substr(0, 2), "[\n") << "the positions were written";
+}
+
 // ks = 1e7 N/m at one substep per frame: dt sqrt(k_sum / m) = (1/90) sqrt(8.8e7 / 2.34) = 68, far
 // beyond the stability bound of about 1.4. Pinned at a corner, so the springs stretch from the first
 // step. The run must stop with status 4 and one line, and write no output; the same scene with

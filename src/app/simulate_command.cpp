@@ -13,7 +13,10 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
+#include <cstdio>
+#include <cstring>
 #include <optional>
 
 namespace drape {
@@ -109,9 +112,14 @@ void runSimulate(const SimulateOptions& o) {
   if (!allFinite(x))
     throw CommandError(kExitBlowUp,
                        fmt::format("{}: the simulation became non-finite within {} frames", scene.path, o.frames));
-  printSummary(scene, *solver, o.frames, ms);
+  // The files first: the summary measures the cloth (distances to the obstacles) and goes to a stream that
+  // may fail; neither may cost the run's output.
   if (!o.out.empty()) writePositionsJson(o.out, x);
   if (exporter) exporter->finish();
+  printSummary(scene, *solver, o.frames, ms);
+  if (std::fflush(stdout) != 0 || std::ferror(stdout))
+    throw CommandError(kExitFailure,
+                       fmt::format("simulate: cannot write the summary to standard output: {}", std::strerror(errno)));
 }
 
 }  // namespace
