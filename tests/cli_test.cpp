@@ -248,11 +248,12 @@ TEST(ChildProcesses, ThePlotGetsHostileNamesAsArgumentsNotAsCommands) {
   const std::string args = slurp(dir / "args");
   EXPECT_NE(args.find("\n--title=" + kHostile + "\n"), std::string::npos) << args;
   EXPECT_NE(args.find("\n" + (out / "accuracy.csv").string() + "\n"), std::string::npos) << args;
-  // The picture went to a scratch file of drape's, then to accuracy.png through the atomic writer.
+  // The picture went to a temporary of drape's beside accuracy.png, then was renamed over it.
   EXPECT_EQ(args.find("\n" + (out / "accuracy.png").string() + "\n"), std::string::npos) << args;
+  EXPECT_NE(args.find("\n" + (out / ".drape-").string()), std::string::npos) << args;
   EXPECT_EQ(slurp(out / "accuracy.png"), "picture");
   for (const fs::directory_entry& e : fs::directory_iterator(out))
-    EXPECT_EQ(e.path().filename().string().find(".accuracy."), std::string::npos) << "left behind: " << e.path();
+    EXPECT_EQ(e.path().filename().string().find(".drape-"), std::string::npos) << "left behind: " << e.path();
 }
 
 TEST(ChildProcesses, TheRealPlotWritesItsPictureForAHostileName) {

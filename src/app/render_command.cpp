@@ -5,6 +5,7 @@
 #include "app/output.hpp"
 #include "app/process.hpp"
 #include "app/solver_factory.hpp"
+#include "app/video.hpp"
 #include "core/metrics.hpp"
 #include "gl/context.hpp"
 #include "render/image.hpp"
@@ -15,10 +16,7 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <optional>
 #include <vector>
@@ -77,15 +75,6 @@ Image readImage(const gl::Framebuffer& target) {
   return image;
 }
 
-// ffmpeg's image2 pattern reads % as the start of the frame number: the directory's own % must match
-// literally.
-std::string patternEscape(const std::string& text) {
-  std::string out;
-  for (char c : text)
-    out += c == '%' ? std::string("%%") : std::string(1, c);
-  return out;
-}
-
 // The video of each shading model: VIDEO itself for one; VIDEO's stem, the model's name and its
 // extension for several (out.mp4 -> out_phong.mp4, out_toon.mp4).
 std::vector<std::filesystem::path> videoPaths(const std::string& video, const std::vector<Shading>& shadings) {
@@ -96,66 +85,6 @@ std::vector<std::filesystem::path> videoPaths(const std::string& video, const st
     paths.push_back(given.parent_path() /
                     (given.stem().string() + "_" + std::string(shadingName(shading)) + given.extension().string()));
   return paths;
-}
-
-// A fresh directory of numbered links to exactly the frames this run wrote, in order; removed with it.
-// A glob over --out would also take frames an earlier, longer run left there.
-class FrameSequence {
- public:
-  explicit FrameSequence(const std::vector<std::filesystem::path>& frames) {
-    std::string dir = (std::filesystem::temp_directory_path() / "drape-video.XXXXXX").string();
-    if (!::mkdtemp(dir.data()))
-      throw CommandError(kExitFailure,
-                         fmt::format("--video: cannot make a directory in {}: {}",
-                                     std::filesystem::temp_directory_path().string(), std::strerror(errno)));
-    dir_ = dir;
-    for (std::size_t i = 0; i < frames.size(); ++i) {
-      std::error_code error;
-      std::filesystem::create_symlink(std::filesystem::absolute(frames[i]), dir_ / fmt::format("{:06d}.png", i), error);
-      if (error)
-        throw CommandError(kExitFailure, fmt::format("--video: cannot link {} in {}: {}", frames[i].string(),
-                                                     dir_.string(), error.message()));
-    }
-  }
-  ~FrameSequence() {
-    std::error_code ignored;
-    std::filesystem::remove_all(dir_, ignored);
-  }
-  FrameSequence(const FrameSequence&) = delete;
-  FrameSequence& operator=(const FrameSequence&) = delete;
-  std::string pattern() const { return patternEscape(dir_.string()) + "/%06d.png"; }
-
- private:
-  std::filesystem::path dir_;
-};
-
-// No shell: the frame and video names reach ffmpeg as they are. Absolute paths, so that a name
-// starting with '-' is not an option and one with a ':' is not a protocol (e.g. pipe:).
-void encodeVideo(const std::vector<std::filesystem::path>& frames, const std::filesystem::path& video, double fps) {
-  const FrameSequence sequence(frames);
-  const std::string output = std::filesystem::absolute(video).string();
-  const std::vector<std::string> command = {"ffmpeg",
-                                            "-nostdin",
-                                            "-loglevel",
-                                            "error",
-                                            "-y",
-                                            "-framerate",
-                                            fmt::format("{:.6g}", fps),
-                                            "-start_number",
-                                            "0",
-                                            "-i",
-                                            sequence.pattern(),
-                                            "-c:v",
-                                            "libx264",
-                                            "-pix_fmt",
-                                            "yuv420p",
-                                            "-vf",
-                                            "pad=ceil(iw/2)*2:ceil(ih/2)*2",
-                                            output};
-  if (const int status = runProcess(command); status != 0)
-    throw CommandError(kExitFailure,
-                       fmt::format("--video: ffmpeg failed to write {} (exit status {})", video.string(), status));
-  fmt::print(stderr, "render: wrote {} ({} frames)\n", video.string(), frames.size());
 }
 
 // An existing --out must be a directory; the directories are made only once everything else is known to
@@ -198,9 +127,9 @@ void runRender(const RenderOptions& o) {
     throw CommandError(kExitFailure, fmt::format("--video: ffmpeg is not installed (apt-get install ffmpeg); "
                                                  "leave out --video to write the PNG frames only"));
   checkOutputDirectory(o.out);
-  const std::vector<std::filesystem::path> videos =
+  const std::vector<std::filesystem::path> video_paths =
       o.video.empty() ? std::vector<std::filesystem::path>{} : videoPaths(o.video, shadings);
-  for (const std::filesystem::path& video : videos)
+  for (const std::filesystem::path& video : video_paths)
     checkOutputFile(video);
   const ExportFormat export_format =
       o.export_path.empty() ? ExportFormat::Obj : parseExportFormat(o.export_format, o.export_path);
@@ -222,6 +151,10 @@ void runRender(const RenderOptions& o) {
   if (!o.export_path.empty()) exporter.emplace(o.export_path, export_format, scene, solver->topology());
   Renderer renderer(scene, solver->topology(), {.sphere_latitudes = o.latitudes, .sphere_longitudes = o.longitudes});
   gl::Framebuffer target = gl::Framebuffer::createColorDepth(size.x, size.y, o.samples);
+  // Each video's temporary is made before the first frame: a folder that cannot take the video fails now.
+  std::vector<std::unique_ptr<VideoOutput>> videos;
+  for (const std::filesystem::path& video : video_paths)
+    videos.push_back(std::make_unique<VideoOutput>(video));
   const std::vector<std::filesystem::path> dirs = makeOutputDirectories(o, shadings);
   Camera camera;
   const float aspect = float(size.x) / float(size.y);
@@ -271,7 +204,7 @@ void runRender(const RenderOptions& o) {
                                                 scene.path, o.frames, o.out));
   if (exporter) exporter->finish();
   for (std::size_t k = 0; k < videos.size(); ++k)
-    encodeVideo(frames_written[k], videos[k], scene.sim.frames_per_sec / o.every);
+    videos[k]->encode(frames_written[k], scene.sim.frames_per_sec / o.every);
 }
 
 }  // namespace
