@@ -379,7 +379,9 @@ TEST(Limits, SubstepsPassesAndSizesOnTheCommandLineAreBounded) {
       {"accuracy " + file.string() + " --passes 1000", "--passes: 1000 is above the maximum 100"},
       {"bench --sizes 4096", "--sizes: 4096 is above the maximum 2048"},
       {"bench --solver cpu --sizes 4 --baseline /nonexistent/old.json",
-       "--baseline: /nonexistent/old.json: cannot be read"},
+       "--baseline: /nonexistent/old.json: cannot open: no such file"},
+      {"bench --solver cpu --sizes 4 --baseline " + tempDir().string(),
+       "--baseline: " + tempDir().string() + ": cannot open: is a directory, not a file"},
       {"bench --solver cpu --sizes 4 --baseline " + file.string(),
        "--baseline: " + file.string() + ": \"runs\": missing"},
   };
@@ -388,6 +390,60 @@ TEST(Limits, SubstepsPassesAndSizesOnTheCommandLineAreBounded) {
     EXPECT_EQ(r.status, 2) << args << ": " << r.err;
     EXPECT_NE(r.err.find(message), std::string::npos) << args << ": " << r.err;
   }
+}
+
+// Hostile mesh files as a user meets them: status 2 and one line naming the scene, the key, the file and,
+// where the problem is on a line, its number; nothing waits (a FIFO with no writer) or reads without end.
+TEST(Limits, HostileMeshFilesAreOneLineEach) {
+  const fs::path dir = freshDir("hostile_meshes");
+  std::ofstream(dir / "tab_nan.obj") << "v 0 0 0\nv\tnan 0 0\nv 0 0 1\nf 1 2 3\n";
+  std::ofstream(dir / "hex.obj") << "v 0x10 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\n";
+  std::ofstream(dir / "index.obj") << "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 99999999999\n";
+  ASSERT_EQ(::mkfifo((dir / "fifo.obj").c_str(), 0600), 0);
+  fs::create_symlink("loop.obj", dir / "loop.obj");
+  const std::pair<std::string, std::string> cases[] = {
+      {"tab_nan.obj", "tab_nan.obj: line 2: vertex coordinate 'nan' is not a finite number"},
+      {"hex.obj", "hex.obj: line 1: vertex coordinate '0x10' is not a number"},
+      {"index.obj", "index.obj: line 4: face corner '99999999999' names vertex 99999999999, but only 3 come"},
+      {"fifo.obj", "fifo.obj: cannot read: a FIFO with nothing written to it"},
+      {"loop.obj", "loop.obj: cannot open: Too many levels of symbolic links"},
+      {"/dev/zero", "/dev/zero: cannot open: is a device, not a file"}};
+  for (const auto& [obj, message] : cases) {
+    const fs::path file = dir / "scene.json";
+    std::ofstream(file) << "{" << kCloth << R"(}, "meshes": [{"obj": ")" << obj << R"("}]})";
+    const Result r = run("simulate " + file.string() + " --frames 1", "timeout 60");
+    EXPECT_EQ(r.status, 2) << obj << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find(file.string() + ": meshes[0].obj: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+  }
+}
+
+TEST(Limits, ABaselineThatIsAFifoWithNoWriterIsRefusedAtOnce) {
+  const fs::path fifo = freshDir("fifo_baseline") / "old.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const Result r = run("bench --solver cpu --sizes 4 --baseline " + fifo.string(), "timeout 60");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("--baseline: " + fifo.string() + ": cannot read: a FIFO with nothing written to it"),
+            std::string::npos)
+      << r.err;
+}
+
+// Out of memory is one line naming what was being allocated, and the limit when there is one. A 2048^2
+// cloth in 300 MB of address space: the solver's buffers do not fit. AddressSanitizer cannot start in so
+// little (its shadow), so there the case is not run.
+TEST(Limits, OutOfMemoryIsOneLineNamingWhatWasBeingAllocated) {
+#ifdef __SANITIZE_ADDRESS__
+  GTEST_SKIP() << "AddressSanitizer reserves terabytes of address space; a limit stops it before main";
+#endif
+  const fs::path file = writeScene("out_of_memory.json", R"({"cloth": {"width": 1, "height": 1,
+    "num_width_points": 2048, "num_height_points": 2048, "thickness": 0.0002, "orientation": 0},
+    "simulation": {"self_collision": false, "integrator": "xpbd"}})");
+  const Result r = run("simulate " + file.string() + " --frames 1", "ulimit -v 300000;");
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_EQ(r.err,
+            "drape: out of memory while building the cpu solver for 4194304 points (this process may use "
+            "300000 KiB: ulimit -v)\n");
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -541,7 +597,7 @@ TEST(FirstMinutes, VersionIsTheProjectsAndNamesTheDataDirectories) {
   for (const char* dir : {"glsl", "textures", "scenes"})
     EXPECT_NE(r.out.find(std::string(DRAPE_SOURCE_DIR) + "/" + dir + "\n"), std::string::npos) << dir << ": " << r.out;
   const Result moved = run("--version", "DRAPE_GLSL_DIR=/elsewhere/glsl");
-  EXPECT_NE(moved.out.find("glsl      /elsewhere/glsl\n"), std::string::npos) << moved.out;
+  EXPECT_NE(moved.out.find("glsl      /elsewhere/glsl (missing)\n"), std::string::npos) << moved.out;
 }
 
 // CS184's viewer is started as `clothsim -f scene/pinned2.json`; drape takes the same words.
@@ -730,6 +786,31 @@ TEST(Install, TheInstalledDrapeFindsItsDataBesideItself) {
   const std::string bench =
       env + " bench --solver cpu --sizes 4 --frames 1 --repeats 1 --warmup 0 >/dev/null 2>" + quote(out.string());
   EXPECT_EQ(std::system(bench.c_str()), 0) << slurp(out);
+}
+
+// A partial install: drape copied without its share/drape. It reads nothing of the machine it was built on
+// (it used to take the build machine's source tree, silently): --version says what is missing, and the
+// viewer's default scene is looked for, and refused, under its own prefix.
+TEST(Install, ADrapeWithoutItsDataReadsNothingFromTheBuildMachine) {
+  const fs::path prefix = freshDir("partial_install");
+  fs::create_directories(prefix / "bin");
+  std::error_code linked;
+  fs::create_hard_link(DRAPE_BINARY, prefix / "bin" / "drape", linked);  // the same file, at another path
+  if (linked) fs::copy_file(DRAPE_BINARY, prefix / "bin" / "drape");
+  const fs::path share = prefix / "share" / "drape";
+  const std::string drape = "cd / && env -u DRAPE_GLSL_DIR -u DRAPE_TEXTURE_DIR -u DISPLAY -u WAYLAND_DISPLAY " +
+                            (prefix / "bin" / "drape").string();
+  const fs::path out = prefix / "out", err = prefix / "err";
+  ASSERT_EQ(std::system((drape + " --version >" + out.string()).c_str()), 0);
+  const std::string version = slurp(out);
+  EXPECT_EQ(version.find(DRAPE_SOURCE_DIR), std::string::npos) << version;
+  for (const char* dir : {"glsl", "textures", "scenes"})
+    EXPECT_NE(version.find(" " + (share / dir).string() + " (missing)\n"), std::string::npos) << version;
+  const int raw = std::system((drape + " view >/dev/null 2>" + err.string() + " </dev/null").c_str());
+  EXPECT_EQ(WEXITSTATUS(raw), 2) << slurp(err);
+  EXPECT_NE(slurp(err).find((share / "scenes" / "sphere.json").string() + ": cannot open: no such file"),
+            std::string::npos)
+      << slurp(err);
 }
 
 }  // namespace

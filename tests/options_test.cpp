@@ -4,6 +4,7 @@
 #include "app/commands.hpp"
 #include "app/solver_factory.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <optional>
@@ -96,6 +97,16 @@ TEST(Sizes, WidthByHeightWithinBounds) {
       EXPECT_EQ(std::string(e.what()).rfind("--size: ", 0), 0u) << e.what();
     }
   }
+  // Too large is out of range, however many digits: not "not WIDTHxHEIGHT".
+  for (const char* large : {"100000x100000", "640x99999999999999999999", "0000640x0000000000480000"}) {
+    try {
+      parseSize("--size", large, 16, 8192);
+      ADD_FAILURE() << large << " was accepted";
+    } catch (const CommandError& e) {
+      EXPECT_EQ(std::string(e.what()), fmt::format("--size: {} is outside 16x16 .. 8192x8192", large));
+    }
+  }
+  EXPECT_EQ(parseSize("--size", "000640x0480", 16, 8192), glm::ivec2(640, 480));
 }
 
 TEST(SolverTable, EveryNameMakesThatSolverAndOnlyMeasurementsGetCpuXprev) {

@@ -1,12 +1,15 @@
 #include "app/commands.hpp"
 #include "core/atomic_file.hpp"
 #include "core/data_dir.hpp"
+#include "core/memory_stage.hpp"
 #include "core/scene.hpp"
 
 #include <fmt/core.h>
 
 #include <cstdio>
 #include <exception>
+#include <filesystem>
+#include <new>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -36,16 +39,23 @@ std::string usageMessage(const CLI::ParseError& e) {
   return at == std::string::npos ? text : text.substr(0, at) + ": given more than once";
 }
 
+// A data directory as --version shows it: a missing one (a partial install, a wrong $DRAPE_GLSL_DIR) said so.
+std::string shownDir(const std::filesystem::path& dir) {
+  std::error_code error;
+  return dir.string() + (std::filesystem::is_directory(dir, error) ? "" : " (missing)");
+}
+
 // Where the data comes from is part of the answer: it tells an installed drape from a build tree's.
 std::string versionText() {
   return fmt::format("drape {}\nglsl      {}\ntextures  {}\nscenes    {}", DRAPE_VERSION,
-                     drape::dataDir("glsl", "DRAPE_GLSL_DIR").string(),
-                     drape::dataDir("textures", "DRAPE_TEXTURE_DIR").string(), drape::dataDir("scenes").string());
+                     shownDir(drape::dataDir("glsl", "DRAPE_GLSL_DIR")),
+                     shownDir(drape::dataDir("textures", "DRAPE_TEXTURE_DIR")), shownDir(drape::dataDir("scenes")));
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  drape::recordStagesOfFailedAllocations();
   CLI::App app{"Drape: real-time mass-spring cloth simulation on the GPU (OpenGL compute)"};
   app.name("drape");  // --help without arguments comes before parse(), which would name it from argv[0]
   app.require_subcommand(1);
@@ -92,6 +102,11 @@ int main(int argc, char** argv) {
   } catch (const drape::SceneError& e) {
     fmt::print(stderr, "drape: {}\n", e.what());
     return drape::kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    const std::string stage = drape::failedAllocationStage(), limit = drape::addressSpaceLimit();
+    fmt::print(stderr, "drape: out of memory{}{}\n", stage.empty() ? "" : " while " + stage,
+               limit.empty() ? "" : " (this process may use " + limit + ": ulimit -v)");
+    return drape::kExitFailure;
   } catch (const std::exception& e) {
     fmt::print(stderr, "drape: error: {}\n", e.what());
     return drape::kExitFailure;

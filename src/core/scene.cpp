@@ -8,6 +8,7 @@
 
 #include "core/cloth_mesh.hpp"
 #include "core/input_file.hpp"
+#include "core/memory_stage.hpp"
 #include "core/mesh_obstacle.hpp"
 
 #include <nlohmann/json.hpp>
@@ -370,6 +371,7 @@ void readMesh(const Node& n, ClothSpec& c, const std::string& scene_file) {
   if (c.mesh_file.empty()) mesh.fail("empty path");
   const std::filesystem::path file = std::filesystem::path(scene_file).parent_path() / c.mesh_file;
   try {
+    const MemoryStage stage("reading the cloth mesh " + file.string());
     c.mesh = std::make_shared<const ClothMesh>(
         buildClothMesh(readObj(file, {kMaxClothPoints, " (the most a cloth may have)"})));
   } catch (const MeshError& e) {
@@ -460,6 +462,7 @@ MeshSpec readMeshObstacle(const Node& n, const std::string& scene_file, long lon
                                : " (the obstacles may have " + std::to_string(kMaxObstacleVertices) +
                                      " in all; those before " + "this one have " + std::to_string(vertices_used) + ")";
   try {
+    const MemoryStage stage("reading and baking the obstacle " + file.string());
     const PolygonMesh mesh = readObj(file, {left, note});
     vertices_used += (long long)mesh.positions.size();
     m.mesh = std::make_shared<const MeshObstacle>(buildMeshObstacle(mesh, m.offset, m.scale));
@@ -631,6 +634,7 @@ Scene parseScene(const std::string& json_text, const std::string& name) {
 Scene loadScene(const std::filesystem::path& file) {
   const std::string name = file.string();
   try {
+    const MemoryStage stage("reading the scene " + name);
     return parseScene(readInputFile(file, kMaxSceneBytes, "a scene"), name);
   } catch (const InputError& e) {
     throw SceneError(name + ": " + e.what());
