@@ -83,6 +83,14 @@ TEST(MeshDistance, FarFromTheSurfaceTheTrianglesAnswerExactly) {
   EXPECT_EQ(closestSignedDistance(mesh, {{nan, 0, 0}, {1.0, 2.0, 0.8}}), everyTriangle(mesh, {1.0, 2.0, 0.8}));
 }
 
+// Found by tools/test --fuzz obj: a flat obstacle (two triangles back to back, "closed") has no extent
+// along y; a point off that plane made a bucket index beyond int (UBSan: float-cast-overflow).
+TEST(MeshDistance, AFlatObstacleIsSearchedToo) {
+  const MeshObstacle flat = buildMeshObstacle({{{-2, 0, 0}, {0, 0, 0}, {1, 0, -1}}, {{0, 1, 2, 1}}, {}}, {}, 1.0);
+  for (const glm::dvec3& p : {glm::dvec3(0, 1000, 0), glm::dvec3(5, -3, 2), glm::dvec3(-0.5, 1e-9, -0.1)})
+    EXPECT_EQ(closestTriangleDistance(flat, {p}), everyTriangle(flat, p));
+}
+
 TEST(MeshDistance, TheSummaryUsesIt) {
   const Scene& s = tableScene();
   const std::vector<glm::dvec3> x = {{1.0, 0.785, 0.8}, {0.0, 1.5, 0.0}};

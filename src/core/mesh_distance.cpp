@@ -46,7 +46,7 @@ class TriangleGrid {
 
   // min(best, the distance from p to the nearest triangle).
   double distance(glm::dvec3 p, double best) const {
-    const glm::ivec3 c = glm::clamp(glm::ivec3(glm::floor((p - lo_) / cell_)), glm::ivec3(0), dims_ - 1);
+    const glm::ivec3 c = bucketOf(p);
     for (int r = 0;; ++r) {
       best = searchRing(p, c, r, best);
       const glm::ivec3 from = c - r, to = c + r;
@@ -60,8 +60,10 @@ class TriangleGrid {
   // Sorts the triangles into buckets; false, with nothing kept, if that takes more than `most` entries.
   bool fill(glm::ivec3 dims, std::size_t most) {
     dims_ = dims;
-    cell_ = (hi_ - lo_) / glm::dvec3(dims);
-    cell_ = glm::max(cell_, glm::dvec3(std::numeric_limits<double>::min()));
+    // A flat mesh has no extent along an axis: one bucket there, of a small but usable size.
+    const glm::dvec3 extent = hi_ - lo_;
+    const double largest = std::max({extent.x, extent.y, extent.z, std::numeric_limits<double>::min()});
+    cell_ = glm::max(extent / glm::dvec3(dims), glm::dvec3(largest * 1e-9));
     const std::size_t buckets = std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(dims.z);
     start_.assign(buckets + 1, 0);
     std::size_t entries = 0;
@@ -92,8 +94,9 @@ class TriangleGrid {
     }
   }
 
+  // Clamped before the conversion: a point far off (or a flat mesh's tiny bucket) would overflow an int.
   glm::ivec3 bucketOf(glm::dvec3 p) const {
-    return glm::clamp(glm::ivec3(glm::floor((p - lo_) / cell_)), glm::ivec3(0), dims_ - 1);
+    return glm::ivec3(glm::clamp(glm::floor((p - lo_) / cell_), glm::dvec3(0.0), glm::dvec3(dims_ - 1)));
   }
   std::size_t index(int i, int j, int k) const {
     return (std::size_t(k) * std::size_t(dims_.y) + std::size_t(j)) * std::size_t(dims_.x) + std::size_t(i);
