@@ -460,7 +460,7 @@ MeshSpec readMeshObstacle(const Node& n, const std::string& scene_file, long lon
   const std::string note = vertices_used == 0
                                ? " (the most the obstacles may have)"
                                : " (the obstacles may have " + std::to_string(kMaxObstacleVertices) +
-                                     " in all; those before " + "this one have " + std::to_string(vertices_used) + ")";
+                                     " in all; those before this one have " + std::to_string(vertices_used) + ")";
   try {
     const MemoryStage stage("reading and baking the obstacle " + file.string());
     const PolygonMesh mesh = readObj(file, {left, note});
@@ -564,7 +564,7 @@ void checkSelfCollisionLoad(const Scene& scene, const Node& root) {
     root.child("cloth")
         .child("thickness")
         .fail(brief(c.thickness) + " m against " + brief(std::sqrt(per_point)) +
-              " m between points: self-collision would " + "compare each point with about " + count(neighbours) +
+              " m between points: self-collision would compare each point with about " + count(neighbours) +
               " others within 2 x thickness (at most " + count(kMaxSelfCollisionNeighbours) + ")" + fix);
   if (pairs > kMaxSelfCollisionPairs)
     root.child("cloth")
