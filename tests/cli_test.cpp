@@ -375,7 +375,7 @@ TEST(Limits, SubstepsPassesAndSizesOnTheCommandLineAreBounded) {
 }
 
 // ---------------------------------------------------------------------------------------------------
-// Exit statuses and messages, as README.md's "Exit status" section lists them.
+// Exit statuses and messages, as docs/exit-status.md lists them.
 
 TEST(ExitStatus, AnUnknownSubcommandIsStatusTwoAndNamed) {
   Result r = run("frobnicate");
