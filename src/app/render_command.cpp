@@ -1,6 +1,7 @@
 // `drape render`: run a scene headless (EGL, no display) and write frames as PNGs, optionally a video.
 #include "app/commands.hpp"
 #include "app/export.hpp"
+#include "app/look_ahead.hpp"
 #include "app/options.hpp"
 #include "app/output.hpp"
 #include "app/process.hpp"
@@ -220,7 +221,14 @@ void runRender(const RenderOptions& o) {
   ClothFeed feed(*solver);
   std::optional<ClothExport> exporter;
   if (!o.export_path.empty()) exporter.emplace(o.export_path, export_format, scene, solver->topology());
-  Renderer renderer(scene, solver->topology(), {.sphere_latitudes = o.latitudes, .sphere_longitudes = o.longitudes});
+  // The default camera frames the whole run (at least the 2 s the viewer frames, so that the two agree),
+  // and the floor, the light and the shadow map follow where the cloth goes; --camera start frames the
+  // scene as it starts, without the look-ahead.
+  const SceneExtent extent = o.camera != "start" ? lookAheadExtent(scene, solver->topology(),
+                                                                   std::max(o.frames, lookAheadFrames(scene)), "render")
+                                                 : SceneExtent(scene, solver->topology());
+  Renderer renderer(scene, solver->topology(), extent,
+                    {.sphere_latitudes = o.latitudes, .sphere_longitudes = o.longitudes});
   gl::Framebuffer target = gl::Framebuffer::createColorDepth(size.x, size.y, o.samples);
   const std::vector<std::filesystem::path> dirs = makeOutputDirectories(o, shadings);
   Camera camera;
@@ -229,6 +237,7 @@ void runRender(const RenderOptions& o) {
   camera.zoom(float(o.zoom));
   RenderSettings settings;
   settings.springs = enabledSprings(scene.cloth);
+  settings.light = renderer.defaultLight();
 
   const bool interactive = ::isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
@@ -305,9 +314,10 @@ void addRenderCommand(CLI::App& app) {
       ->check(CLI::Range(3, 1000));
   cmd->add_option("--samples", opts->samples, "Multisampling per pixel (default 1)")->check(CLI::Range(1, 16));
   cmd->add_option("--camera", opts->camera,
-                  "scene: one view of everything the cloth may reach (default); cloth: frame the cloth where it is "
-                  "in each image")
-      ->check(CLI::IsMember({"scene", "cloth"}));
+                  "scene: one view of the scene and everywhere the cloth goes in the run (run once on the CPU "
+                  "before the first image; at least 2 s of it, as `view` frames it); start: the scene as it "
+                  "starts; cloth: the cloth where it is in each image")
+      ->check(CLI::IsMember({"scene", "start", "cloth"}));
   cmd->add_option("--zoom", opts->zoom, "Camera distance factor (< 1 is closer; default 1)")
       ->check(CLI::Range(0.01, 100.0));
   cmd->callback([opts] { runRender(*opts); });

@@ -1,6 +1,7 @@
 // `drape view`: the interactive viewer (src/render/viewer.hpp) with its Dear ImGui control panel.
 #include "app/commands.hpp"
 #include "app/imgui_panel.hpp"
+#include "app/look_ahead.hpp"
 #include "app/options.hpp"
 #include "app/solver_factory.hpp"
 #include "core/data_dir.hpp"
@@ -28,6 +29,7 @@ struct ViewOptions {
   std::string screenshot;
   std::string size = "1280x800";
   std::string integrator;  // empty: the scene's
+  std::string camera = "scene";
 };
 
 // The default scene is found from the current directory or, failing that, among drape's own scenes.
@@ -64,6 +66,9 @@ void runView(const ViewOptions& o) {
   options.shading = *shading;
   options.frames = o.frames;
   options.screenshot = o.screenshot;
+  // The camera `render` has by default: the first 2 s of the run, looked ahead on the CPU before the window
+  // shows the scene.
+  if (o.camera == "scene") options.extent = lookAheadExtent(scene, solver->topology(), lookAheadFrames(scene), "view");
   Viewer viewer(window, std::move(solver), options);
   // Created after the viewer (its callbacks chain to the viewer's) and destroyed before it.
   ImGuiPanel panel(window.window());
@@ -90,6 +95,10 @@ void addViewCommand(CLI::App& app) {
           ->check(kPositive);
   cmd->add_option("--screenshot", opts->screenshot, "PNG of the last frame of a --frames run")->needs(frames);
   cmd->add_option("--size", opts->size, "Window size WIDTHxHEIGHT (default 1280x800)");
+  cmd->add_option("--camera", opts->camera,
+                  "scene: one view of the scene and everywhere the cloth goes in its first 2 s (run once on the CPU "
+                  "before the window opens; the camera `render` has); start: the scene as it starts")
+      ->check(CLI::IsMember({"scene", "start"}));
   cmd->callback([opts] { runView(*opts); });
 }
 

@@ -52,8 +52,10 @@ Viewer::Viewer(gl::WindowContext& window, std::unique_ptr<Solver> solver, const 
       gpu_(dynamic_cast<GpuSolver*>(solver_.get())),
       scene_(solver_->scene()),
       feed_(*solver_),
-      renderer_(scene_, solver_->topology(), options.renderer) {
+      renderer_(scene_, solver_->topology(),
+                options.extent ? *options.extent : SceneExtent(scene_, solver_->topology()), options.renderer) {
   settings.shading = options.shading;
+  settings.light = renderer_.defaultLight();
   settings.springs = enabledSprings(cloth);
   stability_ = checkStability(scene_);
   if (!stability_.ok) status_ = stability_.message;

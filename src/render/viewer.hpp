@@ -46,6 +46,9 @@ class ViewerPanel {
 
 struct ViewerOptions {
   RendererOptions renderer;
+  // Where the cloth goes (render/framing.hpp): what the camera frames (Space) and the floor, the light and
+  // the shadow map follow. Empty: the scene as it starts.
+  std::optional<SceneExtent> extent;
   Shading shading = Shading::Phong;
   int frames = 0;                              // > 0: simulate this many frames, save `screenshot`, close
   std::filesystem::path screenshot;            // with `frames`
