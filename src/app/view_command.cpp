@@ -99,6 +99,7 @@ void addViewCommand(CLI::App& app) {
                   "scene: one view of the scene and everywhere the cloth goes in its first 2 s (run once on the CPU "
                   "before the window opens; the camera `render` has); start: the scene as it starts")
       ->check(CLI::IsMember({"scene", "start"}));
+  cmd->footer(viewerControlsText());
   cmd->callback([opts] { runView(*opts); });
 }
 
