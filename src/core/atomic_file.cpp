@@ -29,62 +29,6 @@ std::filesystem::path directoryOf(const std::filesystem::path& path) {
   throw OutputError(bad_target, path.string() + ": " + problem);
 }
 
-// Owns the temporary file until it is renamed into place; removes it on any failure.
-class Temporary {
- public:
-  explicit Temporary(const std::filesystem::path& target) : target_(target) {
-    name_ = (directoryOf(target) / ".drape-XXXXXX").string();
-    // O_CLOEXEC: a child started later (ffmpeg, the plot) must not inherit a half-written file.
-    fd_ = ::mkostemp(name_.data(), O_CLOEXEC);
-    if (fd_ < 0)
-      fail(errno == ENOENT || errno == ENOTDIR || errno == EACCES || errno == EROFS, target_,
-           std::string("cannot create a file in its directory: ") + std::strerror(errno));
-    // mkstemp makes 0600; an output file gets the permissions any new file would.
-    const mode_t mask = ::umask(0);
-    ::umask(mask);
-    ::fchmod(fd_, 0666 & ~mask);
-  }
-  ~Temporary() {
-    if (fd_ >= 0) ::close(fd_);
-    if (!renamed_) ::unlink(name_.c_str());
-  }
-  Temporary(const Temporary&) = delete;
-  Temporary& operator=(const Temporary&) = delete;
-
-  void write(std::string_view contents) {
-    if (!writeAll(fd_, contents)) failIo("write failed");
-    // Before the rename: after a crash the target holds the old or the new contents, never a hole.
-    if (::fsync(fd_) != 0) failIo("write failed (fsync)");
-    const int fd = fd_;
-    fd_ = -1;
-    if (::close(fd) != 0) failIo("write failed (close)");
-  }
-
-  void renameOverTarget() {
-    if (::rename(name_.c_str(), target_.c_str()) != 0) {
-      // A directory may have appeared at the target since the check.
-      fail(errno == EISDIR || errno == ENOTDIR, target_, std::string("cannot replace: ") + std::strerror(errno));
-    }
-    renamed_ = true;
-    // Best effort: the new directory entry on disk too (some file systems cannot fsync a directory).
-    const int dir = ::open(directoryOf(target_).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (dir >= 0) {
-      ::fsync(dir);
-      ::close(dir);
-    }
-  }
-
- private:
-  [[noreturn]] void failIo(const char* what) const {
-    fail(false, target_, std::string(what) + ": " + std::strerror(errno));
-  }
-
-  std::filesystem::path target_;
-  std::string name_;
-  int fd_ = -1;
-  bool renamed_ = false;
-};
-
 }  // namespace
 
 void checkOutputFile(const std::filesystem::path& path) {
@@ -101,12 +45,62 @@ void checkOutputFile(const std::filesystem::path& path) {
 }
 
 void writeFileAtomically(const std::filesystem::path& path, std::string_view contents) {
+  StreamedFile file(path);
+  file.append(contents);
+  file.commit();
+}
+
+StreamedFile::StreamedFile(const std::filesystem::path& path) : target_(path) {
   checkOutputFile(path);
-  Temporary temporary(path);
-  temporary.write(contents);
-  // A link or FIFO planted at the target since the check is replaced, not followed: rename() never
-  // follows the name it replaces.
-  temporary.renameOverTarget();
+  name_ = (directoryOf(path) / ".drape-XXXXXX").string();
+  // O_CLOEXEC: a child started later (ffmpeg, the plot) must not inherit a half-written file.
+  fd_ = ::mkostemp(name_.data(), O_CLOEXEC);
+  if (fd_ < 0)
+    fail(errno == ENOENT || errno == ENOTDIR || errno == EACCES || errno == EROFS, target_,
+         std::string("cannot create a file in its directory: ") + std::strerror(errno));
+  // mkstemp makes 0600; an output file gets the permissions any new file would.
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  ::fchmod(fd_, 0666 & ~mask);
+}
+
+StreamedFile::~StreamedFile() {
+  if (fd_ >= 0) ::close(fd_);
+  if (!committed_) ::unlink(name_.c_str());
+}
+
+void StreamedFile::append(std::string_view part) {
+  if (!writeAll(fd_, part)) fail(false, target_, std::string("write failed: ") + std::strerror(errno));
+  size_ += part.size();
+}
+
+void StreamedFile::overwrite(std::size_t offset, std::string_view bytes) {
+  while (!bytes.empty()) {
+    const ssize_t n = ::pwrite(fd_, bytes.data(), bytes.size(), off_t(offset));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) fail(false, target_, std::string("write failed: ") + std::strerror(n == 0 ? EIO : errno));
+    bytes.remove_prefix(std::size_t(n));
+    offset += std::size_t(n);
+  }
+}
+
+void StreamedFile::commit() {
+  // Before the rename: after a crash the target holds the old or the new contents, never a hole.
+  if (::fsync(fd_) != 0) fail(false, target_, std::string("write failed (fsync): ") + std::strerror(errno));
+  const int fd = fd_;
+  fd_ = -1;
+  if (::close(fd) != 0) fail(false, target_, std::string("write failed (close): ") + std::strerror(errno));
+  // A link or FIFO planted at the target since the check is replaced, not followed: rename() never follows
+  // the name it replaces. A directory may have appeared there since the check.
+  if (::rename(name_.c_str(), target_.c_str()) != 0)
+    fail(errno == EISDIR || errno == ENOTDIR, target_, std::string("cannot replace: ") + std::strerror(errno));
+  committed_ = true;
+  // Best effort: the new directory entry on disk too (some file systems cannot fsync a directory).
+  const int dir = ::open(directoryOf(target_).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir >= 0) {
+    ::fsync(dir);
+    ::close(dir);
+  }
 }
 
 bool writeAll(int fd, std::string_view data) {

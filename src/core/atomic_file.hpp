@@ -28,6 +28,30 @@ void checkOutputFile(const std::filesystem::path& path);
 
 void writeFileAtomically(const std::filesystem::path& path, std::string_view contents);
 
+// The same for a file written in parts, so that a long one never has to be held in memory: the parts go to
+// the temporary as they come, commit() flushes it and renames it over the target. Destroyed uncommitted
+// (a failure, a stopped run), it leaves nothing. Throws OutputError as writeFileAtomically does.
+class StreamedFile {
+ public:
+  explicit StreamedFile(const std::filesystem::path& path);
+  ~StreamedFile();
+  StreamedFile(const StreamedFile&) = delete;
+  StreamedFile& operator=(const StreamedFile&) = delete;
+
+  void append(std::string_view part);
+  // Rewrites bytes already appended, at `offset` from the start (a header's field once its value is known).
+  void overwrite(std::size_t offset, std::string_view bytes);
+  std::size_t size() const { return size_; }
+  void commit();
+
+ private:
+  std::filesystem::path target_;
+  std::string name_;
+  int fd_ = -1;
+  std::size_t size_ = 0;
+  bool committed_ = false;
+};
+
 // Writes all of `data` to `fd`, through short writes and EINTR. False (errno set) on failure.
 bool writeAll(int fd, std::string_view data);
 
