@@ -404,6 +404,36 @@ TEST(ExitStatus, HelpIsStatusZeroAndShowsNoDoubleMaximum) {
   }
 }
 
+// Every option's default is in --help: `render` writes 91 images unless told otherwise, and says so.
+TEST(ExitStatus, HelpShowsTheDefaults) {
+  const Result render = run("render --help");
+  EXPECT_NE(render.out.find("--frames INT:INT in [0 - 1000000]=90"), std::string::npos) << render.out;
+  EXPECT_NE(render.out.find("--every INT:INT in [1 - 1000000]=1"), std::string::npos) << render.out;
+  EXPECT_NE(render.out.find("--size TEXT=640x480"), std::string::npos) << render.out;
+  const Result simulate = run("simulate --help");
+  EXPECT_NE(simulate.out.find("--frames INT:>= 0=90"), std::string::npos) << simulate.out;
+  EXPECT_NE(simulate.out.find("=cpu"), std::string::npos) << simulate.out;
+}
+
+// A slip in an option's or a command's name gets the nearest one it may have been, on the one line.
+TEST(ExitStatus, AnUnknownOptionOrCommandSuggestsTheNearest) {
+  const std::string s = scene("pinned2.json");
+  const std::pair<std::string, std::string> cases[] = {
+      {"simulate " + s + " --frame 3", "simulate: unknown option --frame (did you mean --frames?)"},
+      {"--verison", "unknown option --verison (did you mean --version?)"},
+      {"simulat " + s, "unknown command 'simulat' (did you mean simulate?"},
+      {"render " + s + " --out o --evry 2", "render: unknown option --evry (did you mean --every?)"},
+      {"bench --sizes 32 --jbos 2", "bench: unknown option --jbos"},
+      {"stability --zzz", "stability: unknown option --zzz (drape stability --help)"},
+  };
+  for (const auto& [args, message] : cases) {
+    const Result r = run(args);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << args << ": " << r.err;
+  }
+}
+
 TEST(ExitStatus, BadOptionValuesAreStatusTwoWithOneShortLine) {
   const std::string s = scene("pinned2.json");
   const std::string cases[] = {
