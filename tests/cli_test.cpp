@@ -21,6 +21,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -585,6 +586,41 @@ TEST(FirstMinutes, StabilityHelpListsEveryCase) {
   ASSERT_FALSE(cases.empty());
   for (const drape::StabilityCase& c : cases)
     EXPECT_NE(r.out.find(c.name), std::string::npos) << c.name << " missing from:\n" << r.out;
+}
+
+// The installed README (share/doc/drape) shows its pictures and its links lead somewhere: every relative
+// link of it and of the pages it links, images included, names a file that was installed.
+TEST(FirstMinutes, TheInstalledReadmesPicturesAndLinksResolve) {
+  const fs::path prefix = freshDir("installed_docs") / "prefix";
+  const std::string install = "cmake --install " + quote(fs::path(DRAPE_BINARY).parent_path().string()) + " --prefix " +
+                              quote(prefix.string()) + " >/dev/null 2>&1";
+  ASSERT_EQ(std::system(install.c_str()), 0) << install;
+  const fs::path doc = prefix / "share" / "doc" / "drape";
+  std::vector<fs::path> pages = {doc / "README.md"}, seen;
+  std::size_t images = 0, links = 0;
+  const std::regex link("\\]\\(([^)#\\s]+)[^)]*\\)");
+  while (!pages.empty()) {
+    const fs::path page = pages.back();
+    pages.pop_back();
+    if (std::find(seen.begin(), seen.end(), page) != seen.end()) continue;
+    seen.push_back(page);
+    std::ifstream in(page);
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string md = text.str();
+    ASSERT_FALSE(md.empty()) << page;
+    for (auto it = std::sregex_iterator(md.begin(), md.end(), link); it != std::sregex_iterator(); ++it) {
+      const std::string target = (*it)[1];
+      if (target.rfind("http", 0) == 0) continue;
+      const fs::path file = fs::weakly_canonical(page.parent_path() / target);
+      EXPECT_TRUE(fs::exists(file)) << page << " links " << target;
+      ++links;
+      images += file.extension() == ".png";
+      if (file.extension() == ".md" && fs::exists(file)) pages.push_back(file);
+    }
+  }
+  EXPECT_GE(images, 11u + 10u + 6u) << "the gallery, the shading models and the fall";
+  EXPECT_GT(seen.size(), 5u) << links << " links";
 }
 
 TEST(FirstMinutes, VideoWithoutFfmpegIsOneLineAndStatusOneBeforeAnyWork) {
