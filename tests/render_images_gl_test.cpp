@@ -285,7 +285,7 @@ TEST_F(RenderImageTest, DrawsStraightFromTheSolverBuffers) {
   const Mask cloth_before = morph(stage.expectedCloth(), 1);
   const int centre = 25 * gpu.topology().W + 25;
   const glm::vec3 lifted =
-      glm::vec3(gpu.topology().initial_positions[std::size_t(centre)]) + glm::vec3(0.0f, 0.2f, 0.0f);
+      glm::vec3(gpu.topology().initial_positions[std::size_t(centre)]) + glm::vec3(0.0f, 0.3f, 0.0f);
   gpu.setPosition(std::uint32_t(centre), lifted);  // the solver's own upload, into its buffer
   const Picture after = stage.draw(settings);
 
