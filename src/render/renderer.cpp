@@ -114,7 +114,14 @@ Renderer::Renderer(const Scene& scene, const Topology& topology, const SceneExte
   const glm::vec4 no_centre(0.0f);
   no_centres_ = gl::Buffer::create(sizeof no_centre, &no_centre, 0);
 
-  shadow_.depth = gl::Texture::create2D(options.shadow_map_size, options.shadow_map_size, GL_DEPTH_COMPONENT24);
+  ensureShadowMap(options.shadow_map_size);
+  gl::checkDebugErrors();
+}
+
+void Renderer::ensureShadowMap(int size) {
+  if (shadow_.depth.id() != 0 && shadow_.depth.width() == size) return;
+  shadow_ = DepthTarget{};
+  shadow_.depth = gl::Texture::create2D(size, size, GL_DEPTH_COMPONENT24);
   shadow_.depth.setSampling(GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE);
   // Comparison sampling: the hardware filters the four depth tests of a lookup (sampler2DShadow).
   glTextureParameteri(shadow_.depth.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
@@ -127,7 +134,6 @@ Renderer::Renderer(const Scene& scene, const Topology& topology, const SceneExte
   glNamedFramebufferReadBuffer(framebuffer, GL_NONE);
   if (glCheckNamedFramebufferStatus(framebuffer, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw gl::GlError("shadow-map framebuffer is incomplete");
-  gl::checkDebugErrors();
 }
 
 Renderer::GpuMesh Renderer::uploadMesh(const MeshData& mesh) {
@@ -191,6 +197,12 @@ void Renderer::draw(const ClothBuffers& cloth, const Camera& camera, glm::ivec2 
   if (settings.show_cloth) surface_.update(cloth.positions);
   const bool ground_shown = ground_.from_scene ? settings.show_colliders : settings.floor;
   if (settings.shading == Shading::Shadow || (settings.shadows && ground_shown)) {
+    // About as many texels across as the image has pixels (a power of two, 256 at least, the option's size
+    // at most): the shadows are as sharp as the picture, and a small picture pays for a small map.
+    int size = 256;
+    while (size < std::max(viewport.x, viewport.y) && size < options_.shadow_map_size)
+      size *= 2;
+    ensureShadowMap(std::min(size, options_.shadow_map_size));
     renderShadowMap(cloth, frame);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(target));
   }

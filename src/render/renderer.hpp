@@ -57,7 +57,7 @@ struct RendererOptions {
   int sphere_longitudes = 40;   // -o
   float sphere_shrink = 0.98f;  // drawn radius / collision radius
   std::filesystem::path texture_dir = textureDir();
-  int shadow_map_size = 1024;
+  int shadow_map_size = 1024;  // at most; a smaller picture gets a smaller map
 };
 
 // What is under a pixel of the cloth.
@@ -135,6 +135,7 @@ class Renderer {
   void drawWireframe(const ClothBuffers& cloth, const Frame& frame);
   void drawSky(const Frame& frame);
   void ensurePickTarget(glm::ivec2 size);
+  void ensureShadowMap(int size);  // texels across
 
   const Scene* scene_;
   const Topology* topology_;
