@@ -21,6 +21,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -447,7 +448,7 @@ TEST(Limits, OutOfMemoryIsOneLineNamingWhatWasBeingAllocated) {
 }
 
 // ---------------------------------------------------------------------------------------------------
-// Exit statuses and messages, as README.md's "Exit status" section lists them.
+// Exit statuses and messages, as docs/exit-status.md lists them.
 
 TEST(ExitStatus, AnUnknownSubcommandIsStatusTwoAndNamed) {
   Result r = run("frobnicate");
@@ -473,6 +474,36 @@ TEST(ExitStatus, HelpIsStatusZeroAndShowsNoDoubleMaximum) {
     const Result r = run(std::string(command) + " --help");
     EXPECT_EQ(r.status, 0) << command << ": " << r.err;
     EXPECT_FALSE(hasLongNumber(r.out)) << command << " --help:\n" << r.out;
+  }
+}
+
+// Every option's default is in --help: `render` writes 91 images unless told otherwise, and says so.
+TEST(ExitStatus, HelpShowsTheDefaults) {
+  const Result render = run("render --help");
+  EXPECT_NE(render.out.find("--frames INT:INT in [0 - 1000000]=90"), std::string::npos) << render.out;
+  EXPECT_NE(render.out.find("--every INT:INT in [1 - 1000000]=1"), std::string::npos) << render.out;
+  EXPECT_NE(render.out.find("--size TEXT=640x480"), std::string::npos) << render.out;
+  const Result simulate = run("simulate --help");
+  EXPECT_NE(simulate.out.find("--frames INT:>= 0=90"), std::string::npos) << simulate.out;
+  EXPECT_NE(simulate.out.find("=cpu"), std::string::npos) << simulate.out;
+}
+
+// A slip in an option's or a command's name gets the nearest one it may have been, on the one line.
+TEST(ExitStatus, AnUnknownOptionOrCommandSuggestsTheNearest) {
+  const std::string s = scene("pinned2.json");
+  const std::pair<std::string, std::string> cases[] = {
+      {"simulate " + s + " --frame 3", "simulate: unknown option --frame (did you mean --frames?)"},
+      {"--verison", "unknown option --verison (did you mean --version?)"},
+      {"simulat " + s, "unknown command 'simulat' (did you mean simulate?"},
+      {"render " + s + " --out o --evry 2", "render: unknown option --evry (did you mean --every?)"},
+      {"bench --sizes 32 --jbos 2", "bench: unknown option --jbos"},
+      {"stability --zzz", "stability: unknown option --zzz (drape stability --help)"},
+  };
+  for (const auto& [args, message] : cases) {
+    const Result r = run(args);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << args << ": " << r.err;
   }
 }
 
@@ -627,6 +658,41 @@ TEST(FirstMinutes, StabilityHelpListsEveryCase) {
   ASSERT_FALSE(cases.empty());
   for (const drape::StabilityCase& c : cases)
     EXPECT_NE(r.out.find(c.name), std::string::npos) << c.name << " missing from:\n" << r.out;
+}
+
+// The installed README (share/doc/drape) shows its pictures and its links lead somewhere: every relative
+// link of it and of the pages it links, images included, names a file that was installed.
+TEST(FirstMinutes, TheInstalledReadmesPicturesAndLinksResolve) {
+  const fs::path prefix = freshDir("installed_docs") / "prefix";
+  const std::string install = "cmake --install " + quote(fs::path(DRAPE_BINARY).parent_path().string()) + " --prefix " +
+                              quote(prefix.string()) + " >/dev/null 2>&1";
+  ASSERT_EQ(std::system(install.c_str()), 0) << install;
+  const fs::path doc = prefix / "share" / "doc" / "drape";
+  std::vector<fs::path> pages = {doc / "README.md"}, seen;
+  std::size_t images = 0, links = 0;
+  const std::regex link("\\]\\(([^)#\\s]+)[^)]*\\)");
+  while (!pages.empty()) {
+    const fs::path page = pages.back();
+    pages.pop_back();
+    if (std::find(seen.begin(), seen.end(), page) != seen.end()) continue;
+    seen.push_back(page);
+    std::ifstream in(page);
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string md = text.str();
+    ASSERT_FALSE(md.empty()) << page;
+    for (auto it = std::sregex_iterator(md.begin(), md.end(), link); it != std::sregex_iterator(); ++it) {
+      const std::string target = (*it)[1];
+      if (target.rfind("http", 0) == 0) continue;
+      const fs::path file = fs::weakly_canonical(page.parent_path() / target);
+      EXPECT_TRUE(fs::exists(file)) << page << " links " << target;
+      ++links;
+      images += file.extension() == ".png";
+      if (file.extension() == ".md" && fs::exists(file)) pages.push_back(file);
+    }
+  }
+  EXPECT_GE(images, 11u + 10u + 6u) << "the gallery, the shading models and the fall";
+  EXPECT_GT(seen.size(), 5u) << links << " links";
 }
 
 TEST(FirstMinutes, VideoWithoutFfmpegIsOneLineAndStatusOneBeforeAnyWork) {

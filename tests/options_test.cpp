@@ -3,6 +3,7 @@
 #include "app/options.hpp"
 #include "app/commands.hpp"
 #include "app/solver_factory.hpp"
+#include "app/suggest.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -122,6 +123,29 @@ TEST(SolverTable, EveryNameMakesThatSolverAndOnlyMeasurementsGetCpuXprev) {
     if (isGpuSolver(name)) continue;  // needs GL: tests/gpu_solver_gl_test.cpp and the CLI tests
     EXPECT_EQ(factory.make(scene, name, {.threads = 1})->name(), name);
   }
+}
+
+}  // namespace
+}  // namespace drape
+
+namespace drape {
+namespace {
+
+TEST(DidYouMean, EditDistanceCountsASwapAsOneEdit) {
+  EXPECT_EQ(editDistance("--verison", "--version"), 1);
+  EXPECT_EQ(editDistance("--frame", "--frames"), 1);
+  EXPECT_EQ(editDistance("--evry", "--every"), 1);
+  EXPECT_EQ(editDistance("simulat", "simulate"), 1);
+  EXPECT_EQ(editDistance("abc", "abc"), 0);
+  EXPECT_EQ(editDistance("", "abc"), 3);
+}
+
+TEST(DidYouMean, OnlyANearWordIsSuggested) {
+  const std::vector<std::string> options = {"--frames", "--every", "--export", "--format", "--out"};
+  EXPECT_EQ(closestWord("--frame", options), "--frames");
+  EXPECT_EQ(closestWord("--fromat", options), "--format");
+  EXPECT_EQ(closestWord("--colour", options), "");
+  EXPECT_EQ(closestWord("--x", options), "");
 }
 
 }  // namespace

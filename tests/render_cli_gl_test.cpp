@@ -98,8 +98,8 @@ TEST_F(RenderCliTest, WritesTheFramesAskedFor) {
 
 TEST_F(RenderCliTest, CpuSolverRendersTheSameCoverage) {
   for (const char* solver : {"gpu", "cpu"}) {
-    const Result r = run("render " + scene("sphere.json") + " --frames 0 --size 96x72 --solver " + solver + " --out '" +
-                         (dir / solver).string() + "'");
+    const Result r = run("render " + scene("sphere.json") + " --frames 0 --camera start --size 96x72 --solver " +
+                         solver + " --out '" + (dir / solver).string() + "'");
     ASSERT_EQ(r.status, 0) << r.err;
   }
   const Image gpu = loadImage(dir / "gpu" / "frame_0000.png", 3), cpu = loadImage(dir / "cpu" / "frame_0000.png", 3);
@@ -352,8 +352,9 @@ TEST_F(RenderCliTest, TheInstalledDrapeReadsItsOwnShaders) {
   std::ofstream(shader) << "this is not GLSL\n";
   const std::string env =
       "cd / && env -u DRAPE_GLSL_DIR -u DRAPE_TEXTURE_DIR " + quote((prefix / "bin" / "drape").string());
-  const std::string args = " render " + scene("sphere.json") + " --frames 0 --size 32x32 --solver cpu --out " +
-                           quote((dir / "o").string()) + " >/dev/null";
+  const std::string args = " render " + scene("sphere.json") +
+                           " --frames 0 --camera start --size 32x32 --solver cpu --out " + quote((dir / "o").string()) +
+                           " >/dev/null";
   std::string command = env + args + " 2>" + quote((dir / "err").string());
   EXPECT_NE(std::system(command.c_str()), 0);
   std::ifstream broken_err(dir / "err");
@@ -370,8 +371,9 @@ TEST_F(RenderCliTest, AFullDiskIsStatusOneAndLeavesOnlyWholeFrames) {
   fs::create_directories(mount);
   if (std::system(("mount -t tmpfs -o size=48k tmpfs " + quote(mount.string()) + " 2>/dev/null").c_str()) != 0)
     GTEST_SKIP() << "cannot mount a tmpfs here; AtomicFileTest covers the writer's errors";
-  const Result r = run("render " + scene("sphere.json") + " --frames 20 --size 256x192 --shader normal --out " +
-                       quote((mount / "frames").string()));
+  const Result r =
+      run("render " + scene("sphere.json") + " --frames 20 --camera start --size 256x192 --shader normal --out " +
+          quote((mount / "frames").string()));
   std::vector<fs::path> frames;
   for (const auto& entry : fs::directory_iterator(mount / "frames"))
     frames.push_back(entry.path());
@@ -410,12 +412,14 @@ TEST_F(RenderCliTest, AFailureBeforeRenderingLeavesNoDirectory) {
 
 TEST_F(RenderCliTest, AnOutThatIsAFileOrAFrameThatIsALinkIsStatusTwo) {
   std::ofstream(dir / "file") << "x";
-  Result r = run("render " + scene("sphere.json") + " --frames 0 --size 32x32 --out '" + (dir / "file").string() + "'");
+  Result r = run("render " + scene("sphere.json") + " --frames 0 --camera start --size 32x32 --out '" +
+                 (dir / "file").string() + "'");
   EXPECT_EQ(r.status, 2) << r.err;
   fs::create_directories(dir / "frames");
   std::ofstream(dir / "victim") << "precious";
   fs::create_symlink(dir / "victim", dir / "frames" / "frame_0000.png");
-  r = run("render " + scene("sphere.json") + " --frames 0 --size 32x32 --out '" + (dir / "frames").string() + "'");
+  r = run("render " + scene("sphere.json") + " --frames 0 --camera start --size 32x32 --out '" +
+          (dir / "frames").string() + "'");
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_NE(r.err.find("frame_0000.png"), std::string::npos) << r.err;
   std::ifstream in(dir / "victim");
@@ -443,6 +447,20 @@ TEST_F(RenderCliTest, ViewerRunsSixtyFramesAndSavesAScreenshot) {
   EXPECT_EQ(image.width, 320);
   EXPECT_EQ(image.height, 240);
   EXPECT_GT(clothPixels(image), 1000u) << "the cloth should be in view after 60 frames";
+  // The viewer's camera, light and floor are `render`'s: the same frame of the same run is the same picture.
+  const Result rendered = run("render " + scene("sphere.json") + " --frames 60 --every 60 --size 320x240 --out '" +
+                              (dir / "render").string() + "'");
+  ASSERT_EQ(rendered.status, 0) << rendered.err;
+  const Image same = loadImage(dir / "render" / "frame_0060.png", 3);
+  std::size_t differ = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        if (std::abs(int(image.at(x, y)[c]) - int(same.at(x, y)[c])) > 2) {
+          ++differ;
+          break;
+        }
+  EXPECT_LT(differ, std::size_t(image.width * image.height / 200)) << "pixels differ from `render`'s frame 60";
 }
 
 }  // namespace

@@ -126,8 +126,9 @@ void addBenchCommand(CLI::App& app) {
       ->check(kPositive)
       ->capture_default_str();
   cmd->add_option("--peak-gbs", c->peak_gbs,
-                  "The GPU's peak memory bandwidth in GB/s, for the share-of-peak column (default: known GPUs by name)")
-      ->check(kPositive);
+                  "The GPU's peak memory bandwidth in GB/s, for the share-of-peak column (unset: known GPUs by name)")
+      ->check(kPositive)
+      ->default_str("");  // 0 stands for unset
   addListOption(
       cmd, "--integrator", c->integrators,
       "Comma-separated integrators (verlet, xpbd, vbd), a run each; default: the scene's simulation.integrator")

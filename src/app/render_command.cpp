@@ -1,6 +1,7 @@
 // `drape render`: run a scene headless (EGL, no display) and write frames as PNGs, optionally a video.
 #include "app/commands.hpp"
 #include "app/export.hpp"
+#include "app/look_ahead.hpp"
 #include "app/options.hpp"
 #include "app/output.hpp"
 #include "app/process.hpp"
@@ -131,8 +132,8 @@ void runRender(const RenderOptions& o) {
       o.video.empty() ? std::vector<std::filesystem::path>{} : videoPaths(o.video, shadings);
   for (const std::filesystem::path& video : video_paths)
     checkOutputFile(video);
-  const ExportFormat export_format =
-      o.export_path.empty() ? ExportFormat::Obj : parseExportFormat(o.export_format, o.export_path);
+  const ExportTarget export_target =
+      o.export_path.empty() ? ExportTarget{} : resolveExport(o.export_path, o.export_format);
   Scene scene = loadScene(o.scene);
   applyIntegrator(scene, o.integrator);
 
@@ -148,8 +149,15 @@ void runRender(const RenderOptions& o) {
   std::unique_ptr<Solver> solver = factory.make(scene, o.solver);
   ClothFeed feed(*solver);
   std::optional<ClothExport> exporter;
-  if (!o.export_path.empty()) exporter.emplace(o.export_path, export_format, scene, solver->topology());
-  Renderer renderer(scene, solver->topology(), {.sphere_latitudes = o.latitudes, .sphere_longitudes = o.longitudes});
+  if (!o.export_path.empty()) exporter.emplace(export_target, scene, solver->topology(), o.frames / o.every * o.every);
+  // The default camera frames the whole run (at least the 2 s the viewer frames, so that the two agree),
+  // and the floor, the light and the shadow map follow where the cloth goes; --camera start frames the
+  // scene as it starts, without the look-ahead.
+  const SceneExtent extent = o.camera != "start" ? lookAheadExtent(scene, solver->topology(),
+                                                                   std::max(o.frames, lookAheadFrames(scene)), "render")
+                                                 : SceneExtent(scene, solver->topology());
+  Renderer renderer(scene, solver->topology(), extent,
+                    {.sphere_latitudes = o.latitudes, .sphere_longitudes = o.longitudes});
   gl::Framebuffer target = gl::Framebuffer::createColorDepth(size.x, size.y, o.samples);
   // Each video's temporary is made before the first frame: a folder that cannot take the video fails now.
   std::vector<std::unique_ptr<VideoOutput>> videos;
@@ -162,15 +170,24 @@ void runRender(const RenderOptions& o) {
   camera.zoom(float(o.zoom));
   RenderSettings settings;
   settings.springs = enabledSprings(scene.cloth);
+  settings.light = renderer.defaultLight();
 
   const bool interactive = ::isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
+  std::string export_kept;  // set once a blow-up ended the export early
   int written = 0;
   std::vector<std::vector<std::filesystem::path>> frames_written(shadings.size());
   for (int frame = 0; frame <= o.frames; ++frame) {
     if (frame > 0) solver->stepFrame();
     if (frame % o.every != 0) continue;
-    if (exporter) exporter->add(frame, solver->readPositions());
+    if (exporter && export_kept.empty()) {
+      // A blown-up cloth is not exported: the export keeps the frames before it, the images go on.
+      const std::vector<glm::dvec3> x = solver->readPositions();
+      if (allFinite(x))
+        exporter->add(frame, x);
+      else
+        export_kept = keepExport(*exporter);
+    }
     if (o.camera == "cloth") {
       // Framing the cloth where it is now takes an explicit read-back of its positions, per image.
       const std::vector<glm::dvec3> x = solver->readPositions();
@@ -200,8 +217,8 @@ void runRender(const RenderOptions& o) {
   // One explicit read-back at the end: a cloth that blew up leaves empty pictures, which must not pass.
   if (!allFinite(solver->readPositions()))
     throw CommandError(kExitBlowUp, fmt::format("{}: the simulation became non-finite within {} frames; the images "
-                                                "in {} show it",
-                                                scene.path, o.frames, o.out));
+                                                "in {} show it{}",
+                                                scene.path, o.frames, o.out, exporter ? keepExport(*exporter) : ""));
   if (exporter) exporter->finish();
   for (std::size_t k = 0; k < videos.size(); ++k)
     videos[k]->encode(frames_written[k], scene.sim.frames_per_sec / o.every);
@@ -219,30 +236,32 @@ void addRenderCommand(CLI::App& app) {
   cmd->add_option("--every", opts->every, "Write every K-th frame")->check(CLI::Range(1, kMaxRenderFrames));
   cmd->add_option("--out", opts->out, "Directory for frame_NNNN.png")->required();
   cmd->add_option("--export", opts->export_path,
-                  "Also write the cloth per written frame: PATH.obj/.ply become PATH_NNNN.obj/.ply, .usda one file");
-  cmd->add_option("--format", opts->export_format, "--export format: obj, ply or usda (default: PATH's extension)")
+                  "Also write the cloth per written frame: PATH_NNNN.obj or .ply, or one PATH.usda; a folder (DIR/) "
+                  "gets cloth_NNNN.obj inside; missing folders are made");
+  cmd->add_option("--format", opts->export_format,
+                  "--export format: obj, ply or usda, which decides the files' extension (default: PATH's extension; "
+                  "obj for a folder)")
       ->check(CLI::IsMember({"obj", "ply", "usda"}));
   addListOption(cmd, "--shader", opts->shader, "Shading models, comma-separated, or all")
       ->check(CLI::IsMember(shaderChoices()));
-  cmd->add_option("--size", opts->size, "Image size WIDTHxHEIGHT (default 640x480)");
+  cmd->add_option("--size", opts->size, "Image size WIDTHxHEIGHT");
   cmd->add_option("--solver", opts->solver,
-                  "gpu (default; the path chosen for the device), gpu-general, gpu-tiled or gpu-onedispatch (forced), "
+                  "gpu (the path chosen for the device), gpu-general, gpu-tiled or gpu-onedispatch (forced), "
                   "cpu or cpu64")
       ->check(CLI::IsMember(solverNames(false)));
   addIntegratorOption(cmd, opts->integrator);
   cmd->add_option("--video", opts->video,
                   "Also encode the frames this run wrote into this video with ffmpeg (e.g. out.mp4; with several "
                   "shaders one video each, out_SHADER.mp4)");
-  cmd->add_option("-a,--latitudes", opts->latitudes, "Sphere latitude rings (default 40)")->check(CLI::Range(2, 1000));
-  cmd->add_option("-o,--longitudes", opts->longitudes, "Sphere longitude segments (default 40)")
-      ->check(CLI::Range(3, 1000));
-  cmd->add_option("--samples", opts->samples, "Multisampling per pixel (default 1)")->check(CLI::Range(1, 16));
+  cmd->add_option("-a,--latitudes", opts->latitudes, "Sphere latitude rings")->check(CLI::Range(2, 1000));
+  cmd->add_option("-o,--longitudes", opts->longitudes, "Sphere longitude segments")->check(CLI::Range(3, 1000));
+  cmd->add_option("--samples", opts->samples, "Multisampling per pixel")->check(CLI::Range(1, 16));
   cmd->add_option("--camera", opts->camera,
-                  "scene: one view of everything the cloth may reach (default); cloth: frame the cloth where it is "
-                  "in each image")
-      ->check(CLI::IsMember({"scene", "cloth"}));
-  cmd->add_option("--zoom", opts->zoom, "Camera distance factor (< 1 is closer; default 1)")
-      ->check(CLI::Range(0.01, 100.0));
+                  "scene: one view of the scene and everywhere the cloth goes in the run (run once on the CPU "
+                  "before the first image; at least 2 s of it, as `view` frames it); start: the scene as it "
+                  "starts; cloth: the cloth where it is in each image")
+      ->check(CLI::IsMember({"scene", "start", "cloth"}));
+  cmd->add_option("--zoom", opts->zoom, "Camera distance factor (< 1 is closer)")->check(CLI::Range(0.01, 100.0));
   cmd->callback([opts] { runRender(*opts); });
 }
 

@@ -155,12 +155,35 @@ void checkOutputFile(const std::filesystem::path& path) {
 }
 
 void writeFileAtomically(const std::filesystem::path& path, std::string_view contents) {
-  checkOutputFile(path);
-  TemporaryFile temporary(path);
-  if (!writeAll(temporary.fd(), contents)) failIo(path, "write failed");
-  // A link or FIFO planted at the target since the check is replaced, not followed: rename() never
-  // follows the name it replaces.
-  temporary.renameOverTarget();
+  StreamedFile file(path);
+  file.append(contents);
+  file.commit();
+}
+
+// checkOutputFile runs before the temporary is made: a bad target is refused before anything is created.
+StreamedFile::StreamedFile(const std::filesystem::path& path)
+    : target_((checkOutputFile(path), path)), temporary_(path) {}
+
+void StreamedFile::append(std::string_view part) {
+  if (!writeAll(temporary_.fd(), part)) failIo(target_, "write failed");
+  size_ += part.size();
+}
+
+void StreamedFile::overwrite(std::size_t offset, std::string_view bytes) {
+  while (!bytes.empty()) {
+    const ssize_t n = ::pwrite(temporary_.fd(), bytes.data(), bytes.size(), off_t(offset));
+    if (n < 0 && errno == EINTR) continue;
+    if (n == 0) errno = EIO;
+    if (n <= 0) failIo(target_, "write failed");
+    bytes.remove_prefix(std::size_t(n));
+    offset += std::size_t(n);
+  }
+}
+
+// A link or FIFO planted at the target since the check is replaced, not followed: rename() never follows
+// the name it replaces.
+void StreamedFile::commit() {
+  temporary_.renameOverTarget();
 }
 
 bool writeAll(int fd, std::string_view data) {

@@ -60,6 +60,27 @@ class TemporaryFile {
   bool renamed_ = false;
 };
 
+// The same for a file written in parts, so that a long one never has to be held in memory: the parts go to
+// the temporary as they come, commit() flushes it and renames it over the target. Destroyed uncommitted
+// (a failure, a stopped run), it leaves nothing. Throws OutputError as writeFileAtomically does.
+class StreamedFile {
+ public:
+  explicit StreamedFile(const std::filesystem::path& path);
+  StreamedFile(const StreamedFile&) = delete;
+  StreamedFile& operator=(const StreamedFile&) = delete;
+
+  void append(std::string_view part);
+  // Rewrites bytes already appended, at `offset` from the start (a header's field once its value is known).
+  void overwrite(std::size_t offset, std::string_view bytes);
+  std::size_t size() const { return size_; }
+  void commit();
+
+ private:
+  std::filesystem::path target_;
+  TemporaryFile temporary_;
+  std::size_t size_ = 0;
+};
+
 // Removes, once per folder and process, the temporaries in `dir` a killed drape left: files named as ours,
 // owned by this user, locked by no process and untouched for a minute (a temporary is locked from a
 // moment after it is made, so a minute spares one just made).
