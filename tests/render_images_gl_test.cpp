@@ -4,9 +4,11 @@
 #include "cpu/cpu_solver.hpp"
 #include "gl_fixture.hpp"
 #include "gpu/gpu_solver.hpp"
+#include "render/reach_probe.hpp"
 #include "render/renderer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 
@@ -363,6 +365,36 @@ TEST_F(RenderImageTest, CpuFeedMatchesGpuFeedAndTheSurfacePassItsReference) {
   }
   for (std::size_t q = 0; q < centres.size(); ++q)
     ASSERT_LT(glm::distance(glm::vec3(centres[q]), glm::vec3(gpu_centres[q])), 1e-5f) << "centre of quad " << q;
+}
+
+// The default camera's follow measures the cloth on the GPU (render/reach_probe.hpp): the pass finds what
+// reachOf finds in a read-back of the same positions, keeps the measure before for a reader a frame late,
+// and measures nothing of a cloth whose blow-up flags are raised (the renderer hides it).
+TEST_F(RenderImageTest, ReachProbeMeasuresWhatTheCpuFindsInTheSolversBuffer) {
+  Stage& stage = fallen();
+  auto& gpu = static_cast<GpuSolver&>(*stage.solver);
+  const ReachFrame frame = ReachFrame::of({0.1f, 0.2f, -0.3f}, 4.0f / 3.0f), wide = ReachFrame::of({}, 2.0f);
+  const std::array<float, ViewReach::kValues> expected = reachOf(gpu.readPositions(), frame).values();
+  ReachProbe probe(gpu);
+  EXPECT_TRUE(probe.latest().empty()) << "nothing measured yet";
+  probe.measure(frame);
+  probe.measure(wide);
+  const ViewReach previous = probe.previous(), latest = probe.latest();
+  EXPECT_EQ(previous.t_x, frame.t_x);
+  EXPECT_EQ(latest.t_x, wide.t_x);
+  for (int k = 0; k < ViewReach::kValues; ++k)
+    EXPECT_NEAR(previous.values()[k], expected[k], 1e-5f * (1.0f + std::abs(expected[k]))) << "value " << k;
+  EXPECT_EQ(latest.box.min, previous.box.min) << "the box does not depend on the view";
+  EXPECT_GT(latest.right, -1e29f);
+
+  GpuSolver fresh(sphereScene());
+  std::vector<glm::dvec3> x = fresh.topology().initial_positions;
+  x[7].y = 2e5;
+  fresh.uploadState(x, std::vector<glm::dvec3>(x.size(), glm::dvec3(0)), 0);
+  fresh.checkHealth();
+  ReachProbe blown(fresh);
+  blown.measure(frame);
+  EXPECT_TRUE(blown.latest().empty()) << "a blown-up cloth is not measured";
 }
 
 }  // namespace

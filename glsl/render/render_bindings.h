@@ -14,6 +14,13 @@
 #define RENDER_BINDING_FACE_OFFSETS 7  // uint per point + 1: CSR offsets into the point-faces list
 #define RENDER_BINDING_POINT_FACES 8   // uint: face indices
 #define RENDER_BINDING_QUAD_REST 9     // vec2 per quad: rest lengths of its diagonals (corner 0-2, 1-3)
+// The reach pass only (cloth_reach.comp): the largest of each of RENDER_REACH_VALUES linear functions over
+// the cloth's points, as uints that order as the floats do (0: nothing measured), in ViewReach::values()'
+// order (render/camera.hpp).
+#define RENDER_BINDING_REACH 10
+#define RENDER_REACH_VALUES 13
+#define RENDER_REACH_LOCAL_SIZE 128
+#define RENDER_REACH_MAX_GROUPS 128  // a larger cloth loops: each invocation takes every (groups x size)-th point
 
 #define RENDER_NO_CORNER 0xffffffffu  // kNoCorner (core/cloth_mesh.hpp)
 #define RENDER_SURFACE_LOCAL_SIZE 64

@@ -7,8 +7,10 @@
 
 namespace drape {
 
-SceneExtent lookAheadExtent(const Scene& scene, const Topology& topology, int frames, const std::string& label) {
+SceneExtent lookAheadExtent(const Scene& scene, const Topology& topology, const std::string& label) {
   SceneExtent extent(scene, topology);
+  const int frames = lookAheadFrames(scene, topology.pointCount());
+  if (frames == 0) return extent;
   SolverFactory factory;
   const std::unique_ptr<Solver> solver = factory.make(scene, "cpu");
   TerminalProgress progress(label + ": framing the run, frame", frames, ::isatty(STDERR_FILENO));

@@ -1,7 +1,8 @@
 // The default camera's look-ahead for `render` and `view` (render/framing.hpp): the run's first frames on
-// the CPU float solver, so that the framing is a property of the scene, the same on every machine and for
-// every solver (the GPU's own bits on llvmpipe, within rounding on a GPU), and the viewer's camera is
-// `render`'s.
+// the CPU float solver, as many as the look-ahead's budget allows (lookAheadFrames), so that the framing is
+// a property of the scene, the same on every machine and for every solver (the GPU's own bits on llvmpipe,
+// within rounding on a GPU), and the viewer's camera is `render`'s. Beyond them the camera follows the cloth
+// (render/camera_follow.hpp).
 #pragma once
 
 #include "render/framing.hpp"
@@ -10,8 +11,9 @@
 
 namespace drape {
 
-// Where the cloth goes over `frames` frames from its start, with a progress line on a terminal
-// ("LABEL: framing the run 40/180, ..."). A run that blows up is framed up to the frame before.
-SceneExtent lookAheadExtent(const Scene& scene, const Topology& topology, int frames, const std::string& label);
+// Where the cloth goes over the frames lookAheadFrames gives it from its start, with a progress line on a
+// terminal ("LABEL: framing the run 40/180, ..."). A run that blows up is framed up to the frame before. A
+// cloth too large for one frame of the budget is framed as it starts, without making a solver.
+SceneExtent lookAheadExtent(const Scene& scene, const Topology& topology, const std::string& label);
 
 }  // namespace drape

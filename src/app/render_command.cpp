@@ -9,7 +9,9 @@
 #include "app/video.hpp"
 #include "core/metrics.hpp"
 #include "gl/context.hpp"
+#include "render/camera_follow.hpp"
 #include "render/image.hpp"
+#include "render/reach_probe.hpp"
 #include "render/renderer.hpp"
 
 #include <fmt/core.h>
@@ -150,11 +152,10 @@ void runRender(const RenderOptions& o) {
   ClothFeed feed(*solver);
   std::optional<ClothExport> exporter;
   if (!o.export_path.empty()) exporter.emplace(export_target, scene, solver->topology(), o.frames / o.every * o.every);
-  // The default camera frames the whole run (at least the 2 s the viewer frames, so that the two agree),
-  // and the floor, the light and the shadow map follow where the cloth goes; --camera start frames the
-  // scene as it starts, without the look-ahead.
-  const SceneExtent extent = o.camera != "start" ? lookAheadExtent(scene, solver->topology(),
-                                                                   std::max(o.frames, lookAheadFrames(scene)), "render")
+  // The default camera frames the run's first frames, looked ahead as the viewer does (so that the two agree),
+  // and follows the cloth from there; the floor, the light and the shadow map are placed for what the
+  // look-ahead saw. --camera start frames the scene as it starts, without the look-ahead.
+  const SceneExtent extent = o.camera != "start" ? lookAheadExtent(scene, solver->topology(), "render")
                                                  : SceneExtent(scene, solver->topology());
   Renderer renderer(scene, solver->topology(), extent,
                     {.sphere_latitudes = o.latitudes, .sphere_longitudes = o.longitudes});
@@ -168,6 +169,12 @@ void runRender(const RenderOptions& o) {
   const float aspect = float(size.x) / float(size.y);
   camera.frame(renderer.framingSubject(), aspect);
   camera.zoom(float(o.zoom));
+  // The follow sees every frame's reach (the same rule as the viewer's, whatever --every draws), and each
+  // picture also holds its own frame's: one small read-back a picture, no copy of the cloth.
+  std::optional<CameraFollow> follow;
+  if (o.camera == "scene") follow.emplace(renderer.framingSubject(), aspect, float(o.zoom));
+  std::optional<ReachProbe> probe;
+  if (o.camera != "start") probe.emplace(*solver);
   RenderSettings settings;
   settings.springs = enabledSprings(scene.cloth);
   settings.light = renderer.defaultLight();
@@ -179,6 +186,10 @@ void runRender(const RenderOptions& o) {
   std::vector<std::vector<std::filesystem::path>> frames_written(shadings.size());
   for (int frame = 0; frame <= o.frames; ++frame) {
     if (frame > 0) solver->stepFrame();
+    if (follow) {
+      probe->measure(follow->frame());
+      if (frame > 0) follow->next(probe->previous());
+    }
     if (frame % o.every != 0) continue;
     if (exporter && export_kept.empty()) {
       // A blown-up cloth is not exported: the export keeps the frames before it, the images go on.
@@ -188,14 +199,18 @@ void runRender(const RenderOptions& o) {
       else
         export_kept = keepExport(*exporter);
     }
-    if (o.camera == "cloth") {
-      // Framing the cloth where it is now takes an explicit read-back of its positions, per image.
-      const std::vector<glm::dvec3> x = solver->readPositions();
-      Bounds bounds{glm::vec3(x.front()), glm::vec3(x.front())};
-      for (const glm::dvec3& p : x)
-        bounds.include(glm::vec3(p));
-      camera.frame(bounds, aspect);
-      camera.zoom(float(o.zoom));
+    if (follow) {
+      ViewReach now = probe->latest();
+      camera = follow->camera(&now);
+      now.include(follow->held());
+      renderer.holdCloth(now.box);
+    } else if (o.camera == "cloth") {
+      // The cloth's box where it is now (a blown-up cloth keeps the last camera).
+      probe->measure(ReachFrame::of(glm::vec3(0.0f), aspect));
+      if (const ViewReach now = probe->latest(); !now.empty()) {
+        camera.frame(now.box, aspect);
+        camera.zoom(float(o.zoom));
+      }
     }
     const ClothBuffers cloth = feed.prepare();
     for (std::size_t k = 0; k < shadings.size(); ++k) {
@@ -257,9 +272,9 @@ void addRenderCommand(CLI::App& app) {
   cmd->add_option("-o,--longitudes", opts->longitudes, "Sphere longitude segments")->check(CLI::Range(3, 1000));
   cmd->add_option("--samples", opts->samples, "Multisampling per pixel")->check(CLI::Range(1, 16));
   cmd->add_option("--camera", opts->camera,
-                  "scene: one view of the scene and everywhere the cloth goes in the run (run once on the CPU "
-                  "before the first image; at least 2 s of it, as `view` frames it); start: the scene as it "
-                  "starts; cloth: the cloth where it is in each image")
+                  "scene: the scene and where the cloth goes in the run's first frames (looked ahead on the CPU, "
+                  "as `view` does), widening smoothly, never closer, wherever the cloth goes further; start: the "
+                  "scene as it starts; cloth: the cloth where it is in each image")
       ->check(CLI::IsMember({"scene", "start", "cloth"}));
   cmd->add_option("--zoom", opts->zoom, "Camera distance factor (< 1 is closer)")->check(CLI::Range(0.01, 100.0));
   cmd->callback([opts] { runRender(*opts); });

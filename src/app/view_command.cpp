@@ -66,9 +66,10 @@ void runView(const ViewOptions& o) {
   options.shading = *shading;
   options.frames = o.frames;
   options.screenshot = o.screenshot;
-  // The camera `render` has by default: the first 2 s of the run, looked ahead on the CPU before the window
-  // shows the scene.
-  if (o.camera == "scene") options.extent = lookAheadExtent(scene, solver->topology(), lookAheadFrames(scene), "view");
+  // The camera `render` has by default: the run's first frames, looked ahead on the CPU before the window
+  // shows the scene, then following the cloth.
+  options.follow = o.camera == "scene";
+  if (o.camera == "scene") options.extent = lookAheadExtent(scene, solver->topology(), "view");
   Viewer viewer(window, std::move(solver), options);
   // Created after the viewer (its callbacks chain to the viewer's) and destroyed before it.
   ImGuiPanel panel(window.window());
@@ -98,8 +99,9 @@ void addViewCommand(CLI::App& app) {
   cmd->add_option("--screenshot", opts->screenshot, "PNG of the last frame of a --frames run")->needs(frames);
   cmd->add_option("--size", opts->size, "Window size WIDTHxHEIGHT");
   cmd->add_option("--camera", opts->camera,
-                  "scene: one view of the scene and everywhere the cloth goes in its first 2 s (run once on the CPU "
-                  "before the window opens; the camera `render` has); start: the scene as it starts")
+                  "scene: the scene and where the cloth goes in the run's first frames (looked ahead on the CPU "
+                  "before the window opens), widening smoothly, never closer, wherever the cloth goes further: the "
+                  "camera `render` has; start: the scene as it starts")
       ->check(CLI::IsMember({"scene", "start"}));
   cmd->footer(viewerControlsText());
   cmd->callback([opts] { runView(*opts); });

@@ -4,6 +4,7 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
 #include <vector>
 
 namespace drape {
@@ -38,6 +39,46 @@ struct ViewAxes {
   glm::vec3 right, up, back;
 };
 
+// The directions that decide the default view's framing at one aspect ratio: the view's axes, and the side
+// planes of the view narrowed to Camera::kFill, whose slopes are t_x and t_y (the tangents of their half
+// angles; t_x grows with the aspect ratio up to Camera::kFramingAspect). Points are measured from `origin`,
+// which keeps the floats small.
+struct ReachFrame {
+  glm::vec3 origin{0.0f};
+  ViewAxes axes{};
+  float t_x = 1.0f, t_y = 1.0f;
+  static ReachFrame of(glm::vec3 origin, float aspect);
+};
+
+// How far a subject reaches in a frame's directions: with x, y, z a point's coordinates along right, up
+// and back from the origin, the largest z + x / t_x, z - x / t_x, z + y / t_y, z - y / t_y (the side
+// planes), z, x and -x over the subject (a sphere's furthest point), and its box. Camera::frame needs no
+// more; the reach of a union is the larger of each; and the GPU measures a cloth's in one pass
+// (render/reach_probe.hpp).
+struct ViewReach {
+  Bounds box{glm::vec3(1e30f), glm::vec3(-1e30f)};
+  float right = -1e30f, left = -1e30f, top = -1e30f, bottom = -1e30f;  // the side planes
+  float nearest = -1e30f;                                              // z
+  float x_right = -1e30f, x_left = -1e30f;                             // x and -x
+  float t_x = 1.0f;  // the slope `right` and `left` were measured with
+
+  // Every reach as a largest value: -box.min, box.max, right, left, top, bottom, nearest, x_right, x_left
+  // (the order of RENDER_REACH_*, glsl/render/render_bindings.h).
+  static constexpr int kValues = 13;
+  std::array<float, kValues> values() const;
+  static ViewReach fromValues(const std::array<float, kValues>& values, float t_x);
+
+  bool empty() const { return box.min.x > box.max.x; }
+  void include(const ViewReach& other);  // both in one frame (the same origin and t_x)
+  void include(glm::vec3 point, float radius, const ReachFrame& frame);
+};
+ViewReach reachOf(const FramingSubject& subject, const ReachFrame& frame);
+// Of the finite points within the health check's sane bound (a blown-up cloth is not framed).
+ViewReach reachOf(const std::vector<glm::dvec3>& points, const ReachFrame& frame);
+// At least the reach of the same subject with the side slope `t_x` (the same origin): the sides' reach at
+// another slope is bounded by that at this one, z and x, as a convex combination or a sum.
+ViewReach reframe(const ViewReach& reach, float t_x);
+
 class Camera {
  public:
   static constexpr float kDefaultYaw = 0.35f;   // rad, a little to the right of +z
@@ -54,6 +95,8 @@ class Camera {
   // inside kFill of the view at this aspect ratio (at most kFramingAspect), centred: the subject's
   // wider side nearly fills the frame.
   void frame(const FramingSubject& subject, float aspect);
+  // The same from the subject's reach, measured in `frame`'s directions (ReachFrame::of this aspect).
+  void frame(const ViewReach& reach, const ReachFrame& frame);
   // The same for the eight corners of a box.
   void frame(const Bounds& bounds, float aspect);
 

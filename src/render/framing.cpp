@@ -120,17 +120,23 @@ Bounds SceneExtent::casterBounds() const {
   return b;
 }
 
-Ground SceneExtent::ground() const {
-  if (scene_ground_) return {ground_point_, up_, true};
-  // A little below the lowest point the cloth reached and the lowest collider, so that nothing touches it.
-  const Bounds b = casterBounds();
+Ground groundBelow(const Ground& ground, const Bounds& b) {
+  if (ground.from_scene || b.min.x > b.max.x) return ground;
+  // A little below the lowest point of the box, so that nothing touches it.
   float lowest = 1e30f;
   for (int corner = 0; corner < 8; ++corner)
     lowest = std::min(lowest, glm::dot(glm::vec3(corner & 1 ? b.max.x : b.min.x, corner & 2 ? b.max.y : b.min.y,
                                                  corner & 4 ? b.max.z : b.min.z),
-                                       up_));
-  const float gap = std::max(0.03f * b.radius(), 1e-3f);
-  return {(lowest - gap) * up_, up_, false};
+                                       ground.normal));
+  const float level = lowest - std::max(0.03f * b.radius(), 1e-3f);
+  if (level >= glm::dot(ground.point, ground.normal)) return ground;
+  return {level * ground.normal, ground.normal, false};
+}
+
+Ground SceneExtent::ground() const {
+  if (scene_ground_) return {ground_point_, up_, true};
+  // Below the lowest point the cloth reached and the lowest collider.
+  return groundBelow({glm::vec3(1e30f) * up_, up_, false}, casterBounds());
 }
 
 FramingSubject SceneExtent::subject() const {
@@ -143,8 +149,10 @@ FramingSubject SceneExtent::subject() const {
   return s;
 }
 
-int lookAheadFrames(const Scene& scene) {
-  return std::max(1, int(std::ceil(2.0 * scene.sim.frames_per_sec - 1e-9)));
+int lookAheadFrames(const Scene& scene, int points, long long budget) {
+  const int two_seconds = std::max(1, int(std::ceil(2.0 * scene.sim.frames_per_sec - 1e-9)));
+  const long long per_frame = std::max(1LL, (long long)std::max(points, 1) * std::max(scene.sim.steps_per_frame, 1));
+  return int(std::min<long long>(two_seconds, std::max(budget, 0LL) / per_frame));
 }
 
 int lookAhead(SceneExtent& extent, Solver& solver, int frames,

@@ -96,6 +96,7 @@ Renderer::Renderer(const Scene& scene, const Topology& topology, const SceneExte
   }
   if (!ground_.from_scene) {
     const glm::vec3 n = ground_.normal;
+    floor_built_ = glm::dot(ground_.point, n);
     planes_.push_back(uploadMesh(buildPlaneMesh(centre - glm::dot(centre - ground_.point, n) * n, n, plane_size)));
   }
 
@@ -147,6 +148,13 @@ Renderer::GpuMesh Renderer::uploadMesh(const MeshData& mesh) {
   gpu.vao = gl::VertexArray::create();
   glVertexArrayElementBuffer(gpu.vao.id(), gpu.indices.id());
   return gpu;
+}
+
+void Renderer::holdCloth(const Bounds& box) {
+  if (box.min.x > box.max.x) return;
+  casters_.include(box.min);
+  casters_.include(box.max);
+  ground_ = groundBelow(ground_, casters_);
 }
 
 Light Renderer::defaultLight() const {
@@ -322,7 +330,9 @@ void Renderer::drawGround(const Frame& frame) {
     bindStorage(RENDER_BINDING_TANGENTS, plane.tangents.id());
     bindStorage(RENDER_BINDING_UVS, plane.uvs.id());
     plane.vao.bind();
-    offerModel(program, glm::mat4(1.0f), s.plane_colour);
+    // The neutral floor goes down with the cloth (holdCloth): its quad moves, the same quad.
+    const float lowered = scene_plane ? 0.0f : glm::dot(ground_.point, ground_.normal) - floor_built_;
+    offerModel(program, glm::translate(glm::mat4(1.0f), lowered * ground_.normal), s.plane_colour);
     glDrawElements(GL_TRIANGLES, plane.count, GL_UNSIGNED_INT, nullptr);
   }
   glDisable(GL_POLYGON_OFFSET_FILL);

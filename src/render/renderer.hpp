@@ -90,6 +90,9 @@ class Renderer {
   // What the default camera frames (Camera::frame): the cloth wherever the extent saw it, the colliders
   // (spheres as spheres) and the cloth's footprint on the ground; and the box around all of it.
   const FramingSubject& framingSubject() const { return subject_; }
+  // The cloth has reached `box` (the follow's, beyond the look-ahead): the shadow map covers it from now on,
+  // and a neutral floor goes down to stay below it (groundBelow).
+  void holdCloth(const Bounds& box);
   const Bounds& sceneBounds() const { return bounds_; }
   const Ground& ground() const { return ground_; }
   // A light above the scene and to the left of the default view, as far from it as the default light is
@@ -146,6 +149,7 @@ class Renderer {
   Bounds bounds_;   // of subject_
   Bounds casters_;  // what casts shadows
   Ground ground_;
+  float floor_built_ = 0.0f;  // the neutral floor's level across its normal when its quad was made
   GpuMesh sphere_;
   std::vector<GpuMesh> planes_;     // the scene's, or the neutral floor
   std::vector<GpuMesh> obstacles_;  // the scene's mesh obstacles, in scene coordinates

@@ -83,6 +83,11 @@ Viewer::Viewer(gl::WindowContext& window, std::unique_ptr<Solver> solver, const 
   settings.springs = enabledSprings(cloth);
   stability_ = checkStability(scene_);
   if (!stability_.ok) status_ = stability_.message;
+  if (options.follow) {
+    follow_.emplace(renderer_.framingSubject(), aspect());
+    probe_.emplace(*solver_);
+    probe_->measure(follow_->frame());
+  }
   resetCamera();
   GLFWwindow* w = window.window();
   glfwSetWindowUserPointer(w, this);
@@ -133,6 +138,11 @@ void Viewer::simulateFrame() {
   const auto start = std::chrono::steady_clock::now();
   solver_->stepFrame();
   ++frames_simulated_;
+  if (follow_) {
+    // This frame's reach is read the next frame; the camera moves on with the frame before's.
+    probe_->measure(follow_->frame());
+    follow_->next(probe_->previous());
+  }
   // Every frame, without a wait: on the GPU the answer is a frame late (Solver::recentHealth), and the
   // cloth's vertex shaders hide a cloth whose flags are raised, so no frame of garbage is drawn meanwhile.
   if (const Health h = solver_->recentHealth(); !h.ok()) {
@@ -150,6 +160,13 @@ void Viewer::drawScene() {
   const glm::ivec2 size = window_->framebufferSize();
   if (size.x <= 0 || size.y <= 0) return;  // minimised
   const auto start = std::chrono::steady_clock::now();
+  if (follow_) {
+    renderer_.holdCloth(follow_->held().box);
+    if (following_) {
+      follow_->setAspect(aspect());
+      camera_ = follow_->camera();
+    }
+  }
   cloth_buffers_ = feed_.prepare();
   gl::Framebuffer::bindDefault();
   RenderSettings shown = settings;
@@ -192,6 +209,12 @@ void Viewer::resetCloth() {
   endDrag();
   solver_->reset();
   frames_simulated_ = 0;
+  if (follow_) {
+    // The camera keeps what it holds; the cloth's motion starts again from its start.
+    probe_->forget();
+    follow_->forgetMotion();
+    probe_->measure(follow_->frame());
+  }
   if (!blow_up_.empty()) {
     blow_up_.clear();
     status_.clear();
@@ -199,8 +222,18 @@ void Viewer::resetCloth() {
 }
 
 void Viewer::resetCamera() {
+  following_ = true;
+  if (follow_) {
+    follow_->setAspect(aspect());
+    camera_ = follow_->camera();
+  } else {
+    camera_.frame(renderer_.framingSubject(), aspect());
+  }
+}
+
+float Viewer::aspect() const {
   const glm::ivec2 size = window_->framebufferSize();
-  camera_.frame(renderer_.framingSubject(), size.y > 0 ? float(size.x) / float(size.y) : 4.0f / 3.0f);
+  return size.x > 0 && size.y > 0 ? float(size.x) / float(size.y) : 4.0f / 3.0f;
 }
 
 void Viewer::reloadShaders() {
@@ -299,9 +332,11 @@ void Viewer::onCursor(double x, double y) {
   last_cursor_ = cursor;
   switch (mouse_mode_) {
     case MouseMode::Orbit:
+      following_ = false;
       camera_.orbit(-delta.x * kOrbitPerPixel, delta.y * kOrbitPerPixel);
       break;
     case MouseMode::Pan: {
+      following_ = false;
       int width = 0, height = 0;
       glfwGetWindowSize(window_->window(), &width, &height);
       camera_.pan(delta.x, delta.y, float(height));
@@ -317,6 +352,7 @@ void Viewer::onCursor(double x, double y) {
 
 void Viewer::onScroll(double dy) {
   if (panelTakesMouse()) return;
+  following_ = false;
   camera_.zoom(std::pow(kZoomPerNotch, float(dy)));
 }
 

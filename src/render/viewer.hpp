@@ -9,7 +9,9 @@
 #include "gl/context.hpp"
 #include "gl/objects.hpp"
 #include "render/camera.hpp"
+#include "render/camera_follow.hpp"
 #include "render/cloth_feed.hpp"
+#include "render/reach_probe.hpp"
 #include "render/renderer.hpp"
 
 #include <chrono>
@@ -51,9 +53,12 @@ class ViewerPanel {
 
 struct ViewerOptions {
   RendererOptions renderer;
-  // Where the cloth goes (render/framing.hpp): what the camera frames (Space) and the floor, the light and
-  // the shadow map follow. Empty: the scene as it starts.
+  // Where the cloth goes (render/framing.hpp): what the camera frames and the floor, the light and the
+  // shadow map follow. Empty: the scene as it starts.
   std::optional<SceneExtent> extent;
+  // The camera widens to keep the cloth in view wherever it goes beyond that (render/camera_follow.hpp), as
+  // `render`'s does, until the mouse moves it; Space gives it back.
+  bool follow = true;
   Shading shading = Shading::Phong;
   int frames = 0;                              // > 0: simulate this many frames, save `screenshot`, close
   std::filesystem::path screenshot;            // with `frames`
@@ -118,6 +123,7 @@ class Viewer {
   Solver& solver() { return *solver_; }
   const Scene& scene() const { return scene_; }
   const Camera& camera() const { return camera_; }
+  bool following() const { return following_; }  // the camera is the default one, following the cloth
   const gl::ContextInfo& contextInfo() const { return window_->info(); }
   long long framesSimulated() const { return frames_simulated_; }
   const ViewerStats& stats() const { return stats_; }
@@ -140,6 +146,7 @@ class Viewer {
   void updateDrag(glm::vec2 cursor);
   void endDrag();
   glm::vec2 toFramebuffer(glm::vec2 cursor) const;
+  float aspect() const;  // the window's (4:3 while minimised)
   void updateStats();
   bool panelTakesMouse() const;
   bool panelTakesKeys() const;
@@ -153,6 +160,9 @@ class Viewer {
   Renderer renderer_;
   Camera camera_;
   ClothBuffers cloth_buffers_;
+  std::optional<CameraFollow> follow_;  // with options.follow
+  std::optional<ReachProbe> probe_;     // measures the cloth for follow_
+  bool following_ = true;               // camera_ is follow_'s: no orbit, pan or zoom since Space
 
   bool paused_ = false;
   bool panel_shown_ = true;
