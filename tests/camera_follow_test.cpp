@@ -3,6 +3,7 @@
 // moves steadily in view even a frame late (the viewer's case). Also the look-ahead's work budget and the
 // floor that only goes down (render/framing.hpp). Pure maths, no GL.
 #include "render/camera_follow.hpp"
+#include "cpu/cpu_solver.hpp"
 #include "render/framing.hpp"
 
 #include <gtest/gtest.h>
@@ -120,6 +121,26 @@ TEST(LookAhead, IsBoundedByWorkNotTime) {
   EXPECT_EQ(lookAheadFrames(scene, 2500, 2500 * 30), 1);
   scene.sim.steps_per_frame = 60;
   EXPECT_EQ(lookAheadFrames(scene, 2500), 20) << "twice the substeps, half the frames";
+}
+
+// The look-ahead steps the solver it is given, sees every frame, frames exactly those, and leaves the solver
+// at its start for the run.
+TEST(LookAhead, FramesTheFramesItSteppedAndResetsTheSolver) {
+  Scene scene;
+  scene.cloth.num_width_points = 8;
+  scene.cloth.num_height_points = 8;
+  CpuSolver<float> solver(scene), run(scene);
+  SceneExtent extent(scene, solver.topology()), expected(scene, run.topology());
+  std::vector<int> seen;
+  EXPECT_EQ(lookAhead(extent, solver, 5, [&](int frame, const std::vector<glm::dvec3>&) { seen.push_back(frame); }), 5);
+  EXPECT_EQ(seen, (std::vector<int>{0, 1, 2, 3, 4, 5}));
+  EXPECT_EQ(solver.substeps(), 0) << "reset for the run";
+  for (int frame = 1; frame <= 5; ++frame) {
+    run.stepFrame();
+    expected.addCloth(run.readPositions());
+  }
+  EXPECT_EQ(extent.clothFrames(), expected.clothFrames());
+  EXPECT_EQ(extent.subject().points, expected.subject().points);
 }
 
 TEST(GroundBelow, OnlyEverGoesDownAndLeavesTheScenesPlane) {
