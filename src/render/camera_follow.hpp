@@ -2,13 +2,14 @@
 // saw (render/framing.hpp: the scene and the cloth over the run's first frames) and, from then on, widens
 // whenever the cloth would reach beyond what it holds: never closer, never losing what it showed.
 //
-// Each frame it first takes what the cloth needs (the reach of the frame before, and the same again
-// beyond it at the speed the cloth's edges moved: a cloth moving steadily is held before it gets there),
-// then eases towards some room beyond that (a tenth of the distance, and the edges' travel over the next
-// frames), a fifth of the way a frame and at most 2% of the distance: what is needed is never eased, the
-// rest never jumps. Pure maths on the CPU: the reach comes from render/reach_probe.hpp, a frame late,
-// so that the viewer never waits for the GPU; `render` also has the frame's own reach, and its picture
-// holds that too.
+// Each frame it first takes what the cloth needs (its reach at the frame before) and, once the cloth has
+// gone beyond what it held, eases towards some room past that (a tenth of the distance, and the cloth's
+// edges' travel over the next kLeadFrames frames at the speed they moved), a fifth of the way a frame and
+// at most 2% of the distance: what is needed is never eased, the rest never jumps, and a cloth moving
+// steadily is held before it gets there. A cloth moving about within what the camera holds moves it not
+// at all (a lead taken from every outward motion would creep outwards with each swing). Pure maths on the CPU: the
+// reach comes from render/reach_probe.hpp, a frame late, so that the viewer never waits for the GPU; `render` also has
+// the frame's own reach, and its picture holds that too.
 #pragma once
 
 #include "render/camera.hpp"
