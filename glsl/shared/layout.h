@@ -73,6 +73,14 @@ DRAPE_CONSTANT(uint, kPairDispatchGridBlocks, 2u);   // one work group per kScan
 DRAPE_CONSTANT(uint, kPairDispatchPointBlocks, 3u);  // one work group per kScanBlock points
 DRAPE_CONSTANT(uint, kPairDispatchCount, 4u);
 
+// The phases of a substep the one-dispatch kernel runs (glsl/sim/one_group.comp's u_phases): a frame runs them
+// all, a stage function of the solver one (GpuPlan says which).
+DRAPE_CONSTANT(uint, kPhaseIntegrate, 1u);    // forces + integrate (+ collide, where the plan fuses it there)
+DRAPE_CONSTANT(uint, kPhaseStretch, 2u);      // the stretch passes
+DRAPE_CONSTANT(uint, kPhaseSelfCollide, 4u);  // self-collision (+ collide)
+DRAPE_CONSTANT(uint, kPhaseTether, 8u);       // the tethers
+DRAPE_CONSTANT(uint, kPhaseAll, 15u);
+
 // Health flags (the blow-up check, src/core/health.hpp): raised by health.comp after a frame's last pass,
 // read back on request. The same bits as drape::Health.
 DRAPE_CONSTANT(uint, kHealthNonFinite, 1u);      // a position or displacement became NaN or infinite

@@ -414,11 +414,20 @@ gl::Defines GpuSolver::sceneDefines() const {
   return d;
 }
 
+// Where the collisions and the lists' travel check run: in the kernel that moved the point last.
+gl::Defines GpuSolver::withFusion(gl::Defines d) const {
+  const bool self = scene_.sim.self_collision, implicit = isImplicit(scene_.sim.integrator);
+  d.emplace_back("COLLIDE_AFTER_INTEGRATE", hasColliders() && !self && !implicit ? "1" : "0");
+  d.emplace_back("TRAVEL_CHECK", self && !implicit ? "1" : "0");
+  d.emplace_back("COLLIDE_AFTER_CONTACTS", hasColliders() && self ? "1" : "0");
+  return d;
+}
+
 // Kernels are compiled for this scene, so code for absent features does not exist in them. Kernels
 // whose code does not depend on the scene (normals, pick) are compiled on first use.
 void GpuSolver::compilePrograms() {
   defines_ = sceneDefines();
-  programs_.forces_integrate = gl::compileCompute("sim/forces_integrate.comp", defines_);
+  programs_.forces_integrate = gl::compileCompute("sim/forces_integrate.comp", withFusion(defines_));
   programs_.limit_stretch = gl::compileCompute("sim/limit_stretch.comp", defines_);
   programs_.limit_stretch_coloured = gl::compileCompute("sim/limit_stretch_coloured.comp", defines_);
   programs_.health = gl::compileCompute("sim/health.comp", defines_);
@@ -456,7 +465,7 @@ void GpuSolver::compilePrograms() {
     }
     gl::Defines held = defines_;
     held.emplace_back("TERMS_HELD", std::to_string(terms_held_));
-    programs_.self_collide = gl::compileCompute("sim/self_collide.comp", held);
+    programs_.self_collide = gl::compileCompute("sim/self_collide.comp", withFusion(held));
   }
 }
 
@@ -619,13 +628,13 @@ void GpuSolver::choosePath(bool constructing) {
     d.emplace_back("GROUP_SIZE", std::to_string(tiling_.group_size));
     d.emplace_back("TILE", std::to_string(tiling_.tile));
     d.emplace_back("HALO", std::to_string(tiling_.halo));
-    d.emplace_back("GRID_PARTNERS", grid_rests_.empty() ? "0" : "1");
+    d.emplace_back("GRID_SPRINGS", grid_rests_.empty() ? "0" : "1");
     programs_.limit_stretch_tiled.compile("sim/limit_stretch_tiled.comp", d);
     if (tiledForces()) {
       gl::Defines f = defines_;
       f.emplace_back("GROUP_SIZE", std::to_string(tiling_.forces_group_size));
       f.emplace_back("TILE", std::to_string(tiling_.forces_tile));
-      programs_.forces_integrate_tiled.compile("sim/forces_integrate_tiled.comp", f);
+      programs_.forces_integrate_tiled.compile("sim/forces_integrate_tiled.comp", withFusion(f));
     }
   }
   // The forces need a ring of 2 stretched points around a block, so the fused copy's ring is 2 wider.
@@ -636,7 +645,7 @@ void GpuSolver::choosePath(bool constructing) {
     f.emplace_back("GROUP_SIZE", std::to_string(tiling_.group_size));
     f.emplace_back("TILE", std::to_string(tiling_.fused_tile));
     f.emplace_back("HALO", std::to_string(tiling_.halo + 2));
-    programs_.limit_stretch_forces_tiled.compile("sim/limit_stretch_forces_tiled.comp", f);
+    programs_.limit_stretch_forces_tiled.compile("sim/limit_stretch_forces_tiled.comp", withFusion(f));
   }
   if (one_group_) {
     gl::Defines d = defines_;
@@ -645,7 +654,7 @@ void GpuSolver::choosePath(bool constructing) {
     d.emplace_back("GROUP_BUCKETS", std::to_string(oneGroupBuckets()));
     if (usesTethers()) d.emplace_back("TETHER_SLOTS", std::to_string(tether_slots_));
     if (!grid_rests_.empty()) d.emplace_back("GRID_SPRINGS", "1");
-    programs_.one_group.compile("sim/one_group.comp", d);
+    programs_.one_group.compile("sim/one_group.comp", withFusion(d));
   }
   setPathUniforms();
 }

@@ -234,6 +234,8 @@ class GpuSolver final : public Solver {
   // The #defines the scene's kernels were compiled with (NUM_SPHERES, NUM_PLANES, SELF_COLLISION, WIND,
   // UNIFORM_MASS).
   const gl::Defines& defines() const { return defines_; }
+  // `d` and where the collisions and the lists' travel check run (the kernels' COLLIDE_AFTER_*, TRAVEL_CHECK).
+  gl::Defines withFusion(gl::Defines d) const;
   const gl::ContextInfo& contextInfo() const { return context_info_; }
 
  private:

@@ -17,8 +17,9 @@ namespace drape {
 namespace {
 
 // The phases of one_group.comp's substep (u_phases).
-constexpr std::uint32_t kIntegratePhase = 1, kStretchPhase = 2, kSelfCollidePhase = 4, kTetherPhase = 8;
-constexpr std::uint32_t kAllPhases = kIntegratePhase | kStretchPhase | kSelfCollidePhase | kTetherPhase;
+constexpr std::uint32_t kIntegratePhase = gpu::kPhaseIntegrate, kStretchPhase = gpu::kPhaseStretch,
+                        kSelfCollidePhase = gpu::kPhaseSelfCollide, kTetherPhase = gpu::kPhaseTether;
+constexpr std::uint32_t kAllPhases = gpu::kPhaseAll;
 
 // What the frame-end copy writes into each slot of the health ring.
 struct HealthSnapshot {

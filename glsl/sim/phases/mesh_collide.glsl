@@ -5,8 +5,8 @@
 // than Mesa allows.
 #pragma once
 
-#include "common.glsl"
-#include "physics.glsl"
+#include "../common.glsl"
+#include "../physics.glsl"
 
 const float kMeshSurfaceOffset = 2e-3;  // m, core/mesh_obstacle.hpp
 
