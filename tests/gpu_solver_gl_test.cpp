@@ -4,6 +4,7 @@
 #include "gl/shader_source.hpp"
 #include "gl_fixture.hpp"
 #include "gpu/gpu_solver.hpp"
+#include "gpu/kernels.hpp"
 #include "gpu/layout.hpp"
 #include "gpu_test_support.hpp"
 
@@ -490,33 +491,18 @@ TEST_F(GpuSolverTest, SteadyStateFramesReadNothingBack) {
   }
 }
 
-// The traffic model behind the bench's bytes and GB/s columns follows the plan: each Gauss-Seidel stretch
-// pass adds its springs' bytes (the entry, both ends' state read and written: 16 + 4 x 28 per spring,
-// counted here from the topology), so the model is linear in the passes; self-collision adds the list
-// pass, whose candidates come from the last list build the health read saw.
-TEST_F(GpuSolverTest, TheTrafficModelFollowsThePlan) {
-  Scene scene = smallScene(12);
-  const auto bytes = [&](int passes) {
-    scene.sim.stretch_passes = passes;
-    return GpuSolver(scene).bytesPerPointPerSubstep();
-  };
-  const double none = bytes(0), one = bytes(1), two = bytes(2);
-  const Topology topo = buildTopology(scene.cloth);
-  constexpr double kState = sizeof(glm::vec4) + sizeof(glm::vec3);  // a position and a packed displacement
-  const double per_pass = double(topo.springs.size()) * (sizeof(gpu::ColouredSpring) + 4 * kState) / topo.pointCount();
-  EXPECT_GT(none, 0.0);
-  EXPECT_DOUBLE_EQ(one - none, per_pass);
-  EXPECT_DOUBLE_EQ(two - one, per_pass);
-
-  scene.sim.stretch_passes = 1;
-  scene.sim.self_collision = true;
+// The traffic model behind the bench's bytes and GB/s columns follows the plan (tests/gpu_plan_test.cpp
+// checks it without GL); here the candidates it counts for the list pass are those of the real solver's last
+// list build, as the health read saw them.
+TEST_F(GpuSolverTest, TheTrafficModelCountsTheCandidatesOfTheLastListBuild) {
+  Scene scene = smallScene(12, true);
   scene.cloth.thickness = 0.1;  // reach 0.3 m over a 9 cm grid: every point has candidates
   GpuSolver gpu(scene);
   const double before = gpu.bytesPerPointPerSubstep();
   gpu.stepFrame();
   ASSERT_TRUE(gpu.health().ok());
   const GpuPairs pairs = gpu.readPairs();
-  const double candidates = double(pairs.start.back()) / topo.pointCount();
+  const double candidates = double(pairs.start.back()) / gpu.topology().pointCount();
   ASSERT_GT(candidates, 0.0);
   EXPECT_DOUBLE_EQ(gpu.bytesPerPointPerSubstep() - before, candidates * (4 + 16)) << "4-byte index, vec4 gather";
 }
@@ -623,7 +609,7 @@ TEST_F(GpuSolverTest, AKernelThatFailsToCompileNamesItsFileAndLine) {
   const fs::path dir = fs::temp_directory_path() / ("drape_broken_glsl_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::copy(fs::path(DRAPE_SOURCE_DIR) / "glsl", dir, fs::copy_options::recursive);
-  const fs::path kernel = dir / "sim" / "limit_stretch.comp";
+  const fs::path kernel = dir / "sim" / "limit_stretch_coloured.comp";
   int lines = 0;
   {
     std::ifstream in(kernel);
@@ -637,7 +623,7 @@ TEST_F(GpuSolverTest, AKernelThatFailsToCompileNamesItsFileAndLine) {
     GpuSolver gpu(standardScene("pinned2.json"));
     ADD_FAILURE() << "the broken kernel compiled";
   } catch (const gl::ShaderError& e) {
-    EXPECT_NE(e.file().find("sim/limit_stretch.comp"), std::string::npos) << e.what();
+    EXPECT_NE(e.file().find("sim/limit_stretch_coloured.comp"), std::string::npos) << e.what();
     EXPECT_EQ(e.line(), lines + 1) << e.what();
   }
   unsetenv("DRAPE_GLSL_DIR");
@@ -782,6 +768,18 @@ Strings plannedKernels(const GpuSolver& gpu) {
   return out;
 }
 
+// What a frame dispatches according to the plan (src/gpu/plan.hpp), as kernel files: the one-dispatch path's
+// one dispatch included.
+Strings frameKernels(const gpu::Plan& plan) {
+  Strings out;
+  for (int repeat = 0; repeat < plan.frame.repeats; ++repeat)
+    for (const gpu::Dispatch& d : plan.frame.substep)
+      out.push_back(fileOf(gpu::kernelRow(d.pass).file));
+  for (const gpu::Dispatch& d : plan.frame.tail)
+    out.push_back(fileOf(gpu::kernelRow(d.pass).file));
+  return out;
+}
+
 Strings recordFrame(GpuSolver& gpu) {
   gl::DispatchRecorder recorder;
   gpu.stepFrame();
@@ -806,6 +804,7 @@ TEST_F(GpuSolverTest, EveryBundledSceneDispatchesExactlyItsPassList) {
       const Strings real = recordFrame(gpu);
       EXPECT_EQ(int(real.size()), expected) << "frame " << frame;
       EXPECT_EQ(real, planned) << "frame " << frame;
+      EXPECT_EQ(real, frameKernels(gpu.plan())) << "frame " << frame;
     }
   }
   // Variants no bundled scene has: the five-dispatch grid build, the Jacobi stretch scheme, three passes;
@@ -830,6 +829,7 @@ TEST_F(GpuSolverTest, EveryBundledSceneDispatchesExactlyItsPassList) {
     const Strings real = recordFrame(gpu);
     EXPECT_EQ(int(real.size()), gpu.dispatchesPerFrame());
     EXPECT_EQ(real, plannedKernels(gpu));
+    EXPECT_EQ(real, frameKernels(gpu.plan()));
   }
 }
 
@@ -854,8 +854,11 @@ TEST_F(GpuSolverTest, TheOneDispatchPathRunsAFrameInOneDispatch) {
     } else {
       EXPECT_GT(gpu.bytesPerPointPerSubstep(), state_per_frame + 100) << "12 adjacency entries and 12 table entries";
     }
-    for (int frame = 0; frame < 2; ++frame)
-      EXPECT_EQ(recordFrame(gpu), (Strings{"one_group.comp"})) << "frame " << frame;
+    for (int frame = 0; frame < 2; ++frame) {
+      const Strings real = recordFrame(gpu);
+      EXPECT_EQ(real, (Strings{"one_group.comp"})) << "frame " << frame;
+      EXPECT_EQ(real, frameKernels(gpu.plan())) << "frame " << frame;
+    }
     gl::DispatchRecorder recorder;
     gpu.step();
     EXPECT_EQ(recorder.dispatches().size(), 1u);
@@ -868,35 +871,6 @@ TEST_F(GpuSolverTest, TheOneDispatchPathRunsAFrameInOneDispatch) {
 // a 256x256 cloth without self-collision takes one dispatch a substep and one more a frame (issue #10's
 // bound is 2), the same kernels as recorded, and fewer bytes in the traffic model than one dispatch per
 // colour.
-// The traffic model of the fused kernel, from the tiling a device's shared memory allows: with the 48 KiB
-// that NVIDIA's drivers report, blocks of 39 with a ring of 12 copy about 2.4 positions a point at 256²
-// and 1024², under the 100 bytes a point and substep issue #10 aims for; with llvmpipe's 32 KiB, blocks of
-// 27 copy 3.4 and the model counts about 102.
-TEST(GpuTiling, TheFusedKernelsTrafficFollowsTheSharedMemory) {
-  const GpuSolver::StretchTiling nvidia = GpuSolver::tilingFor(49152, 1024, 10);
-  EXPECT_EQ(nvidia.tile, 43u);
-  EXPECT_EQ(nvidia.fused_tile, 39u);
-  EXPECT_EQ(nvidia.group_size, 512u);
-  const GpuSolver::StretchTiling llvmpipe = GpuSolver::tilingFor(32768, 1024, 10);
-  EXPECT_EQ(llvmpipe.tile, 31u);
-  EXPECT_EQ(llvmpipe.fused_tile, 27u);
-  for (const int n : {256, 1024, 2048}) {
-    SCOPED_TRACE(n);
-    const double at48 = GpuSolver::fusedBytesPerPoint(n, n, nvidia),
-                 at32 = GpuSolver::fusedBytesPerPoint(n, n, llvmpipe);
-    std::printf("fused kernel at %d²: %.1f bytes a point with 48 KiB, %.1f with 32 KiB\n", n, at48, at32);
-    EXPECT_LE(at48, 100.0);
-    EXPECT_LE(at32, 100.0) << "llvmpipe's 32 KiB: the 12-byte displacements keep it under";
-    EXPECT_GT(at32, at48);
-    // A 16-byte position (w: the pin flag) and a packed 12-byte displacement, read and written.
-    EXPECT_GT(at48, 2 * (sizeof(glm::vec4) + sizeof(glm::vec3))) << "at least the position, displacement and new state";
-  }
-  // Copies of 31 a side: blocks of 11 for the stretch limit, too few inside the wider ring for the fused kernel.
-  const GpuSolver::StretchTiling small = GpuSolver::tilingFor(12 * 31 * 31 + 4 * 31, 1024, 10);
-  EXPECT_EQ(small.tile, 11u);
-  EXPECT_EQ(small.fused_tile, 0u);
-}
-
 TEST_F(GpuSolverTest, TheTiledPathRunsTheStretchLimitInOneDispatch) {
   Scene scene = smallScene(256);
   scene.cloth.pinned = {{0, 0}, {255, 0}};
@@ -913,7 +887,9 @@ TEST_F(GpuSolverTest, TheTiledPathRunsTheStretchLimitInOneDispatch) {
   const int substeps = scene.sim.steps_per_frame;
   EXPECT_DOUBLE_EQ(tiled.dispatchesPerSubstep(), double(substeps + 1) / substeps);
   EXPECT_EQ(tiled.dispatchesPerFrame(), substeps + 2);
-  EXPECT_EQ(recordFrame(tiled), plannedKernels(tiled));
+  const Strings real = recordFrame(tiled);
+  EXPECT_EQ(real, plannedKernels(tiled));
+  EXPECT_EQ(real, frameKernels(tiled.plan()));
   GpuSolver general(scene, {.path = GpuPath::General});
   EXPECT_FALSE(general.tiledStretch());
   EXPECT_DOUBLE_EQ(general.dispatchesPerSubstep(), 13.0);
