@@ -20,12 +20,13 @@
 #define GRID_SPRINGS 1
 
 // The copy, positions only: point `at` of the cloth is at (at - copyOrigin) in the region.
-shared float sx[3 * REGION_POINTS];
+#define SHARED_POINTS REGION_POINTS
+#define SHARED_NO_PINS
+#include "storage/shared_positions.glsl"
 ivec2 copyOrigin;
 
 vec4 gridNeighbour(ivec2 at) {
-  uint l = uint((at.y - copyOrigin.y) * REGION + (at.x - copyOrigin.x));
-  return vec4(sx[3u * l], sx[3u * l + 1u], sx[3u * l + 2u], 0.0);
+  return vec4(loadX(uint((at.y - copyOrigin.y) * REGION + (at.x - copyOrigin.x))), 0.0);
 }
 
 #include "phases/integrate.glsl"
@@ -46,13 +47,9 @@ void main() {
   for (uint l = lid; l < uint(REGION_POINTS); l += uint(GROUP_SIZE)) {
     ivec2 at = copyOrigin + ivec2(int(l) % REGION, int(l) / REGION);
     if (any(lessThan(at, ivec2(0))) || any(greaterThanEqual(at, grid))) continue;
-    vec3 p = posIn[at.y * grid.x + at.x].xyz;
-    sx[3u * l] = p.x;
-    sx[3u * l + 1u] = p.y;
-    sx[3u * l + 2u] = p.z;
+    storeX(l, posIn[at.y * grid.x + at.x].xyz);
   }
-  memoryBarrierShared();
-  barrier();
+  syncGroup();
 
   for (uint b = lid; b < uint(TILE * TILE); b += uint(GROUP_SIZE)) {
     ivec2 at = tile_lo + ivec2(int(b) % TILE, int(b) / TILE);

@@ -49,7 +49,7 @@ void PlanRunner::setUniforms(const Plan& plan, const Dispatch& d, const gl::Prog
 }
 
 void PlanRunner::dispatch(const Plan& plan, const Dispatch& d, long long substeps, int repeat) {
-  const gl::Program& program = programs_.get(plan, d.pass);
+  const gl::Program& program = programs_.prepared(d.pass);
   const KernelRow& row = kernelRow(d.pass);
   cloth_.bind(row.bindings);
   setUniforms(plan, d, program, substeps, repeat);

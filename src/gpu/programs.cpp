@@ -2,6 +2,9 @@
 
 #include "gl/shader.hpp"
 
+#include <stdexcept>
+#include <string>
+
 namespace drape::gpu {
 
 const gl::Program& Programs::get(const Plan& plan, Pass pass, int variant) {
@@ -12,6 +15,13 @@ const gl::Program& Programs::get(const Plan& plan, Pass pass, int variant) {
     c.defines = std::move(defines);
   }
   return c.program;
+}
+
+const gl::Program& Programs::prepared(Pass pass) const {
+  const gl::Program& program = compiled_[std::size_t(pass)][0].program;
+  if (program.id() == 0)
+    throw std::logic_error(std::string("gpu solver: ") + kernelRow(pass).name + " is dispatched but was not prepared");
+  return program;
 }
 
 void Programs::prepare(const Plan& plan) {

@@ -18,6 +18,8 @@ class Programs {
   void prepare(const Plan& plan);
   // The pass's program for this plan, compiled on first use (normals and picking are compiled when first asked).
   const gl::Program& get(const Plan& plan, Pass pass, int variant = 0);
+  // A program prepare() compiled for the current plan, without working out its defines again.
+  const gl::Program& prepared(Pass pass) const;
 
  private:
   struct Compiled {

@@ -23,36 +23,11 @@
 #include "../grid_springs.glsl"
 #endif
 
-// vec3 in three floats, not vec3[] (which std430-like layouts may pad to 16 bytes): 12 bytes a point is
-// what lets 50x50 fit in 32 KiB, the least a GL 4.3 device has.
-shared float sx[3 * GROUP_POINTS];
-shared uint sPinned[(GROUP_POINTS + 31) / 32];
+#define SHARED_POINTS GROUP_POINTS
+#include "shared_positions.glsl"
 
-// The registers of slot lid + k * GROUP_SIZE: displacement, the position's w (the pin flag), PointMass::weight.
-vec3 slotV[PER_INVOCATION];
-float slotPin[PER_INVOCATION];
+// The rest of slot lid + k * GROUP_SIZE's registers: PointMass::weight.
 vec4 slotWeight[PER_INVOCATION];
-
-vec3 loadX(uint s) {
-  return vec3(sx[3u * s], sx[3u * s + 1u], sx[3u * s + 2u]);
-}
-
-void storeX(uint s, vec3 x) {
-  sx[3u * s] = x.x;
-  sx[3u * s + 1u] = x.y;
-  sx[3u * s + 2u] = x.z;
-}
-
-bool pinnedAt(uint s) {
-  return ((sPinned[s >> 5u] >> (s & 31u)) & 1u) != 0u;
-}
-
-// barrier() alone orders shared memory for compute shaders in GLSL 4.30+; memoryBarrierShared() says so
-// to any compiler that reads the older rules.
-void syncGroup() {
-  memoryBarrierShared();
-  barrier();
-}
 
 vec4 neighbour(uint j) {
   return vec4(loadX(j), pinnedAt(j) ? 1.0 : 0.0);
@@ -83,13 +58,6 @@ ivec2 slotAt(uint s, uint k) {
 bool slotOf(uint j, ivec2 at_j, out uint s) {
   s = j;
   return true;
-}
-
-void moveSlot(uint s, uint k, vec3 c) {
-  precise vec3 x = loadX(s) + c;
-  storeX(s, x);
-  precise vec3 v = slotV[k] + c;  // x_prev stays where it was
-  slotV[k] = v;
 }
 
 // The state from device memory into the group: positions and pin bits to shared memory, the rest to registers.

@@ -23,43 +23,21 @@
 uniform uint u_colours;  // spring colours
 uniform uint u_passes;   // SimParams::stretch_passes
 
-// 12 bytes a point, as one_group.comp: vec3[] may be padded to 16.
-shared float sx[3 * REGION_POINTS];
-shared uint sPinned[(REGION_POINTS + 31) / 32];
+#define SHARED_POINTS REGION_POINTS
+#include "shared_positions.glsl"
 
 // The copy: the block clipped to the cloth, and the ring around it clipped too.
 uvec2 tileLo, tileHi, copyLo, copyHi, copySize;
 uint copyCount;
 
-// Registers of slot lid + k * GROUP_SIZE: its index in the cloth, whether it is a block point, its position's w
-// (the pin flag), and for block points the displacement, which moves with the position (x_prev stays).
+// The rest of slot lid + k * GROUP_SIZE's registers: its index in the cloth, and whether it is a block point
+// (only those are written, and only they keep their displacement).
 uint slotGlobal[PER_INVOCATION];
 bool slotInside[PER_INVOCATION];
-vec3 slotV[PER_INVOCATION];
-float slotPin[PER_INVOCATION];
-
-vec3 loadX(uint s) {
-  return vec3(sx[3u * s], sx[3u * s + 1u], sx[3u * s + 2u]);
-}
-
-void storeX(uint s, vec3 x) {
-  sx[3u * s] = x.x;
-  sx[3u * s + 1u] = x.y;
-  sx[3u * s + 2u] = x.z;
-}
-
-bool pinnedAt(uint s) {
-  return ((sPinned[s >> 5u] >> (s & 31u)) & 1u) != 0u;
-}
 
 // Where grid point `at`, inside the copy, lies in it.
 uint copyIndex(uvec2 at) {
   return (at.y - copyLo.y) * copySize.x + (at.x - copyLo.x);
-}
-
-void syncGroup() {
-  memoryBarrierShared();
-  barrier();
 }
 
 // Only for points within 2 of the block (the forces' reach), which the copy holds; the pin flag is not kept.
@@ -90,13 +68,6 @@ bool slotOf(uint j, ivec2 at_j, out uint s) {
   if (any(lessThan(at, copyLo)) || any(greaterThanEqual(at, copyHi))) return false;
   s = copyIndex(at);
   return true;
-}
-
-void moveSlot(uint s, uint k, vec3 c) {
-  precise vec3 x = loadX(s) + c;
-  storeX(s, x);
-  precise vec3 v = slotV[k] + c;
-  slotV[k] = v;
 }
 
 // Copies this work group's block and ring from *In.
