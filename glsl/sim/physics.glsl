@@ -109,8 +109,8 @@ float stretchShare(bool pinned_i, bool pinned_j) {
 }
 
 // limit_stretch_coloured.comp's move of a free end i of spring (a, b), a < b, seen from that end alone:
-// exactly what the per-spring kernel gives it, so a kernel that works per point (one_group.comp,
-// limit_stretch_tiled.comp) matches it bit for bit. With equal shares end b takes -ca, which IEEE
+// exactly what the per-spring kernel gives it, so the kernels that work per point (phases/stretch_in_group.glsl:
+// the one-dispatch and tiled paths) match it bit for bit. With equal shares end b takes -ca, which IEEE
 // negation makes exact; `i_is_b` says which end i is.
 vec3 stretchOneEnd(vec3 xi, vec3 xj, bool i_is_b, bool pinned_j, float rest, float limit) {
   float share_i = stretchShare(false, pinned_j);

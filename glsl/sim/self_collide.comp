@@ -116,7 +116,7 @@ void sumListedByOrder(uint i, vec3 x, inout vec3 sum, inout int count) {
 
 // A point whose list did not fit the buffer is served from the 27 grid cells around its anchor, which
 // hold every candidate of its list: the same terms in the same order, found by repeated scans. Slow,
-// but only until the host grows the buffer (GpuSolver::readHealth).
+// but only until the host grows the buffer (PairLists::grow, at the next health read).
 //
 // With `order` < 0: the mask of cell orders that have a nonzero term, and no index. Otherwise: the
 // smallest candidate index >= `from` whose term is nonzero and whose cell order is `order`, or

@@ -1,6 +1,6 @@
 // Collision with a mesh obstacle's signed distance field (core/mesh_obstacle.hpp): a pure function, as
 // those of physics.hpp, implemented under the same name and with the same float operations in the same
-// order in glsl/sim/mesh_collide.glsl. Keep the two side by side when changing either.
+// order in glsl/sim/phases/mesh_collide.glsl. Keep the two side by side when changing either.
 #pragma once
 
 #include "core/mesh_obstacle.hpp"

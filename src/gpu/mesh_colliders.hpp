@@ -1,4 +1,4 @@
-// Mesh obstacles' distance fields in the GPU's collider buffer (read by glsl/sim/mesh_collide.glsl).
+// Mesh obstacles' distance fields in the GPU's collider buffer (read by glsl/sim/phases/mesh_collide.glsl).
 #pragma once
 
 #include "core/scene.hpp"

@@ -1,6 +1,6 @@
 // Collision with a mesh obstacle's signed distance field: collideField of src/cpu/mesh_physics.hpp, the
 // same float operations in the same order. The fields ride in the collider buffer after the spheres and
-// planes (GpuSolver::uploadColliders): two headers per mesh, then the samples of every mesh, 8 per
+// planes (gpu::colliders, src/gpu/cloth_tables.cpp): two headers per mesh, then the samples of every mesh, 8 per
 // Collider. A buffer of their own would be a 17th storage block in the self-collision kernel, one more
 // than Mesa allows.
 #pragma once
