@@ -378,6 +378,9 @@ TEST(GpuPlan, AForcedPathThatDoesNotFitSaysWhy) {
   Scene jacobi = bundled("pinned2.json");
   jacobi.sim.stretch_scheme = StretchScheme::Jacobi;
   EXPECT_NE(Planned(jacobi, GpuPath::Tiled, llvmpipe()).plan.path.refusal.find("Jacobi"), std::string::npos);
+  const Planned general(bundled("flag.json"), GpuPath::General, llvmpipe());
+  EXPECT_EQ(general.plan.path.tiled_misfit, "not asked for") << "the colouring's reach is not worked out";
+  EXPECT_EQ(general.plan.path.one_dispatch_misfit, "") << "the flag fits one work group";
   Scene vbd = bundled("pinned2.json");
   vbd.sim.integrator = Integrator::Vbd;
   EXPECT_EQ(Planned(vbd, GpuPath::OneDispatch, llvmpipe()).plan.path.refusal,

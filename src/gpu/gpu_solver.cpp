@@ -162,10 +162,6 @@ GpuPairs GpuSolver::readPairs() const {
   return lists_.readPairs(std::uint64_t(topo_.pointCount()));
 }
 
-std::string GpuSolver::oneDispatchMisfit() const {
-  return gpu::oneDispatchMisfit(plan_.needs, std::uint64_t(topo_.pointCount()), device_);
-}
-
 std::string GpuSolver::tiledStretchMisfit() const {
   return gpu::tiledMisfit(plan_.needs, stretchTiling(), device_);
 }

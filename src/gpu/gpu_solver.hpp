@@ -61,7 +61,7 @@ class GpuSolver final : public Solver {
   // limit runs the scene, and, where one cannot, why not ("" if it can).
   const gpu::Plan& plan() const { return plan_; }
   bool oneDispatch() const { return plan_.path.path == GpuPath::OneDispatch; }
-  std::string oneDispatchMisfit() const;
+  std::string oneDispatchMisfit() const { return plan_.path.one_dispatch_misfit; }
   bool tiledStretch() const { return plan_.path.path == GpuPath::Tiled; }
   bool tiledFromGrid() const { return tiledStretch() && !plan_.path.grid_rests.empty(); }  // springs from the grid
   std::string tiledStretchMisfit() const;

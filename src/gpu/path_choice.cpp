@@ -113,21 +113,21 @@ PathChoice choosePath(const SceneNeeds& needs, const Topology& topo, const Sprin
                       GpuPath asked, const DeviceLimits& device) {
   PathChoice c;
   const std::uint64_t n = std::uint64_t(topo.pointCount());
-  const std::string misfit = oneDispatchMisfit(needs, n, device);
-  if (asked == GpuPath::OneDispatch && !misfit.empty())
-    c.refusal = "gpu solver: the one-dispatch path does not fit: " + misfit;
+  c.one_dispatch_misfit = oneDispatchMisfit(needs, n, device);
+  if (asked == GpuPath::OneDispatch && !c.one_dispatch_misfit.empty())
+    c.refusal = "gpu solver: the one-dispatch path does not fit: " + c.one_dispatch_misfit;
   // The colouring's reach is worked out only where the tiled path may run: it walks every spring once per
   // stretch pass.
   const bool may_tile = asked == GpuPath::Tiled || (asked == GpuPath::Auto && !device.software);
   const StretchTiling tiling = may_tile ? stretchTiling(needs, topo, colouring, device) : StretchTiling{};
-  const std::string tiled_misfit = may_tile ? tiledMisfit(needs, tiling, device) : "not asked for";
-  if (asked == GpuPath::Tiled && !tiled_misfit.empty())
-    c.refusal = "gpu solver: the tiled stretch limit does not apply: " + tiled_misfit;
+  c.tiled_misfit = may_tile ? tiledMisfit(needs, tiling, device) : "not asked for";
+  if (asked == GpuPath::Tiled && !c.tiled_misfit.empty())
+    c.refusal = "gpu solver: the tiled stretch limit does not apply: " + c.tiled_misfit;
   // Forced, either still gives way to the general path when a live change (self-collision on, a stretch pass
   // more) makes it misfit.
   const bool one_group =
-      misfit.empty() && (asked == GpuPath::OneDispatch || (asked == GpuPath::Auto && !device.software));
-  const bool tiled = !one_group && may_tile && tiled_misfit.empty();
+      c.one_dispatch_misfit.empty() && (asked == GpuPath::OneDispatch || (asked == GpuPath::Auto && !device.software));
+  const bool tiled = !one_group && may_tile && c.tiled_misfit.empty();
   c.path = one_group ? GpuPath::OneDispatch : tiled ? GpuPath::Tiled : GpuPath::General;
   if (tiled) c.tiling = tiling;
   if ((tiled || one_group) && needs.grid) c.grid_rests = uniformGridRests(topo, needs);

@@ -51,6 +51,8 @@ StretchTiling tilingFor(std::uint64_t shared, std::uint64_t max_group, int reach
 
 struct PathChoice {
   GpuPath path = GpuPath::General;  // what runs: General, Tiled or OneDispatch
+  std::string one_dispatch_misfit;  // why the one-dispatch path does not fit ("" if it does)
+  std::string tiled_misfit;         // why the tiled stretch limit does not apply ("not asked for": not worked out)
   // A forced path (GpuPath::Tiled, OneDispatch) that does not fit: the message a new solver throws with. A live
   // parameter change that makes it misfit moves the solver to the general path instead.
   std::string refusal;
