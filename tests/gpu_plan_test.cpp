@@ -408,6 +408,8 @@ TEST(GpuKernels, EveryPassHasARowWithItsKernel) {
     const gpu::KernelRow& row = gpu::kernelRow(Pass(p));
     SCOPED_TRACE(row.name);
     EXPECT_EQ(row.pass, Pass(p));
+    EXPECT_NE(row.defines, nullptr);
+    EXPECT_NE(row.bytes, nullptr);
     EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(DRAPE_SOURCE_DIR) / "glsl" / row.file)) << row.file;
     EXPECT_TRUE(names.insert(row.name).second) << "a name twice";
     for (int variant = 0; variant < row.variants; ++variant) {

@@ -23,16 +23,6 @@ void main() {
   bool pinned_a = isPinned(pa), pinned_b = isPinned(pb);
   vec3 ca, cb;
   stretchSpring(pa.xyz, pb.xyz, pinned_a, pinned_b, s.rest, ca, cb);
-  if (!pinned_a) {
-    precise vec3 xa = pa.xyz + ca;
-    precise vec3 va = loadDisp(s.a) + ca;  // x_prev stays where it was
-    posIn[s.a] = vec4(xa, pa.w);
-    storeDispInPlace(s.a, va);
-  }
-  if (!pinned_b) {
-    precise vec3 xb = pb.xyz + cb;
-    precise vec3 vb = loadDisp(s.b) + cb;
-    posIn[s.b] = vec4(xb, pb.w);
-    storeDispInPlace(s.b, vb);
-  }
+  if (!pinned_a) movePointInPlace(s.a, pa, ca);
+  if (!pinned_b) movePointInPlace(s.b, pb, cb);
 }

@@ -55,9 +55,6 @@ void main() {
     inertiaTarget[i] = vec4(x, 0.0);
   }
 #endif
-  precise vec3 dx = vbdStepOf(i, x, inertia, pull);
-  precise vec3 xn = x + dx;
-  precise vec3 vn = loadDisp(i) + dx;  // x_prev stays: v = x - x_prev is the solved displacement
-  posIn[i] = vec4(xn, position.w);
-  storeDispInPlace(i, vn);
+  // x_prev stays: v = x - x_prev is the solved displacement.
+  movePointInPlace(i, position, vbdStepOf(i, x, inertia, pull));
 }

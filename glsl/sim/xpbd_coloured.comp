@@ -50,16 +50,7 @@ void main() {
 #if XPBD_LAMBDA
   lambdas[index] = next;
 #endif
-  if (!pinned_a) {
-    precise vec3 xa = pa.xyz + ca;
-    precise vec3 va = loadDisp(s.a) + ca;  // x_prev stays: v = x - x_prev is the constrained displacement
-    posIn[s.a] = vec4(xa, pa.w);
-    storeDispInPlace(s.a, va);
-  }
-  if (!pinned_b) {
-    precise vec3 xb = pb.xyz + cb;
-    precise vec3 vb = loadDisp(s.b) + cb;
-    posIn[s.b] = vec4(xb, pb.w);
-    storeDispInPlace(s.b, vb);
-  }
+  // x_prev stays: v = x - x_prev is the constrained displacement.
+  if (!pinned_a) movePointInPlace(s.a, pa, ca);
+  if (!pinned_b) movePointInPlace(s.b, pb, cb);
 }

@@ -150,11 +150,12 @@ constexpr std::array<KernelRow, kPassCount> kRows = {{
 }};
 // clang-format on
 
-// A pass without its row, or a row out of place, does not compile.
+// A pass without its row, or a row out of place, does not compile: a row left out leaves the table's last one
+// empty, whose pass is not the last Pass. (The function pointers are checked by tests/gpu_plan_test.cpp: the
+// address of a function of another file is no constant to compare under the sanitizers.)
 constexpr bool rowsInOrder() {
   for (std::size_t p = 0; p < kPassCount; ++p)
-    if (kRows[p].pass != Pass(p) || kRows[p].name == nullptr || kRows[p].file == nullptr ||
-        kRows[p].defines == nullptr || kRows[p].bytes == nullptr || kRows[p].variants < 1)
+    if (kRows[p].pass != Pass(p) || kRows[p].name == nullptr || kRows[p].file == nullptr || kRows[p].variants < 1)
       return false;
   return true;
 }

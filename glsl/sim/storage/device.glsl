@@ -29,4 +29,12 @@ void storePointInPlace(uint i, vec3 x, vec3 v, float pin) {
   posIn[i] = vec4(x, pin);
   storeDispInPlace(i, v);
 }
+
+// Point i, at `position` (w its pin flag), moved in place by a correction c of a Gauss-Seidel colour: x and v
+// alike, so x_prev stays where it was.
+void movePointInPlace(uint i, vec4 position, vec3 c) {
+  precise vec3 x = position.xyz + c;
+  precise vec3 v = loadDisp(i) + c;
+  storePointInPlace(i, x, v, position.w);
+}
 #endif
