@@ -19,46 +19,40 @@ using uint = std::uint32_t;
 
 // Shader storage binding points. Ping-pong passes read the *In buffers and write the *Out ones; the
 // solver binds the two copies of the state to these points alternately.
-DRAPE_CONSTANT(uint, kBindingParams, 0u);             // SimParams
-DRAPE_CONSTANT(uint, kBindingPosIn, 1u);              // vec4 per point: xyz position (m), w pin flag
-DRAPE_CONSTANT(uint, kBindingDispIn, 2u);             // 3 floats per point, packed: displacement x - x_prev (m)
-DRAPE_CONSTANT(uint, kBindingPosOut, 3u);             // the other copy of positions, written by ping-pong passes
-DRAPE_CONSTANT(uint, kBindingDispOut, 4u);            // the other copy of displacements
-DRAPE_CONSTANT(uint, kBindingOffsets, 5u);            // uint per point + 1: CSR offsets into neighbours
-DRAPE_CONSTANT(uint, kBindingNeighbors, 6u);          // Neighbor per adjacency entry
-DRAPE_CONSTANT(uint, kBindingColliders, 7u);          // Collider: NUM_SPHERES spheres, then NUM_PLANES planes
-DRAPE_CONSTANT(uint, kBindingGridPoints, 8u);         // GridPoint per point
-DRAPE_CONSTANT(uint, kBindingGridCounts, 9u);         // uint per bucket: points counted into it (atomics); the
-                                                      // lists' per-point candidate counts reuse it
-DRAPE_CONSTANT(uint, kBindingGridStart, 10u);         // uint per bucket + 1: exclusive prefix sum of counts
-DRAPE_CONSTANT(uint, kBindingGridBlocks, 11u);        // uint per scan block: block totals, then their prefix
-DRAPE_CONSTANT(uint, kBindingGridScatter, 12u);       // uint per point: indices by bucket, in atomic order
-DRAPE_CONSTANT(uint, kBindingGridSorted, 13u);        // GridEntry per point: by bucket, ascending index within
-DRAPE_CONSTANT(uint, kBindingHealth, 14u);            // Health
-DRAPE_CONSTANT(uint, kBindingNormals, 15u);           // vec4 per point: unit normal, w = 0
-DRAPE_CONSTANT(uint, kBindingTangents, 16u);          // vec4 per point: unit tangent along +u, w = bitangent sign
-DRAPE_CONSTANT(uint, kBindingVertexTriOffsets, 17u);  // uint per point + 1: CSR offsets into vertexTris
-DRAPE_CONSTANT(uint, kBindingVertexTris, 18u);        // uint per (vertex, triangle): triangle index
-DRAPE_CONSTANT(uint, kBindingTriangles, 19u);         // uint, 3 per triangle
-DRAPE_CONSTANT(uint, kBindingUvs, 20u);               // vec2 per point: texture coordinates
-DRAPE_CONSTANT(uint, kBindingPick, 21u);              // PickResult
-DRAPE_CONSTANT(uint, kBindingColouredSprings, 22u);   // ColouredSpring, grouped by colour (Gauss-Seidel stretch)
-DRAPE_CONSTANT(uint, kBindingPairControl, 23u);       // PairControl: the self-collision lists' bookkeeping
-DRAPE_CONSTANT(uint, kBindingPairAnchor, 24u);        // vec4 per point: position at the last list build
-DRAPE_CONSTANT(uint, kBindingPairStart, 25u);         // uint per point + 1: where each point's list starts
-DRAPE_CONSTANT(uint, kBindingPairList, 26u);          // uint per candidate: each point's candidates, ascending
+DRAPE_CONSTANT(uint, kBindingParams, 0u);            // SimParams
+DRAPE_CONSTANT(uint, kBindingPosIn, 1u);             // vec4 per point: xyz position (m), w pin flag
+DRAPE_CONSTANT(uint, kBindingDispIn, 2u);            // 3 floats per point, packed: displacement x - x_prev (m)
+DRAPE_CONSTANT(uint, kBindingPosOut, 3u);            // the other copy of positions, written by ping-pong passes
+DRAPE_CONSTANT(uint, kBindingDispOut, 4u);           // the other copy of displacements
+DRAPE_CONSTANT(uint, kBindingOffsets, 5u);           // uint per point + 1: CSR offsets into neighbours
+DRAPE_CONSTANT(uint, kBindingNeighbors, 6u);         // Neighbor per adjacency entry
+DRAPE_CONSTANT(uint, kBindingColliders, 7u);         // Collider: NUM_SPHERES spheres, then NUM_PLANES planes
+DRAPE_CONSTANT(uint, kBindingGridPoints, 8u);        // GridPoint per point
+DRAPE_CONSTANT(uint, kBindingGridCounts, 9u);        // uint per bucket: points counted into it (atomics); the
+                                                     // lists' per-point candidate counts reuse it
+DRAPE_CONSTANT(uint, kBindingGridStart, 10u);        // uint per bucket + 1: exclusive prefix sum of counts
+DRAPE_CONSTANT(uint, kBindingGridBlocks, 11u);       // uint per scan block: block totals, then their prefix
+DRAPE_CONSTANT(uint, kBindingGridScatter, 12u);      // uint per point: indices by bucket, in atomic order
+DRAPE_CONSTANT(uint, kBindingGridSorted, 13u);       // GridEntry per point: by bucket, ascending index within
+DRAPE_CONSTANT(uint, kBindingHealth, 14u);           // Health
+DRAPE_CONSTANT(uint, kBindingPick, 15u);             // PickResult
+DRAPE_CONSTANT(uint, kBindingColouredSprings, 16u);  // ColouredSpring, grouped by colour (Gauss-Seidel stretch)
+DRAPE_CONSTANT(uint, kBindingPairControl, 17u);      // PairControl: the self-collision lists' bookkeeping
+DRAPE_CONSTANT(uint, kBindingPairAnchor, 18u);       // vec4 per point: position at the last list build
+DRAPE_CONSTANT(uint, kBindingPairStart, 19u);        // uint per point + 1: where each point's list starts
+DRAPE_CONSTANT(uint, kBindingPairList, 20u);         // uint per candidate: each point's candidates, ascending
 // Per-point quantities that a mesh cloth does not share between its points (a grid's are all alike).
-DRAPE_CONSTANT(uint, kBindingPointMass, 27u);   // PointMass per point
-DRAPE_CONSTANT(uint, kBindingXpbdLambda, 28u);  // float per coloured spring: XPBD multipliers (iterations > 1)
+DRAPE_CONSTANT(uint, kBindingPointMass, 21u);   // PointMass per point
+DRAPE_CONSTANT(uint, kBindingXpbdLambda, 22u);  // float per coloured spring: XPBD multipliers (iterations > 1)
 // The one-dispatch path (glsl/sim/one_group.comp): per spring colour and point, the point's spring of
 // that colour, if any (ColourPartner, colour-major).
-DRAPE_CONSTANT(uint, kBindingColourPartners, 29u);
-DRAPE_CONSTANT(uint, kBindingTethers, 30u);  // Tether per point and slot (TETHER_SLOTS a point), point-major
+DRAPE_CONSTANT(uint, kBindingColourPartners, 23u);
+DRAPE_CONSTANT(uint, kBindingTethers, 24u);  // Tether per point and slot (TETHER_SLOTS a point), point-major
 // Vertex Block Descent: the points grouped by colour (core/colouring.hpp), and with more than one sweep
 // per substep the prediction y each point's inertia pulls towards.
-DRAPE_CONSTANT(uint, kBindingColouredPoints, 31u);  // uint per point: point indices grouped by colour
-DRAPE_CONSTANT(uint, kBindingVbdInertia, 32u);      // vec4 per point: xyz the prediction y (iterations > 1)
-DRAPE_CONSTANT(uint, kBindingCount, 33u);           // binding points used: one more than the largest
+DRAPE_CONSTANT(uint, kBindingColouredPoints, 25u);  // uint per point: point indices grouped by colour
+DRAPE_CONSTANT(uint, kBindingVbdInertia, 26u);      // vec4 per point: xyz the prediction y (iterations > 1)
+DRAPE_CONSTANT(uint, kBindingCount, 27u);           // binding points used: one more than the largest
 
 // Work-group sizes, shared so C++ computes group counts from the same numbers.
 DRAPE_CONSTANT(uint, kLocalSize, 128u);      // per-point and per-bucket kernels

@@ -1,7 +1,6 @@
 #include "gpu/cloth_tables.hpp"
 
 #include "core/derived.hpp"
-#include "gpu/mesh_colliders.hpp"
 
 #include <stdexcept>
 
@@ -119,31 +118,6 @@ std::vector<Tether> tetherEntries(const Tethers& t) {
   for (std::size_t k = 0; k < entries.size(); ++k)
     entries[k] = {t.anchor[k], float(t.rest[k])};
   return entries;
-}
-
-std::vector<Collider> colliders(const Scene& scene) {
-  std::vector<Collider> out;
-  for (const SphereSpec& s : scene.spheres)
-    out.push_back({glm::vec4(glm::vec3(s.origin), float(s.radius)), glm::vec4(float(s.friction), 0, 0, 0)});
-  for (const PlaneSpec& p : scene.planes)
-    out.push_back({glm::vec4(glm::vec3(p.point), float(p.friction)), glm::vec4(glm::vec3(p.normal), 0)});
-  appendMeshColliders(out, scene.meshes);
-  return out;
-}
-
-VertexTriangles vertexTriangles(const Topology& topo) {
-  const std::size_t n = std::size_t(topo.pointCount());
-  VertexTriangles v;
-  v.offsets.assign(n + 1, 0);
-  for (std::uint32_t i : topo.triangles)
-    ++v.offsets[i + 1];
-  for (std::size_t i = 0; i < n; ++i)
-    v.offsets[i + 1] += v.offsets[i];
-  v.triangles.resize(topo.triangles.size());
-  std::vector<std::uint32_t> fill(v.offsets.begin(), v.offsets.end() - 1);
-  for (std::size_t k = 0; k < topo.triangles.size(); ++k)
-    v.triangles[fill[topo.triangles[k]]++] = std::uint32_t(k / 3);
-  return v;
 }
 
 }  // namespace drape::gpu

@@ -1,6 +1,6 @@
 // What the GPU solver uploads of a scene, worked out on the host (GL-free): the parameters every kernel reads,
 // the per-point masses, the adjacency and the coloured springs of the enabled spring types, the tables of the
-// tiled and one-dispatch stretch limits, the tethers, the colliders and the render topology. Every value is
+// tiled and one-dispatch stretch limits, and the tethers (the colliders: colliders.hpp). Every value is
 // rounded with the CPU reference's operations, so both solvers start from the same floats.
 #pragma once
 
@@ -49,15 +49,5 @@ std::vector<ColourPartner> colourPartners(const Topology& topo, const SpringColo
                                           const SceneNeeds& needs);
 
 std::vector<Tether> tetherEntries(const Tethers& tethers);
-
-// Spheres, then planes, then the mesh obstacles' headers and distance samples (mesh_colliders.hpp).
-std::vector<Collider> colliders(const Scene& scene);
-
-// The triangles around each vertex as CSR lists, in ascending triangle order (the normals' gather).
-struct VertexTriangles {
-  std::vector<std::uint32_t> offsets;
-  std::vector<std::uint32_t> triangles;
-};
-VertexTriangles vertexTriangles(const Topology& topo);
 
 }  // namespace drape::gpu

@@ -1,6 +1,7 @@
 #include "gpu/device_cloth.hpp"
 
 #include "core/tethers.hpp"
+#include "gpu/colliders.hpp"
 
 #include <algorithm>
 #include <stdexcept>
@@ -23,15 +24,6 @@ DeviceCloth::DeviceCloth(const Scene& scene, const Topology& topo) : topo_(&topo
   colliders_ = gl::Buffer::fromVector(colliders(scene), 0);
   health_ = gl::Buffer::create(sizeof(Health), nullptr, kUpdatable);
   pick_ = gl::Buffer::create(sizeof(PickResult), nullptr, kUpdatable);
-  normals_ = gl::Buffer::create(n * sizeof(glm::vec4), nullptr, 0);
-  tangents_ = gl::Buffer::create(n * sizeof(glm::vec4), nullptr, 0);
-  normals_.clear();
-  tangents_.clear();
-  const VertexTriangles around = vertexTriangles(topo);
-  vertex_tri_offsets_ = gl::Buffer::fromVector(around.offsets, 0);
-  vertex_tris_ = gl::Buffer::fromVector(around.triangles, 0);
-  triangles_ = gl::Buffer::fromVector(topo.triangles, 0);
-  uvs_ = gl::Buffer::fromVector(topo.uvs, 0);
 }
 
 void DeviceCloth::uploadParams(const Scene& scene, const ParamsInput& in) {
@@ -111,12 +103,6 @@ void DeviceCloth::bind(std::uint16_t bindings) const {
       {kBindTethers, tethers_, kBindingTethers},
       {kBindXpbdLambda, xpbd_lambda_, kBindingXpbdLambda},
       {kBindVbdInertia, vbd_inertia_, kBindingVbdInertia},
-      {kBindRender, normals_, kBindingNormals},
-      {kBindRender, tangents_, kBindingTangents},
-      {kBindRender, vertex_tri_offsets_, kBindingVertexTriOffsets},
-      {kBindRender, vertex_tris_, kBindingVertexTris},
-      {kBindRender, triangles_, kBindingTriangles},
-      {kBindRender, uvs_, kBindingUvs},
       {kBindPick, pick_, kBindingPick},
   };
   for (const Entry& e : entries)
@@ -235,8 +221,7 @@ std::size_t DeviceCloth::bytes() const {
     total += s.position.size() + s.displacement.size();
   for (const gl::Buffer* b :
        {&params_, &point_mass_, &offsets_, &neighbors_, &colliders_, &health_, &pick_, &coloured_springs_,
-        &xpbd_lambda_, &coloured_points_, &vbd_inertia_, &colour_partners_, &tethers_, &normals_, &tangents_,
-        &vertex_tri_offsets_, &vertex_tris_, &triangles_, &uvs_})
+        &xpbd_lambda_, &coloured_points_, &vbd_inertia_, &colour_partners_, &tethers_})
     total += b->size();
   return total;
 }

@@ -1,6 +1,7 @@
 // The cloth on the GPU: its state (two copies that ping-pong passes alternate between) and every buffer the
 // kernels read, built from the host tables of cloth_tables.hpp; the narrow face the renderer reads (the current
-// positions, normals, tangents and health flags); and the explicit, named reads and writes of points.
+// positions and the health flags: it computes its normals from the positions, render/surface_pass.hpp); and the
+// explicit, named reads and writes of points.
 #pragma once
 
 #include "core/colouring.hpp"
@@ -20,8 +21,7 @@ namespace drape::gpu {
 
 class DeviceCloth {
  public:
-  // The state, the per-point buffers, the colliders, the health flags and the render topology of `topo`, which
-  // must outlive it.
+  // The state, the per-point buffers, the colliders and the health flags of `topo`, which must outlive it.
   DeviceCloth(const Scene& scene, const Topology& topo);
 
   void uploadParams(const Scene& scene, const ParamsInput& in);
@@ -56,8 +56,6 @@ class DeviceCloth {
   PickResult readPick() const;
 
   const gl::Buffer& position() const { return state_[current_].position; }
-  const gl::Buffer& normals() const { return normals_; }
-  const gl::Buffer& tangents() const { return tangents_; }
   const gl::Buffer& health() const { return health_; }
   std::size_t bytes() const;
 
@@ -79,7 +77,6 @@ class DeviceCloth {
   gl::Buffer vbd_inertia_;       // VBD with more than one sweep: vec4 per point, the prediction y
   gl::Buffer colour_partners_;   // ColourPartner table
   gl::Buffer tethers_;           // Tether per point and slot, once the scene asks for them
-  gl::Buffer normals_, tangents_, vertex_tri_offsets_, vertex_tris_, triangles_, uvs_;
   ClothCounts counts_;
 };
 

@@ -2,8 +2,8 @@
 
 #include "core/cloth_mesh.hpp"
 #include "gl/gl.hpp"
+#include "gpu/colliders.hpp"
 #include "gpu/layout.hpp"
-#include "gpu/mesh_colliders.hpp"
 
 #include <algorithm>
 #include <cstdio>

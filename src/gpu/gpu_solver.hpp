@@ -89,10 +89,7 @@ class GpuSolver final : public Solver {
   // For the renderer. The state lives in two buffers that passes alternate between, so ask for the current one
   // every frame. vec4 per point (std430): xyz position, w the pin flag (1 pinned or held).
   const gl::Buffer& positionBuffer() const { return cloth_->position(); }
-  const gl::Buffer& normalBuffer() const { return cloth_->normals(); }    // vec4: unit normal, w = 0
-  const gl::Buffer& tangentBuffer() const { return cloth_->tangents(); }  // vec4: unit tangent (+u), w = bitangent sign
-  const gl::Buffer& healthBuffer() const { return cloth_->health(); }     // gpu::Health: the flags the check raised
-  void computeNormals() { runner_->computeNormals(plan_); }               // once per frame before drawing
+  const gl::Buffer& healthBuffer() const { return cloth_->health(); }  // gpu::Health: the flags the check raised
 
   // Mouse dragging. setPosition moves a point and keeps its displacement (x_prev moves with it, so no velocity
   // kick); a held point behaves as pinned at the target until releasePoint().

@@ -17,8 +17,6 @@ void flag(gl::Defines& d, const char* name, bool value) {
 }
 
 // Each kernel's defines, built here and nowhere else: the scene's, and what the plan chose for the kernel.
-void none(const Plan&, int, gl::Defines&) {}
-
 void scene(const Plan& p, int, gl::Defines& d) {
   d = sceneDefines(p.needs);
 }
@@ -144,7 +142,6 @@ constexpr std::array<KernelRow, kPassCount> kRows = {{
   {Pass::VbdColoured, "vbd_colour", "sim/vbd_coloured.comp", Label::Plain, scene, kBindColouredPoints | kBindVbdInertia, kUniformRange | kUniformSweep, Fixed::None, traffic::vbdColour},
   {Pass::Collide, "collide", "sim/collide.comp", Label::Plain, scene, kNoBindings, kNoUniforms, Fixed::None, traffic::collide},
   {Pass::Tether, kTetherPassName, "sim/tether.comp", Label::Plain, tether, kBindTethers, kNoUniforms, Fixed::None, traffic::tether},
-  {Pass::Normals, "normals", "sim/normals.comp", Label::Plain, none, kBindRender, kNoUniforms, Fixed::None, traffic::none},
   {Pass::Pick, "pick", "sim/pick.comp", Label::Plain, pick, kBindPick, kNoUniforms, Fixed::None, traffic::none, 2},
   {Pass::Health, "health", "sim/health.comp", Label::Plain, scene, kNoBindings, kNoUniforms, Fixed::None, traffic::none},
 }};

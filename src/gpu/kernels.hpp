@@ -21,8 +21,7 @@ enum Binding : std::uint16_t {
   kBindTethers = 1u << 3,
   kBindXpbdLambda = 1u << 4,  // XPBD's multipliers, with more than one sweep
   kBindVbdInertia = 1u << 5,  // VBD's prediction, with more than one sweep
-  kBindRender = 1u << 6,      // normals, tangents and the triangles around each vertex
-  kBindPick = 1u << 7,
+  kBindPick = 1u << 6,
 };
 
 // Uniforms set on every dispatch (those fixed until the next plan are set once: Programs::prepare).

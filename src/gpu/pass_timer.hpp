@@ -18,7 +18,7 @@ class PassTimer {
  public:
   void configure(bool timing, bool timer_queries);
   bool timing() const { return timing_; }
-  // The host may pause before the next dispatch (a substep, the normals before a draw): the next timed
+  // The host may pause before the next dispatch (a substep, a pick, a frame drawn): the next timed
   // dispatch starts a new run of timestamps, so that the pause is not counted as its time.
   void pause() { break_ = true; }
 

@@ -47,7 +47,6 @@ enum class Pass : std::uint8_t {
   VbdColoured,
   Collide,
   Tether,
-  Normals,
   Pick,
   Health,
   Count

@@ -1,8 +1,6 @@
 #include "gpu/plan_runner.hpp"
 
-#include "gpu/traffic.hpp"
-
-#include <algorithm>
+#include "gpu/kernels.hpp"
 
 namespace drape::gpu {
 
@@ -80,25 +78,8 @@ void PlanRunner::dispatch(const Plan& plan, const Dispatch& d, long long substep
   checked_health_ = d.pass == Pass::Health || d.check_health;
 }
 
-// Work groups covering `invocations`, spread over y when x alone would pass the guaranteed limit (the kernels
-// fold the 2D index back, see globalIndex() in glsl/sim/common.glsl).
 glm::uvec3 PlanRunner::groupsFor(std::uint64_t invocations) const {
-  const std::uint64_t groups = std::max<std::uint64_t>((invocations + kLocalSize - 1) / kLocalSize, 1);
-  if (groups <= max_groups_x_) return {std::uint32_t(groups), 1, 1};
-  const std::uint64_t rows = (groups + max_groups_x_ - 1) / max_groups_x_;
-  return {max_groups_x_, std::uint32_t(rows), 1};
-}
-
-void PlanRunner::computeNormals(const Plan& plan) {
-  timer_.pause();
-  const gl::Program& program = programs_.get(plan, Pass::Normals);
-  cloth_.bindShared();
-  cloth_.position().bindBase(GL_SHADER_STORAGE_BUFFER, kBindingPosIn);
-  cloth_.bind(kernelRow(Pass::Normals).bindings);
-  timed(Pass::Normals, [&] { program.dispatch(groupsFor(std::uint64_t(plan.points))); });
-  // The barrier after the dispatch made the writes visible to shader storage reads (vertex pulling); a renderer
-  // that binds the buffers as vertex attributes needs this bit as well.
-  glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
+  return gpu::groupsFor(invocations, max_groups_x_);
 }
 
 int PlanRunner::pickPoint(const Plan& plan, glm::vec3 origin, glm::vec3 direction, float radius) {

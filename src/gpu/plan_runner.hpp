@@ -1,6 +1,6 @@
 // Runs a plan's dispatches: binds what each kernel row names, sets its per-dispatch uniforms, dispatches it
 // with its extent, keeps the state's ping-pong, and puts the storage barrier after it that the next pass needs.
-// Also the renderer's two dispatches outside the plan: the normals and picking.
+// Also the one dispatch outside the plan: picking, for the viewer's mouse.
 #pragma once
 
 #include "gpu/device_cloth.hpp"
@@ -32,7 +32,6 @@ class PlanRunner {
   // Whether the last dispatch was a health check of the current state.
   bool checkedHealth() const { return checked_health_; }
 
-  void computeNormals(const Plan& plan);
   int pickPoint(const Plan& plan, glm::vec3 origin, glm::vec3 direction, float radius);
 
  private:

@@ -16,7 +16,7 @@ class Programs {
   // Every kernel the plan dispatches and the health check, so that one that does not compile fails here; then
   // the uniforms that stay until the next plan.
   void prepare(const Plan& plan);
-  // The pass's program for this plan, compiled on first use (normals and picking are compiled when first asked).
+  // The pass's program for this plan, compiled on first use (picking is compiled when first asked).
   const gl::Program& get(const Plan& plan, Pass pass, int variant = 0);
   // A program prepare() compiled for the current plan, without working out its defines again.
   const gl::Program& prepared(Pass pass) const;

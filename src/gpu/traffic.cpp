@@ -23,8 +23,8 @@ constexpr double kRange = 2 * sizeof(std::uint32_t);
 // copied by two groups twice), and what the group reads again of what it copied not at all.
 namespace traffic {
 
-// pairs_prepare: one invocation; the list build: zero work groups while the lists are fresh; the health check,
-// the normals and picking: once a frame or on request, not a substep's.
+// pairs_prepare: one invocation; the list build: zero work groups while the lists are fresh; the health check and
+// picking: once a frame or on request, not a substep's.
 double none(const Plan&, const Dispatch&, const TrafficCounts&) {
   return 0;
 }

@@ -1,19 +1,15 @@
-#include "gpu/mesh_colliders.hpp"
+#include "gpu/colliders.hpp"
 
 #include "core/mesh_obstacle.hpp"
 
 #include <stdexcept>
 
-namespace drape {
+namespace drape::gpu {
 
-std::uint64_t colliderCount(const Scene& scene) {
-  std::uint64_t n = scene.spheres.size() + scene.planes.size() + 2 * scene.meshes.size();
-  for (const MeshSpec& m : scene.meshes)
-    n += (m.mesh->field.samples.size() + 7) / 8;
-  return n;
-}
+namespace {
 
-void appendMeshColliders(std::vector<gpu::Collider>& colliders, const std::vector<MeshSpec>& meshes) {
+// Two headers per mesh after the spheres and planes already in `colliders`, then every mesh's samples.
+void appendMeshColliders(std::vector<Collider>& colliders, const std::vector<MeshSpec>& meshes) {
   const std::size_t headers = colliders.size();
   std::size_t base = headers + 2 * meshes.size();
   for (const MeshSpec& m : meshes) {
@@ -37,4 +33,23 @@ void appendMeshColliders(std::vector<gpu::Collider>& colliders, const std::vecto
   }
 }
 
-}  // namespace drape
+}  // namespace
+
+std::vector<Collider> colliders(const Scene& scene) {
+  std::vector<Collider> out;
+  for (const SphereSpec& s : scene.spheres)
+    out.push_back({glm::vec4(glm::vec3(s.origin), float(s.radius)), glm::vec4(float(s.friction), 0, 0, 0)});
+  for (const PlaneSpec& p : scene.planes)
+    out.push_back({glm::vec4(glm::vec3(p.point), float(p.friction)), glm::vec4(glm::vec3(p.normal), 0)});
+  appendMeshColliders(out, scene.meshes);
+  return out;
+}
+
+std::uint64_t colliderCount(const Scene& scene) {
+  std::uint64_t n = scene.spheres.size() + scene.planes.size() + 2 * scene.meshes.size();
+  for (const MeshSpec& m : scene.meshes)
+    n += (m.mesh->field.samples.size() + 7) / 8;
+  return n;
+}
+
+}  // namespace drape::gpu
