@@ -5,16 +5,10 @@
 #define SIM_NO_SPRINGS
 #define SIM_NO_HEALTH
 #include "storage/device.glsl"
+#include "storage/each_point.glsl"
 #include "phases/collide.glsl"
 
-layout(local_size_x = kLocalSize) in;
-
-void main() {
-  uint i = globalIndex();
-  if (i >= params.point_count) return;
-  vec3 x, v;
-  float pin;
-  loadPoint(i, x, v, pin);
+void eachPoint(uint i, vec3 x, vec3 v, float pin) {
   if (pin == 0.0) collideObjects(x, v);
   storePoint(i, x, v, pin);
 }

@@ -5,6 +5,7 @@
 // Reads *In and writes *Out: the force gather reads the neighbours' positions while other invocations
 // move theirs, so integrating in place would race.
 #include "storage/device.glsl"
+#include "storage/each_point.glsl"
 #include "point_mass.glsl"
 #if WIND
 uniform float u_time;  // s, simulated time at the start of the substep (substeps * dt, as the CPU)
@@ -21,14 +22,7 @@ float windTime() {
 #include "pair_travel.glsl"
 #endif
 
-layout(local_size_x = kLocalSize) in;
-
-void main() {
-  uint i = globalIndex();
-  if (i >= params.point_count) return;
-  vec3 x, v;
-  float pin;
-  loadPoint(i, x, v, pin);
+void eachPoint(uint i, vec3 x, vec3 v, float pin) {
   integratePoint(i, ivec2(0), x, v, pin, pointWeight(i));
 #if TRAVEL_CHECK
   checkPairTravel(i, x);

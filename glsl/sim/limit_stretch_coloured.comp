@@ -4,21 +4,15 @@
 // invocations write the same point, and the barrier between dispatches gives the next colour the moved points.
 #define STATE_IN_PLACE
 #include "storage/device.glsl"
+#include "storage/each_in_colour.glsl"
 #include "phases/stretch.glsl"
-
-layout(local_size_x = kLocalSize) in;
 
 layout(std430, binding = kBindingColouredSprings) readonly buffer ColouredSpringsBuffer {
   ColouredSpring colouredSprings[];
 };
 
-uniform uint u_first;  // the colour's first spring
-uniform uint u_count;  // springs in the colour
-
-void main() {
-  uint k = globalIndex();
-  if (k >= u_count) return;
-  ColouredSpring s = colouredSprings[u_first + k];
+void eachInColour(uint index) {
+  ColouredSpring s = colouredSprings[index];
   vec4 pa = neighbour(s.a), pb = neighbour(s.b);
   bool pinned_a = isPinned(pa), pinned_b = isPinned(pb);
   vec3 ca, cb;

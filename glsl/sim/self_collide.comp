@@ -11,10 +11,9 @@
 #define SIM_NO_HEALTH
 #define PAIR_NO_ANCHOR
 #include "storage/device.glsl"
+#include "storage/each_point.glsl"
 #include "phases/contacts.glsl"
 #include "pairs.glsl"
-
-layout(local_size_x = kLocalSize) in;
 
 ivec3 orderCell(vec3 p) {
   return cellOf(p, params.inv_cell_size);
@@ -167,12 +166,7 @@ void sumFromGrid(uint i, vec3 x, inout vec3 sum, inout int count) {
   sum = acc;
 }
 
-void main() {
-  uint i = globalIndex();
-  if (i >= params.point_count) return;
-  vec3 x, v;
-  float pin;
-  loadPoint(i, x, v, pin);
+void eachPoint(uint i, vec3 x, vec3 v, float pin) {
   precise vec3 sum = vec3(0.0);
   int count = 0;
   if (pin == 0.0) {

@@ -4,16 +4,10 @@
 #define SIM_NO_COLLIDERS
 #define SIM_NO_HEALTH
 #include "storage/device.glsl"
+#include "storage/each_point.glsl"
 #include "phases/tether.glsl"
 
-layout(local_size_x = kLocalSize) in;
-
-void main() {
-  uint i = globalIndex();
-  if (i >= params.point_count) return;
-  vec3 x, v;
-  float pin;
-  loadPoint(i, x, v, pin);
+void eachPoint(uint i, vec3 x, vec3 v, float pin) {
   if (pin != 0.0) return;
   tetherPoint(i, x, v);
   storePointInPlace(i, x, v, pin);

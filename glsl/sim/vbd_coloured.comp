@@ -7,6 +7,7 @@
 #define SIM_NO_COLLIDERS
 #define SIM_NO_HEALTH
 #include "storage/device.glsl"
+#include "storage/each_in_colour.glsl"
 #include "phases/vbd.glsl"
 #if !UNIFORM_MASS
 #include "point_mass.glsl"
@@ -15,8 +16,6 @@
 #ifndef VBD_INERTIA
 #define VBD_INERTIA 0
 #endif
-
-layout(local_size_x = kLocalSize) in;
 
 layout(std430, binding = kBindingColouredPoints) readonly buffer ColouredPointsBuffer {
   uint colouredPoints[];
@@ -30,13 +29,8 @@ layout(std430, binding = kBindingVbdInertia) buffer InertiaBuffer {
 uniform uint u_sweep;  // 0: the substep's first sweep
 #endif
 
-uniform uint u_first;  // the colour's first point
-uniform uint u_count;  // points in the colour
-
-void main() {
-  uint k = globalIndex();
-  if (k >= u_count) return;
-  uint i = colouredPoints[u_first + k];
+void eachInColour(uint index) {
+  uint i = colouredPoints[index];
   vec4 position = posIn[i];
   if (isPinned(position)) return;
 #if UNIFORM_MASS

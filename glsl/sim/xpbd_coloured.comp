@@ -8,14 +8,13 @@
 #define SIM_NO_COLLIDERS
 #define SIM_NO_HEALTH
 #include "storage/device.glsl"
+#include "storage/each_in_colour.glsl"
 #include "point_mass.glsl"
 #include "phases/xpbd.glsl"
 
 #ifndef XPBD_LAMBDA
 #define XPBD_LAMBDA 0
 #endif
-
-layout(local_size_x = kLocalSize) in;
 
 layout(std430, binding = kBindingColouredSprings) readonly buffer ColouredSpringsBuffer {
   ColouredSpring colouredSprings[];
@@ -28,13 +27,7 @@ layout(std430, binding = kBindingXpbdLambda) buffer LambdaBuffer {
 uniform uint u_sweep;  // 0: the substep's first sweep, which starts every multiplier at 0
 #endif
 
-uniform uint u_first;  // the colour's first spring
-uniform uint u_count;  // springs in the colour
-
-void main() {
-  uint k = globalIndex();
-  if (k >= u_count) return;
-  uint index = u_first + k;
+void eachInColour(uint index) {
   ColouredSpring s = colouredSprings[index];
   vec4 pa = neighbour(s.a), pb = neighbour(s.b);
   bool pinned_a = isPinned(pa), pinned_b = isPinned(pb);
