@@ -22,7 +22,7 @@ struct GpuSolverOptions {
   // Nonzero terms of a point's self-collision sum kept in registers while its list is swept once; a
   // point with more sums them by sweeping its list again per cell order (same bits, more gathers). -1:
   // chosen per device, 8 on a hardware GPU, 0 on a software renderer, where a gather is a cached load and
-  // holding the terms costs more than it saves (README, "Self-collision on the GPU"). At most 32.
+  // holding the terms costs more than it saves (docs/results/README.md, "Self-collision on the GPU"). At most 32.
   int self_terms_held = -1;
 };
 

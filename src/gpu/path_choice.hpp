@@ -18,7 +18,7 @@ namespace drape {
 // points for a block and its ring to fit. OneDispatch: every substep of a frame in one work group with the
 // cloth in shared memory (glsl/sim/one_group.comp), for cloths that fit it. Auto: OneDispatch where it fits,
 // else Tiled where it applies, on a hardware GPU; on a software renderer (llvmpipe) the general path, which
-// spreads a frame over its threads where one work group runs on one (measured in README.md, "GPU paths").
+// spreads a frame over its threads where one work group runs on one (measured in docs/results/README.md, "GPU paths").
 enum class GpuPath { Auto, General, Tiled, OneDispatch };
 
 namespace gpu {
