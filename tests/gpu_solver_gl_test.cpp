@@ -761,6 +761,14 @@ TEST_F(GpuSolverTest, EveryBundledSceneDispatchesExactlyItsPassList) {
       EXPECT_EQ(real, planned) << "frame " << frame;
       EXPECT_EQ(real, frameKernels(gpu.plan())) << "frame " << frame;
     }
+    // The tiled path on every grid scene (the one-dispatch path on those that fit: below), one frame: the fused
+    // frame where nothing runs between the stretch limit and the next forces, else its substep's kernels.
+    if (!gpu.scene().cloth.isGrid()) continue;
+    GpuSolver tiled(standardScene(name), {.path = GpuPath::Tiled});
+    const Strings real = recordFrame(tiled);
+    EXPECT_EQ(int(real.size()), tiled.dispatchesPerFrame());
+    EXPECT_EQ(real, plannedKernels(tiled));
+    EXPECT_EQ(real, frameKernels(tiled.plan()));
   }
   // Variants no bundled scene has: the five-dispatch grid build, the Jacobi stretch scheme, three passes;
   // XPBD with self-collision and two sweeps, and without it (its own collide pass); VBD with two sweeps;
