@@ -10,9 +10,9 @@ namespace drape::physics {
 
 // A point closer to the surface than kMeshSurfaceOffset (or inside) goes to that distance along the field's
 // gradient, with the sphere's friction response. The field is trilinear between its samples; its gradient
-// is the trilinear function's own, so target and direction come from the same eight samples. Outside the
-// sampled box (more than the band from the mesh), or where the samples are flat (deeper than the band),
-// nothing happens.
+// is the trilinear function's own, so target and direction come from the same eight samples. The samples
+// are signed distances throughout the lattice, so a point inside is pushed out however deep it is, through
+// the nearest surface; outside the lattice (kFieldPadCells beyond the mesh's bounding box) nothing happens.
 template <class T>
 DRAPE_PHYSICS_INLINE bool collideField(vec3<T> x, vec3<T> v, const DistanceField& field, T friction, vec3<T>& c) {
   const vec3<T> g = (x - vec3<T>(field.origin)) * T(1.0 / field.cell);
