@@ -178,6 +178,32 @@ TEST(Cli, SummaryReportsTheColliders) {
   EXPECT_NE(r.out.find("cpu64"), std::string::npos) << r.out;
 }
 
+// `penetration` reads what `simulate --export` wrote: a cloth square 2 cm under the top of a 1 m box is 20 mm
+// inside from frame 0 (the export of the state before any step); a file that is not this cloth is refused.
+TEST(Cli, PenetrationMeasuresExportedFrames) {
+  const fs::path dir = tempDir() / "penetration";
+  fs::create_directories(dir);
+  std::ofstream(dir / "box.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n"
+                                    "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+  std::ofstream(dir / "square.obj") << "v 0.4 0.98 0.4\nv 0.6 0.98 0.4\nv 0.6 0.98 0.6\nv 0.4 0.98 0.6\nf 1 4 3 2\n";
+  const fs::path scene_file = writeScene("penetration/scene.json", R"({"cloth": {"mesh": "square.obj",
+      "thickness": 0.005}, "meshes": [{"obj": "box.obj"}]})");
+  Result r = run("simulate " + scene_file.string() + " --frames 0 --export " + (dir / "cloth.obj").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = run("penetration " + scene_file.string() + " " + (dir / "cloth_0000.obj").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("contact      from frame 0"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("vertex       deepest 20.000 mm (frame 0,"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(": 20.000 mm, 4 points inside"), std::string::npos) << r.out;
+  r = run("penetration " + scene_file.string() + " " + (dir / "box.obj").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("box.obj: 8 vertices, but the cloth of"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  r = run("penetration " + scene("pinned2.json") + " " + (dir / "cloth_0000.obj").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("no sphere or mesh obstacle"), std::string::npos) << r.err;
+}
+
 // ks = 1e7 N/m at one substep per frame: dt sqrt(k_sum / m) = (1/90) sqrt(8.8e7 / 2.34) = 68, far
 // beyond the stability bound of about 1.4. Pinned at a corner, so the springs stretch from the first
 // step. The run must stop with status 4 and one line, and write no output; the same scene with
@@ -397,7 +423,7 @@ bool hasLongNumber(const std::string& text) {
 }
 
 TEST(ExitStatus, HelpIsStatusZeroAndShowsNoDoubleMaximum) {
-  for (const char* command : {"", "simulate", "view", "render", "bench", "accuracy", "stability"}) {
+  for (const char* command : {"", "simulate", "view", "render", "bench", "accuracy", "stability", "penetration"}) {
     const Result r = run(std::string(command) + " --help");
     EXPECT_EQ(r.status, 0) << command << ": " << r.err;
     EXPECT_FALSE(hasLongNumber(r.out)) << command << " --help:\n" << r.out;

@@ -3,6 +3,7 @@
 #include "core/mesh_obstacle.hpp"
 #include "core/mesh_query.hpp"
 #include "core/metrics.hpp"
+#include "core/penetration.hpp"
 #include "cpu/cpu_solver.hpp"
 #include "cpu/mesh_physics.hpp"
 #include "mesh_test_support.hpp"
@@ -241,6 +242,42 @@ TEST(MeshObstacle, APointDeepInsideIsPushedOutThroughTheNearestFace) {
   glm::vec3 cf;
   ASSERT_TRUE(physics::collideField(glm::vec3(under_top), glm::vec3(v), f, 0.0f, cf));
   EXPECT_NEAR(double((glm::vec3(under_top) + cf).y), 1.0 + kMeshSurfaceOffset, 1e-4);
+}
+
+// The gauge against depths worked out by hand: a triangle whose corners are all outside a box, cutting its
+// edge, is inside by d / sqrt(2) at most; one through a sphere by r - (distance of its plane).
+TEST(Penetration, DeepestPointOfATriangleAcrossABoxEdge) {
+  const Scene s = obstacleScene(boxObj({0, 0, 0}, {1, 1, 1}));
+  const double d = 0.02;  // the edge (x = 1, y = 1) is d beyond the triangle's plane x + y = 2 - d sqrt(2)
+  const double r2 = std::sqrt(2.0);
+  Topology topo;
+  topo.triangles = {0, 1, 2};
+  const Positions x = {{1.03, 0.97 - d * r2, 0.4}, {0.97 - d * r2, 1.03, 0.4}, {1.03, 0.97 - d * r2, 0.6}};
+  const PenetrationGauge gauge(s, topo, 1e-3);
+  const Penetration p = gauge.measure(x);
+  EXPECT_EQ(p.vertices_inside, 0);
+  EXPECT_EQ(p.vertex, 0.0);
+  EXPECT_NEAR(p.surface, d / r2, 1e-3) << "sampled at most 1 mm apart";
+  EXPECT_LE(p.surface, d / r2 + 1e-12);
+  EXPECT_NEAR(p.nearest, 0.03, 2 * firstMesh(s).field.cell)
+      << "each corner is 3 cm outside a face (an estimate so far)";
+  // The same triangle moved 4 cm out along x, its corners beyond the field's lattice: outside, nothing inside.
+  Positions moved = x;
+  for (glm::dvec3& q : moved)
+    q.x += 0.04;
+  EXPECT_EQ(gauge.measure(moved).surface, 0.0);
+  EXPECT_EQ(p.surface_triangle, 0);
+
+  Scene ball;
+  ball.spheres.push_back({glm::dvec3(0, 0, 0), 0.5, 0.3});
+  const Positions y = {{-1, 0.4, -1}, {1, 0.4, -1}, {0, 0.4, 1}, {0, 0.45, 0}};
+  Topology two;
+  two.triangles = {0, 1, 2};
+  const Penetration q = PenetrationGauge(ball, two).measure(y);
+  EXPECT_NEAR(q.surface, 0.1, 1e-12) << "the plane y = 0.4 is 0.1 inside a sphere of radius 0.5";
+  EXPECT_NEAR(q.vertex, 0.05, 1e-12) << "point 3, not in a triangle, is 5 cm inside";
+  EXPECT_EQ(q.vertex_index, 3);
+  EXPECT_EQ(q.vertices_inside, 1);
 }
 
 // Every point outside every obstacle (the exact triangles, not the field).
