@@ -204,6 +204,22 @@ TEST(Cli, PenetrationMeasuresExportedFrames) {
   EXPECT_NE(r.err.find("no sphere or mesh obstacle"), std::string::npos) << r.err;
 }
 
+// A cloth finer than its thickness: simulate names the scene and the pairs self-collision skips; CS184's
+// 50 x 50 file gets no such line.
+TEST(Cli, SimulateWarnsWherePairsAreHeldAtRest) {
+  const fs::path fine = writeScene("fine.json", R"({"cloth": {"width": 1, "height": 1, "num_width_points": 80,
+      "num_height_points": 80, "thickness": 0.0095, "orientation": 0, "pinned": [[0, 0], [79, 0]]}})");
+  Result r = run("simulate " + fine.string() + " --frames 1");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("fine.json: cloth.thickness: 2 x thickness (19 mm) is more than the rest distance of"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("self-collision skips them"), std::string::npos) << r.err;
+  r = run("simulate " + scene("selfCollision.json") + " --frames 1");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err.find("self-collision skips"), std::string::npos) << r.err;
+}
+
 // ks = 1e7 N/m at one substep per frame: dt sqrt(k_sum / m) = (1/90) sqrt(8.8e7 / 2.34) = 68, far
 // beyond the stability bound of about 1.4. Pinned at a corner, so the springs stretch from the first
 // step. The run must stop with status 4 and one line, and write no output; the same scene with

@@ -188,6 +188,15 @@ TEST(MeshObstacle, MissingFileAndBadKeysAreRefused) {
   mesh_test::writeFile("box.obj", boxObj({0, 0, 0}, {1, 1, 1}));
   EXPECT_THROW(parseScene("{" + cloth + R"(, "meshes": [{"obj": "box.obj", "scale": 0}]})", scene), SceneError);
   EXPECT_THROW(parseScene("{" + cloth + R"(, "meshes": [{"obj": "box.obj", "friction": 2}]})", scene), SceneError);
+  for (const char* bad : {"0", "-0.01", "\"thick\""})
+    EXPECT_THROW(parseScene("{" + cloth + R"(, "meshes": [{"obj": "box.obj", "thickness": )" + bad + "}]}", scene),
+                 SceneError)
+        << bad;
+  try {
+    parseScene("{" + cloth + R"(, "meshes": [{"obj": "box.obj", "thickness": 0}]})", scene);
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("meshes[0].thickness: must be > 0"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(parseScene("{" + cloth + R"(, "meshes": [{"obj": "box.obj", "ofset": [0, 0, 0]}]})", scene), SceneError);
   try {
     mesh_test::writeFile("big.obj", boxObj({0, 0, 0}, {10, 10, 10}));
@@ -199,6 +208,9 @@ TEST(MeshObstacle, MissingFileAndBadKeysAreRefused) {
   const Scene placed = parseScene(
       "{" + cloth + R"(, "meshes": [{"obj": "box.obj", "offset": [1, 2, 3], "scale": 2, "friction": 0.7}]})", scene);
   EXPECT_EQ(placed.meshes[0].friction, 0.7);
+  EXPECT_EQ(meshThickness(placed.cloth, placed.meshes[0]), 0.01) << "the cloth's, by default";
+  const Scene thin = parseScene("{" + cloth + R"(, "meshes": [{"obj": "box.obj", "thickness": 0.003}]})", scene);
+  EXPECT_EQ(meshThickness(thin.cloth, thin.meshes[0]), 0.003);
   EXPECT_TRUE(insideMesh(firstMesh(placed), {2.9, 3.9, 4.9}));
   EXPECT_FALSE(insideMesh(firstMesh(placed), {3.1, 3.9, 4.9}));
 }
@@ -209,16 +221,17 @@ TEST(MeshObstacle, CollisionMovesAPointInsideOutToTheSurfaceOffsetWithFriction) 
   glm::dvec3 c;
   // 3 mm below the top face, moving down: out to kMeshSurfaceOffset above it, without friction.
   const glm::dvec3 x(0.5, 0.997, 0.5), v(0, -0.004, 0);
-  ASSERT_TRUE(physics::collideField(x, v, f, 0.0, c));
+  ASSERT_TRUE(physics::collideField(x, v, f, kMeshSurfaceOffset, 0.0, c));
   EXPECT_NEAR((x + c).y, 1.0 + kMeshSurfaceOffset, 1e-9);
   EXPECT_NEAR((x + c).x, 0.5, 1e-12);
   // With friction 1 the point returns to where it was before the substep.
-  ASSERT_TRUE(physics::collideField(x, v, f, 1.0, c));
+  ASSERT_TRUE(physics::collideField(x, v, f, kMeshSurfaceOffset, 1.0, c));
   EXPECT_NEAR(glm::distance(x + c, x - v), 0.0, 1e-12);
-  EXPECT_FALSE(physics::collideField(glm::dvec3(0.5, 1.01, 0.5), v, f, 0.0, c)) << "outside the offset";
-  EXPECT_FALSE(physics::collideField(glm::dvec3(5, 5, 5), v, f, 0.0, c)) << "beyond the field";
+  EXPECT_FALSE(physics::collideField(glm::dvec3(0.5, 1.01, 0.5), v, f, kMeshSurfaceOffset, 0.0, c))
+      << "outside the offset";
+  EXPECT_FALSE(physics::collideField(glm::dvec3(5, 5, 5), v, f, kMeshSurfaceOffset, 0.0, c)) << "beyond the field";
   const double nan = std::nan("");
-  EXPECT_FALSE(physics::collideField(glm::dvec3(nan, 0.5, 0.5), v, f, 0.0, c));
+  EXPECT_FALSE(physics::collideField(glm::dvec3(nan, 0.5, 0.5), v, f, kMeshSurfaceOffset, 0.0, c));
 }
 
 // However deep inside, a point goes out through the nearest face: 3 cm under the top of a 1 m box (4 cells,
@@ -230,17 +243,17 @@ TEST(MeshObstacle, APointDeepInsideIsPushedOutThroughTheNearestFace) {
   glm::dvec3 c;
   const glm::dvec3 v(0, -0.004, 0);
   const glm::dvec3 under_top(0.5, 0.97, 0.45);
-  ASSERT_TRUE(physics::collideField(under_top, v, f, 0.0, c));
+  ASSERT_TRUE(physics::collideField(under_top, v, f, kMeshSurfaceOffset, 0.0, c));
   EXPECT_NEAR((under_top + c).y, 1.0 + kMeshSurfaceOffset, 1e-4);
   EXPECT_NEAR((under_top + c).x, 0.5, 1e-4);
   EXPECT_NEAR((under_top + c).z, 0.45, 1e-4);
   const glm::dvec3 inside_side(0.97, 0.6, 0.2);  // 3 cm from x = 1, 20 cm from z = 0
-  ASSERT_TRUE(physics::collideField(inside_side, v, f, 0.0, c));
+  ASSERT_TRUE(physics::collideField(inside_side, v, f, kMeshSurfaceOffset, 0.0, c));
   EXPECT_NEAR((inside_side + c).x, 1.0 + kMeshSurfaceOffset, 1e-4);
   EXPECT_NEAR((inside_side + c).y, 0.6, 1e-4);
   // In float, as the solvers run it: the same.
   glm::vec3 cf;
-  ASSERT_TRUE(physics::collideField(glm::vec3(under_top), glm::vec3(v), f, 0.0f, cf));
+  ASSERT_TRUE(physics::collideField(glm::vec3(under_top), glm::vec3(v), f, float(kMeshSurfaceOffset), 0.0f, cf));
   EXPECT_NEAR(double((glm::vec3(under_top) + cf).y), 1.0 + kMeshSurfaceOffset, 1e-4);
 }
 

@@ -447,7 +447,7 @@ PlaneSpec readPlane(const Node& n) {
 constexpr long long kMaxObstacleVertices = 4LL * 1024 * 1024;
 
 MeshSpec readMeshObstacle(const Node& n, const std::string& scene_file) {
-  n.expectObject({"obj", "offset", "scale", "friction"});
+  n.expectObject({"obj", "offset", "scale", "friction", "thickness"});
   MeshSpec m;
   Node obj = n.require("obj");
   m.obj = obj.text();
@@ -455,6 +455,7 @@ MeshSpec readMeshObstacle(const Node& n, const std::string& scene_file) {
   if (auto v = n.find("offset")) m.offset = v->vec3();
   if (auto v = n.find("scale")) m.scale = positive(*v);
   if (auto v = n.find("friction")) m.friction = between(*v, 0.0, 1.0);
+  if (auto v = n.find("thickness")) m.thickness = positive(*v);
   const std::filesystem::path file = std::filesystem::path(scene_file).parent_path() / m.obj;
   try {
     m.mesh =
