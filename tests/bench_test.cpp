@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <tuple>
 
 namespace drape {
@@ -468,6 +469,18 @@ TEST(StabilityCases, SummaryNamesLargestStableKs) {
   EXPECT_NE(md.find("| ks-1e4 | 5 | 0 / 0 | yes | **no** |"), std::string::npos) << "stable, not in shape\n" << md;
   EXPECT_NE(stabilityCsv(report).find("\nks-1e4,verlet,5,0,5,0,0,1,1,0,-1,0,0.35,0,"), std::string::npos)
       << stabilityCsv(report);
+  // Every row of a table has its header's columns.
+  std::istringstream lines(md);
+  std::size_t columns = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.empty() || line[0] != '|') {
+      columns = 0;
+      continue;
+    }
+    const auto bars = std::size_t(std::count(line.begin(), line.end(), '|'));
+    if (columns == 0) columns = bars;
+    EXPECT_EQ(bars, columns) << line;
+  }
   EXPECT_EQ(findResult(report, "ks-1e6", 5, true)->steps_per_frame, 50);
   EXPECT_EQ(findResult(report, "ks-1e3", 5, true), nullptr);
 }

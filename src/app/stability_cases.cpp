@@ -404,8 +404,10 @@ std::string stabilityMarkdown(const StabilityReport& report, const std::vector<S
       report.wall_s, report.jobs, report.threads_per_run, report.threads_per_run == 1 ? "" : "s", 100 * kShapeStrain,
       kStabilityLimit);
   md +=
-      "| case | substeps | dt·sqrt(k/m) / limit | stable | keeps shape | first bad frame | max strain | KE end / max |";
-  md += " energy | with guard |\n|---|---|---|---|---|---|---|---|---|---|\n";
+      "| case | substeps | dt·sqrt(k/m) / limit | stable | keeps shape | first bad frame | max strain | end strain | "
+      "KE "
+      "end / max |";
+  md += " energy | with guard |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const StabilityResult& r : report.results)
     if (!r.guarded && r.integrator == Integrator::Verlet)
       md += markdownRow(r, findResult(report, r.case_name, r.steps_asked, true));
