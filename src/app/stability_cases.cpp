@@ -231,7 +231,8 @@ std::string describe(const StabilityResult& r) {
                                  isImplicit(r.integrator) ? std::string(integratorName(r.integrator)) + " " : "",
                                  r.steps_per_frame, r.guarded ? " (guard)" : "");
   if (r.stable)
-    line += fmt::format("stable, max strain {:.3g}, KE end/max {:.2g}, energy {}", r.max_strain,
+    line += fmt::format("stable, {}, max strain {:.3g}, end {:.3g}, KE end/max {:.2g}, energy {}",
+                        keepsShape(r) ? "keeps its shape" : "OUT OF SHAPE", r.max_strain, r.end_strain,
                         r.ke_max > 0 ? r.ke_end / r.ke_max : 0.0, trend(r));
   else
     line += fmt::format("UNSTABLE at frame {}: {}", r.first_bad_frame, r.what);
