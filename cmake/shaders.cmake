@@ -3,7 +3,7 @@
 # drape_shader_source: src/gl/shader_source.cpp on its own (no GL), used by drape_gl, by the pure CPU
 # tests and by the host tool drape_glsl_preprocess.
 #
-# check_shaders (part of ALL): every glsl/sim/*.comp and glsl/render/*.{vert,frag,geom} goes through the
+# check_shaders (part of ALL): every glsl/sim/*.comp and glsl/render/*.{comp,vert,frag,geom} goes through the
 # loader's own preprocessing and `glslangValidator -S <stage>`, once per variant; an error fails the
 # build with file:line. Each check has a stamp and a depfile listing every file it included, so a
 # variant is checked again only when one of its files changes.
@@ -38,7 +38,7 @@ endif()
 set(_glsl_dir ${CMAKE_SOURCE_DIR}/glsl)
 file(GLOB _drape_shaders CONFIGURE_DEPENDS
      ${_glsl_dir}/sim/*.comp
-     ${_glsl_dir}/render/*.vert ${_glsl_dir}/render/*.frag ${_glsl_dir}/render/*.geom)
+     ${_glsl_dir}/render/*.comp ${_glsl_dir}/render/*.vert ${_glsl_dir}/render/*.frag ${_glsl_dir}/render/*.geom)
 
 # Reads glsl/<dir>/variants.txt into _variants_<dir>_<file> lists of define strings.
 foreach(_dir sim render)

@@ -3,6 +3,7 @@
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
 #include <sys/mount.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
@@ -10,6 +11,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -143,6 +145,79 @@ TEST_F(AtomicFileTest, AFullDiskFailsAndLeavesNeitherTargetNorTemporary) {
   }
   EXPECT_EQ(slurp(mount / "out.json"), "old") << "the old contents stay whole";
   EXPECT_EQ(std::distance(fs::directory_iterator(mount), fs::directory_iterator()), 1) << "no temporary left";
+}
+
+// A drape killed with SIGKILL leaves its temporary; the next write into that folder removes it, and only
+// what is certainly a stale one of ours: our name, a regular file, unlocked, untouched for a minute.
+TEST_F(AtomicFileTest, StaleTemporariesOfOursAreRemovedByTheNextWriteThere) {
+  const fs::path here = dir / "stale";  // a folder of its own: each folder is swept once per process
+  fs::create_directories(here);
+  const auto make = [&](const std::string& name, bool old) {
+    std::ofstream(here / name) << "left";
+    if (old) fs::last_write_time(here / name, fs::file_time_type::clock::now() - std::chrono::minutes(2));
+  };
+  make(".drape-Ab3dE9", true);      // a killed atomic write
+  make(".drape-k9VIDx.mp4", true);  // a killed video
+  make(".drape-fresh1", false);     // just made: its maker may not have locked it yet
+  make(".drape-locked", true);      // in use: locked below
+  make(".drape-short", true);       // not our pattern (5 characters)
+  make("x.drape-Ab3dE9", true);
+  make(".drape-Ab3dE9.m p4", true);
+  fs::create_symlink("/etc/passwd", here / ".drape-link12");
+  const int held = ::open((here / ".drape-locked").c_str(), O_RDONLY);
+  ASSERT_GE(held, 0);
+  ASSERT_EQ(::flock(held, LOCK_EX), 0);
+  writeFileAtomically(here / "out.json", "new");
+  ::close(held);
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(here))
+    left.push_back(e.path().filename().string());
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{".drape-Ab3dE9.m p4", ".drape-fresh1", ".drape-link12", ".drape-locked",
+                                            ".drape-short", "out.json", "x.drape-Ab3dE9"}));
+  EXPECT_TRUE(fs::exists("/etc/passwd"));
+}
+
+TEST_F(AtomicFileTest, ATemporaryIsLockedWhileInUseAndGoneAfter) {
+  std::string name;
+  {
+    const TemporaryFile temporary(dir / "video.mp4", ".mp4");
+    name = temporary.path();
+    EXPECT_EQ(fs::path(name).parent_path(), dir);
+    EXPECT_EQ(fs::path(name).extension(), ".mp4");
+    EXPECT_EQ(fs::path(name).filename().string().rfind(".drape-", 0), 0u) << name;
+    const int other = ::open(name.c_str(), O_RDONLY);
+    ASSERT_GE(other, 0);
+    EXPECT_EQ(::flock(other, LOCK_EX | LOCK_NB), -1) << "locked by its maker";
+    ::close(other);
+    EXPECT_TRUE(temporary.stillOurs());
+  }
+  EXPECT_FALSE(fs::exists(name)) << "removed when not renamed";
+}
+
+TEST_F(AtomicFileTest, ATemporaryReplacedByALinkIsNotOursAnyMore) {
+  const TemporaryFile temporary(dir / "video.mp4", ".mp4");
+  fs::remove(temporary.path());
+  fs::create_symlink("/etc/passwd", temporary.path());
+  EXPECT_FALSE(temporary.stillOurs());
+}
+
+TEST_F(AtomicFileTest, AReadOnlyFolderIsABadTargetBeforeAnyWrite) {
+  const fs::path mount = dir / "readonly";
+  fs::create_directory(mount);
+  if (::mount("tmpfs", mount.c_str(), "tmpfs", MS_RDONLY, "size=64k") != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here (" << std::strerror(errno) << ")";
+  struct Unmount {
+    fs::path path;
+    ~Unmount() { ::umount(path.c_str()); }
+  } unmount{mount};
+  try {
+    const TemporaryFile temporary(mount / "video.mp4", ".mp4");
+    ADD_FAILURE() << "made a file on a read-only file system";
+  } catch (const OutputError& e) {
+    EXPECT_TRUE(e.badTarget()) << e.what();
+    EXPECT_NE(std::string(e.what()).find("Read-only file system"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

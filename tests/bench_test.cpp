@@ -188,9 +188,43 @@ TEST(Bench, BaselineComparisonPairsRunsAndPasses) {
     benchRunsFromJson(bad);
     FAIL() << "a run without its size must not read";
   } catch (const std::runtime_error& e) {
-    EXPECT_EQ(std::string(e.what()), "runs[0].size: missing or of the wrong type");
+    EXPECT_EQ(std::string(e.what()), "runs[0].size: missing or not an integer");
   }
   EXPECT_THROW(benchRunsFromJson(nlohmann::json::object()), std::runtime_error);
+}
+
+// Every value the comparison reads is checked: a size beyond an int used to wrap, a negative time compared.
+TEST(Bench, BaselineValuesOutOfRangeAreRefusedNamingTheKey) {
+  const nlohmann::json good = nlohmann::json::parse(R"({"runs": [{"scene": "a.json", "solver": "cpu", "size": 8,
+    "frame_ms": {"median": 1.5, "samples": 3}, "passes": [{"name": "forces", "ms_per_frame": 0.5}]}]})");
+  ASSERT_EQ(benchRunsFromJson(good).at(0).passes.at(0).ms_per_frame, 0.5);
+  const std::pair<nlohmann::json::json_pointer, nlohmann::json> bad[] = {
+      {"/runs/0/size"_json_pointer, 99999999999},
+      {"/runs/0/size"_json_pointer, -3},
+      {"/runs/0/threads"_json_pointer, 5000},
+      {"/runs/0/frame_ms/median"_json_pointer, -1},
+      {"/runs/0/frame_ms/samples"_json_pointer, 0.5},
+      {"/runs/0/passes/0/ms_per_frame"_json_pointer, "x"},
+      {"/runs/0/skipped"_json_pointer, 3},
+      {"/runs/0/frame_ms"_json_pointer, 7}};
+  const char* expected[] = {"runs[0].size: 99999999999 is out of range (2 to 2048)",
+                            "runs[0].size: -3 is out of range (2 to 2048)",
+                            "runs[0].threads: 5000 is out of range (0 to 1024)",
+                            "runs[0].frame_ms.median: -1 is not a number >= 0",
+                            "runs[0].frame_ms.samples: missing or not an integer",
+                            "runs[0].passes[0].ms_per_frame: missing or not a number",
+                            "runs[0].skipped: missing or not a string",
+                            "runs[0].frame_ms: not an object"};
+  for (std::size_t i = 0; i < std::size(bad); ++i) {
+    nlohmann::json j = good;
+    j[bad[i].first] = bad[i].second;
+    try {
+      benchRunsFromJson(j);
+      ADD_FAILURE() << "accepted " << j.dump();
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()), expected[i]);
+    }
+  }
 }
 
 // --integrator verlet,xpbd: both integrators at every size, a run each, the scene's own when none is asked.

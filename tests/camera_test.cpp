@@ -28,6 +28,12 @@ const FramingCase kCases[] = {
 
 class CameraFraming : public ::testing::TestWithParam<FramingCase> {};
 
+// The share of a frame's width that its framed middle takes up, inverted: a frame wider than 4:3 frames its
+// middle 4:3 (Camera::kFramingAspect), so a subject filling that spans less of the whole width.
+float framedShare(float aspect) {
+  return std::max(aspect / Camera::kFramingAspect, 1.0f);
+}
+
 // Every corner inside the view, and the box centred with its larger side 90% of the frame across.
 TEST_P(CameraFraming, TheBoxFillsTheFrameAndStaysInside) {
   const Bounds& b = GetParam().bounds;
@@ -47,8 +53,8 @@ TEST_P(CameraFraming, TheBoxFillsTheFrameAndStaysInside) {
       lo = glm::min(lo, glm::vec2(ndc));
       hi = glm::max(hi, glm::vec2(ndc));
     }
-    // NDC spans 2 across: a span of 1.8 is 90% of the frame.
-    const float span = std::max(hi.x - lo.x, hi.y - lo.y);
+    // NDC spans 2 across: a span of 1.8 is 90% of the frame, or of its middle 4:3 in a wider one.
+    const float span = std::max((hi.x - lo.x) * framedShare(aspect), hi.y - lo.y);
     EXPECT_GE(span, 1.8f) << "aspect " << aspect << ": the box covers " << 50.0f * span << "% of the frame";
   }
 }
@@ -97,8 +103,15 @@ TEST(CameraFraming, ClothAndSphereFillTheFrameAndStayInside) {
       lo = glm::min(lo, glm::vec2(ndc));
       hi = glm::max(hi, glm::vec2(ndc));
     }
-    const float span = std::max(hi.x - lo.x, hi.y - lo.y);
+    const float span = std::max((hi.x - lo.x) * framedShare(aspect), hi.y - lo.y);
     EXPECT_GE(span, 1.8f) << "aspect " << aspect << ": the scene covers " << 50.0f * span << "% of the frame";
+    // Wider than 4:3, the camera is the 4:3 one: `render`'s 640x480 and a wide viewer window agree.
+    if (aspect > Camera::kFramingAspect) {
+      Camera four_by_three;
+      four_by_three.frame(subject, Camera::kFramingAspect);
+      EXPECT_EQ(camera.distance(), four_by_three.distance()) << "aspect " << aspect;
+      EXPECT_EQ(camera.target(), four_by_three.target()) << "aspect " << aspect;
+    }
     // Framed as a sphere, not as the box around cloth and sphere: where the height limits the view (a
     // wide frame), the box's empty lower corners would keep the camera away; in a tall frame the
     // cloth's width limits both.

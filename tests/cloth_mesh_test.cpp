@@ -199,13 +199,13 @@ INSTANTIATE_TEST_SUITE_P(
         BadMesh{"inf_vertex", "v 0 0 0\nv 1 1e999 0\nv 0 0 1\nf 1 2 3\n", "not a finite number"},
         BadMesh{"beyond_float", "v 0 0 0\nv 1e300 0 0\nv 0 0 1\nf 1 2 3\n", "vertex 1 is beyond float range"},
         BadMesh{"two_coordinates", "v 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\n", "needs x, y and z"},
-        BadMesh{"index_out_of_range", kTriangle + "f 1 2 4\n", "face 0 names vertex 3"},
+        BadMesh{"index_out_of_range", kTriangle + "f 1 2 4\n", "line 4: face corner '4' names vertex 4, but only 3"},
         BadMesh{"repeated_corner", kTriangle + "f 1 2 2\n", "face 0 is degenerate: vertex 1 appears twice"},
         BadMesh{"zero_area", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", "has zero area"},
         BadMesh{"non_manifold", kTriangle + "v 0 1 0\nv 0 -1 0\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
                 "the edge between vertices 0 and 1 is shared by more than two triangles"},
         BadMesh{"unused_vertex", kTriangle + "v 5 5 5\nf 1 2 3\n", "vertex 3 is in no face"},
-        BadMesh{"syntax", kTriangle + "f 1 2 0\n", "cannot parse"}),
+        BadMesh{"syntax", kTriangle + "f 1 2 x\n", "line 4: face corner 'x' is not v, v/vt"}),
     [](const ::testing::TestParamInfo<BadMesh>& p) { return std::string(p.param.name); });
 
 TEST(MeshCloth, GridKeysBesideAMeshAreRefused) {

@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <tiny_obj_loader.h>
 #include <unistd.h>
+#include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -106,7 +107,7 @@ TEST_F(Export, UsdaHasOneMeshWithTimeSampledPointsAtTheSceneFrameRate) {
   EXPECT_EQ(usda.rfind("#usda 1.0\n", 0), 0u);
   EXPECT_NE(usda.find("timeCodesPerSecond = 90\n"), std::string::npos);
   EXPECT_NE(usda.find("startTimeCode = 0\n"), std::string::npos);
-  EXPECT_NE(usda.find("endTimeCode = 6\n"), std::string::npos);
+  EXPECT_TRUE(std::regex_search(usda, std::regex("\n    endTimeCode = 6 *\n")));
   EXPECT_NE(usda.find("defaultPrim = \"Cloth\""), std::string::npos);
   EXPECT_NE(usda.find("def Mesh \"Cloth\"\n{"), std::string::npos);
   // Brackets and braces balance: the file parses as nested lists.
@@ -127,15 +128,26 @@ TEST_F(Export, UsdaHasOneMeshWithTimeSampledPointsAtTheSceneFrameRate) {
   EXPECT_EQ(std::size_t(std::count(uvs.begin(), uvs.end(), '(')), kPoints);
   EXPECT_NE(usda.find("interpolation = \"vertex\""), std::string::npos);
 
-  // Exactly the samples 0, 3, 6, once each; the last holds --out's points.
+  // Exactly the samples 0, 3, 6, once each, of the points, the normals and the extent; the last points are
+  // --out's, the normals unit, the extent the points' box.
+  const auto block = [&](const std::string& name) {
+    const std::size_t open = usda.find(name + ".timeSamples = {");
+    EXPECT_NE(open, std::string::npos) << name;
+    return open == std::string::npos ? std::string() : usda.substr(open, usda.find("\n    }\n", open) - open);
+  };
+  const std::regex sample_key("\n        (\\d+): \\[");
+  for (const char* name : {"point3f[] points", "normal3f[] normals", "float3[] extent"}) {
+    const std::string samples = block(name);
+    std::vector<int> keys;
+    for (auto it = std::sregex_iterator(samples.begin(), samples.end(), sample_key); it != std::sregex_iterator(); ++it)
+      keys.push_back(std::stoi((*it)[1]));
+    EXPECT_EQ(keys, (std::vector<int>{0, 3, 6})) << name;
+  }
+  EXPECT_NE(usda.find("normal3f[] normals (\n        interpolation = \"vertex\"\n    )"), std::string::npos);
+  const std::string normals = block("normal3f[] normals");
+  EXPECT_EQ(std::size_t(std::count(normals.begin(), normals.end(), '(')), 3 * kPoints);
   const std::size_t samples = usda.find("point3f[] points.timeSamples = {");
   ASSERT_NE(samples, std::string::npos);
-  const std::regex sample_key("\n        (\\d+): \\[");
-  std::vector<int> keys;
-  for (auto it = std::sregex_iterator(usda.begin() + std::ptrdiff_t(samples), usda.end(), sample_key);
-       it != std::sregex_iterator(); ++it)
-    keys.push_back(std::stoi((*it)[1]));
-  EXPECT_EQ(keys, (std::vector<int>{0, 3, 6}));
   const std::size_t last = usda.find("\n        6: [", samples);
   const std::string points = usda.substr(last + 13, usda.find(']', last + 13) - last - 13);
   std::vector<double> values;
@@ -143,6 +155,21 @@ TEST_F(Export, UsdaHasOneMeshWithTimeSampledPointsAtTheSceneFrameRate) {
   for (auto it = std::sregex_iterator(points.begin(), points.end(), number); it != std::sregex_iterator(); ++it)
     values.push_back(std::stod(it->str()));
   EXPECT_EQ(values, outPoints(dir_ / "out.json"));
+  glm::dvec3 lo(1e9), hi(-1e9);
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    lo[int(i % 3)] = std::min(lo[int(i % 3)], double(float(values[i])));
+    hi[int(i % 3)] = std::max(hi[int(i % 3)], double(float(values[i])));
+  }
+  const std::string extent = block("float3[] extent");
+  const std::string box = extent.substr(extent.find("6: [") + 4);
+  std::vector<double> corners;
+  for (auto it = std::sregex_iterator(box.begin(), box.end(), number); it != std::sregex_iterator(); ++it)
+    corners.push_back(std::stod(it->str()));
+  ASSERT_EQ(corners.size(), 6u);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(float(corners[std::size_t(k)]), float(lo[k])) << k;
+    EXPECT_EQ(float(corners[std::size_t(k) + 3]), float(hi[k])) << k;
+  }
 }
 
 TEST_F(Export, PlyIsBinaryLittleEndianWithTheOutPointsAsFloats) {
@@ -172,13 +199,54 @@ TEST_F(Export, BadOptionsAreStatusTwoBeforeAnyWork) {
   EXPECT_EQ(run(simulate("--export " + drape::testing::quote((dir_ / "cloth.txt").string()))), 2);
   EXPECT_NE(slurp(tempDir() / "err").find("--export"), std::string::npos);
   EXPECT_EQ(run(simulate("--export " + drape::testing::quote((dir_ / "cloth.obj").string()) + " --format fbx")), 2);
-  EXPECT_EQ(run(simulate("--export " + drape::testing::quote((dir_ / "missing" / "cloth.usda").string()))), 2);
-  fs::create_directories(dir_ / "cloth.usda");
-  EXPECT_EQ(run(simulate("--export " + drape::testing::quote((dir_ / "cloth.usda").string()))), 2);
+  EXPECT_EQ(run(simulate("--export " + drape::testing::quote((dir_ / "cloth.ply").string()) + " --format obj")), 2);
+  EXPECT_NE(slurp(tempDir() / "err").find("cloth.ply is ply, but --format says obj"), std::string::npos);
+  std::ofstream(dir_ / "file") << "a file";
+  EXPECT_EQ(run(simulate("--export " + drape::testing::quote((dir_ / "file" / "cloth.usda").string()))), 2);
   EXPECT_FALSE(fs::exists(dir_ / "out.json")) << "checked before the run";
-  // --format wins over the extension.
-  EXPECT_EQ(run(simulate("--export " + drape::testing::quote((dir_ / "seq.txt").string()) + " --format obj")), 0);
-  EXPECT_TRUE(fs::exists(dir_ / "seq_0006.txt"));
+}
+
+// --format decides the extension; a folder gets numbered files inside it; missing folders are made.
+TEST_F(Export, FormatFoldersAndMissingFolders) {
+  const auto at = [&](const std::string& path) { return drape::testing::quote((dir_ / path).string()); };
+  ASSERT_EQ(run(simulate("--export " + at("out/c") + " --format obj")), 0);
+  for (const char* name : {"c_0000.obj", "c_0003.obj", "c_0006.obj"})
+    EXPECT_TRUE(fs::exists(dir_ / "out" / name)) << name;
+  ASSERT_EQ(run(simulate("--export " + at("seq.txt") + " --format ply")), 0);
+  EXPECT_TRUE(fs::exists(dir_ / "seq.txt_0006.ply")) << "an extension that is no format's stays in the name";
+  ASSERT_EQ(run(simulate("--export " + at("folder") + "/")), 0);
+  EXPECT_TRUE(fs::exists(dir_ / "folder" / "cloth_0006.obj"));
+  fs::create_directories(dir_ / "existing");
+  ASSERT_EQ(run(simulate("--export " + at("existing") + " --format usda")), 0);
+  EXPECT_TRUE(fs::exists(dir_ / "existing" / "cloth.usda"));
+  ASSERT_EQ(run(simulate("--export " + at("deep/er/cloth.usda"))), 0);
+  EXPECT_TRUE(fs::exists(dir_ / "deep" / "er" / "cloth.usda"));
+}
+
+// A run that blows up keeps its USD file up to the last good frame, its header saying so, and says so.
+TEST_F(Export, ABlowUpKeepsTheUsdaUpToTheLastGoodFrame) {
+  // Stiff for one substep a frame: a spring passes 11 times its rest length at frame 22.
+  std::ofstream(dir_ / "blows.json")
+      << R"({"cloth": {"width": 1, "height": 1, "num_width_points": 12, "num_height_points": 12, "thickness": 0.0095,
+             "orientation": 0, "pinned": [[0, 0], [11, 0]], "damping": 0, "density": 150.0, "ks": 5000.0},
+             "simulation": {"self_collision": false, "steps_per_frame": 1, "stretch_passes": 0}})";
+  const std::string cmd = "simulate " + drape::testing::quote((dir_ / "blows.json").string()) +
+                          " --frames 60 --export " + drape::testing::quote((dir_ / "b.usda").string());
+  ASSERT_EQ(run(cmd), 4);
+  const std::string err = slurp(tempDir() / "err");
+  const std::smatch m = [&] {
+    std::smatch match;
+    std::regex_search(err, match, std::regex("blew up at frame (\\d+).*--export keeps frames 0 to (\\d+)"));
+    return match;
+  }();
+  ASSERT_EQ(m.size(), 3u) << err;
+  const int last = std::stoi(m[2]);
+  EXPECT_EQ(last, std::stoi(m[1]) - 1);
+  const std::string usda = slurp(dir_ / "b.usda");
+  EXPECT_TRUE(std::regex_search(usda, std::regex("\n    endTimeCode = " + std::to_string(last) + " *\n")));
+  EXPECT_NE(usda.find("\n        " + std::to_string(last) + ": ["), std::string::npos);
+  EXPECT_EQ(usda.find("\n        " + std::to_string(last + 1) + ": ["), std::string::npos);
+  EXPECT_EQ(usda.substr(usda.size() - 2), "}\n") << "a whole file";
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // tools/gpu-check without a build or a GPU: its usage, the pack layout it insists on, and the run's
 // failure with nothing to run (a summary still written). The real check is the script run end to end
-// (README "On a real GPU"); these keep its contract from drifting.
+// (docs/gpu-machine.md); these keep its contract from drifting.
 #include "shell_quote.hpp"
 
 #include <gtest/gtest.h>

@@ -96,7 +96,7 @@ TEST(MeshObstacle, FieldSamplesAreSignedDistancesThroughoutTheLattice) {
 
 // The field's trilinear interpolation, which the solvers collide with, against the exact signed distance at
 // random points of the table's lattice: right in sign wherever the point is more than a cell from the
-// surface, and within 2 cells everywhere (fieldDistance's promise).
+// surface, and within 2 cells everywhere (what docs/design.md promises).
 TEST(MeshObstacle, TrilinearFieldIsWithinTwoCellsOfTheExactDistance) {
   const Scene s = loadScene(kScenes / "tablecloth.json");
   const MeshObstacle& m = firstMesh(s);
@@ -110,7 +110,7 @@ TEST(MeshObstacle, TrilinearFieldIsWithinTwoCellsOfTheExactDistance) {
   double worst = 0;
   for (int n = 0; n < 3000; ++n) {
     const glm::dvec3 p = f.origin + f.cell * glm::dvec3(f.dims - 1) * glm::dvec3(uniform(), uniform(), uniform());
-    const double exact = query.signedDistance(p), estimate = fieldDistance(f, p);
+    const double exact = query.signedDistance(p), estimate = *fieldDistance(f, p);
     worst = std::max(worst, std::fabs(estimate - exact));
     if (std::fabs(exact) > f.cell) {
       EXPECT_EQ(estimate < 0, exact < 0) << p.x << " " << p.y << " " << p.z;
@@ -125,7 +125,7 @@ TEST(MeshObstacle, QueryAnswersAsTheLoopOverEveryTriangle) {
   const MeshQuery query(m);
   const DistanceField& f = m.field;
   for (int n = 0; n < 300; ++n) {
-    // Spread over the lattice and a little beyond it, where the query falls back to every triangle.
+    // Spread over the lattice and a little beyond it.
     const glm::dvec3 t(std::fmod(n * 0.618034, 1.0), std::fmod(n * 0.414214, 1.0), std::fmod(n * 0.732051, 1.0));
     const glm::dvec3 p = f.origin - f.cell + (f.cell * glm::dvec3(f.dims + 1)) * t;
     EXPECT_EQ(query.inside(p), insideMesh(m, p)) << n;

@@ -3,7 +3,9 @@
 #include "app/options.hpp"
 #include "app/commands.hpp"
 #include "app/solver_factory.hpp"
+#include "app/suggest.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <optional>
@@ -96,6 +98,16 @@ TEST(Sizes, WidthByHeightWithinBounds) {
       EXPECT_EQ(std::string(e.what()).rfind("--size: ", 0), 0u) << e.what();
     }
   }
+  // Too large is out of range, however many digits: not "not WIDTHxHEIGHT".
+  for (const char* large : {"100000x100000", "640x99999999999999999999", "0000640x0000000000480000"}) {
+    try {
+      parseSize("--size", large, 16, 8192);
+      ADD_FAILURE() << large << " was accepted";
+    } catch (const CommandError& e) {
+      EXPECT_EQ(std::string(e.what()), fmt::format("--size: {} is outside 16x16 .. 8192x8192", large));
+    }
+  }
+  EXPECT_EQ(parseSize("--size", "000640x0480", 16, 8192), glm::ivec2(640, 480));
 }
 
 TEST(SolverTable, EveryNameMakesThatSolverAndOnlyMeasurementsGetCpuXprev) {
@@ -111,6 +123,29 @@ TEST(SolverTable, EveryNameMakesThatSolverAndOnlyMeasurementsGetCpuXprev) {
     if (isGpuSolver(name)) continue;  // needs GL: tests/gpu_solver_gl_test.cpp and the CLI tests
     EXPECT_EQ(factory.make(scene, name, {.threads = 1})->name(), name);
   }
+}
+
+}  // namespace
+}  // namespace drape
+
+namespace drape {
+namespace {
+
+TEST(DidYouMean, EditDistanceCountsASwapAsOneEdit) {
+  EXPECT_EQ(editDistance("--verison", "--version"), 1);
+  EXPECT_EQ(editDistance("--frame", "--frames"), 1);
+  EXPECT_EQ(editDistance("--evry", "--every"), 1);
+  EXPECT_EQ(editDistance("simulat", "simulate"), 1);
+  EXPECT_EQ(editDistance("abc", "abc"), 0);
+  EXPECT_EQ(editDistance("", "abc"), 3);
+}
+
+TEST(DidYouMean, OnlyANearWordIsSuggested) {
+  const std::vector<std::string> options = {"--frames", "--every", "--export", "--format", "--out"};
+  EXPECT_EQ(closestWord("--frame", options), "--frames");
+  EXPECT_EQ(closestWord("--fromat", options), "--format");
+  EXPECT_EQ(closestWord("--colour", options), "");
+  EXPECT_EQ(closestWord("--x", options), "");
 }
 
 }  // namespace

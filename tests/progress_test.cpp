@@ -32,6 +32,30 @@ TEST(Progress, TheEstimateIsTheMeanTimeOfAPartDoneTimesThePartsLeft) {
   EXPECT_EQ(progressText(48, 48, 160.0), "48/48, 2 min 40 s");
 }
 
+// A sweep of unequal runs: what is left is weighed by cost, not counted. One cheap run done in 10 s, one
+// nine times its cost left: 90 s, where the count alone would say 10.
+TEST(Progress, TheSweepEstimateWeighsTheRunsLeftByTheirCost) {
+  using Clock = SweepEstimate::Clock;
+  const Clock::time_point t0{};
+  SweepEstimate estimate({1.0, 9.0}, {}, 1.0, t0);
+  EXPECT_EQ(estimate.finished(0, t0 + std::chrono::seconds(10)), "1/2, 10 s, about 1 min 30 s left");
+  EXPECT_EQ(estimate.finished(1, t0 + std::chrono::seconds(95)), "2/2, 1 min 35 s");
+}
+
+// The accuracy sweep's GPU runs come after its CPU runs and cost more: before one has finished they are taken
+// at the CPU runs' pace times the prior, then at their own.
+TEST(Progress, ALaterLaneIsTakenAtItsOwnPaceOnceOneOfItsRunsIsIn) {
+  using Clock = SweepEstimate::Clock;
+  const Clock::time_point t0{};
+  const auto at = [&](int s) { return t0 + std::chrono::seconds(s); };
+  SweepEstimate estimate({1.0, 1.0, 1.0, 1.0}, {0, 0, 1, 1}, 4.0, t0);
+  // Lane 0 at 10 s a run: one left of it (10 s), two of lane 1 at 40 s each.
+  EXPECT_EQ(estimate.finished(0, at(10)), "1/4, 10 s, about 1 min 30 s left");
+  EXPECT_EQ(estimate.finished(1, at(20)), "2/4, 20 s, about 1 min 20 s left");
+  // Lane 1's first run took 100 s from when lane 0 ended: the one left will too.
+  EXPECT_EQ(estimate.finished(2, at(120)), "3/4, 2 min 00 s, about 1 min 40 s left");
+}
+
 std::string written(std::FILE* file) {
   std::fflush(file);
   std::rewind(file);

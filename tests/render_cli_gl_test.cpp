@@ -5,14 +5,18 @@
 #include "shell_quote.hpp"
 
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
+#include <vector>
 
 namespace drape {
 namespace {
@@ -52,6 +56,13 @@ std::string scene(const std::string& name) {
   return std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name;
 }
 
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 bool have(const char* program) {
   return std::system(("command -v " + std::string(program) + " >/dev/null 2>&1").c_str()) == 0;
 }
@@ -87,8 +98,8 @@ TEST_F(RenderCliTest, WritesTheFramesAskedFor) {
 
 TEST_F(RenderCliTest, CpuSolverRendersTheSameCoverage) {
   for (const char* solver : {"gpu", "cpu"}) {
-    const Result r = run("render " + scene("sphere.json") + " --frames 0 --size 96x72 --solver " + solver + " --out '" +
-                         (dir / solver).string() + "'");
+    const Result r = run("render " + scene("sphere.json") + " --frames 0 --camera start --size 96x72 --solver " +
+                         solver + " --out '" + (dir / solver).string() + "'");
     ASSERT_EQ(r.status, 0) << r.err;
   }
   const Image gpu = loadImage(dir / "gpu" / "frame_0000.png", 3), cpu = loadImage(dir / "cpu" / "frame_0000.png", 3);
@@ -181,25 +192,33 @@ TEST_F(RenderCliTest, FfmpegGetsHostileNamesAsArgumentsNotAsCommands) {
     text << in.rdbuf();
     return text.str();
   }();
-  EXPECT_NE(args.find("\n" + video.string() + "\n"), std::string::npos) << args;
-  EXPECT_TRUE(fs::exists(video));
+  // ffmpeg writes a temporary of drape's beside the video, its extension kept; never the video itself.
+  EXPECT_EQ(args.find("\n" + video.string() + "\n"), std::string::npos) << args;
+  EXPECT_NE(args.find("\n" + (dir / ".drape-").string()), std::string::npos) << args;
+  EXPECT_NE(args.find(".mp4\n"), std::string::npos) << args;
+  EXPECT_EQ(slurp(video), "video\n");
 }
 
-// A stand-in ffmpeg that writes, per video, its output's name and then what each input frame is (the
-// target of each numbered link in the input pattern's directory), and makes the video.
-void writeFrameListingFfmpeg(const fs::path& ffmpeg, const fs::path& log) {
-  fs::create_directories(ffmpeg.parent_path());
-  std::ofstream(ffmpeg) << "#!/bin/sh\nprev=\nfor a in \"$@\"; do [ \"$prev\" = -i ] && in=\"$a\"; prev=\"$a\"; "
-                           "last=\"$a\"; done\necho \"video $last\" >> "
-                        << quote(log.string())
-                        << "\nfor f in \"$(dirname \"$in\")\"/*.png; do readlink \"$f\"; done >> "
-                        << quote(log.string()) << "\necho video > \"$last\"\n";
+// A stand-in ffmpeg: `body` runs with $out set to the file ffmpeg is told to write.
+fs::path writeFfmpeg(const fs::path& dir, const std::string& body) {
+  fs::create_directories(dir / "bin");
+  const fs::path ffmpeg = dir / "bin" / "ffmpeg";
+  std::ofstream(ffmpeg) << "#!/bin/sh\nfor a in \"$@\"; do out=\"$a\"; done\n" << body << "\n";
   fs::permissions(ffmpeg, fs::perms::owner_all);
+  return dir / "bin";
 }
 
+std::vector<std::string> leftBehind(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.path().filename().string().rfind(".drape-", 0) == 0) names.push_back(entry.path().string());
+  return names;
+}
+
+// The frames reach ffmpeg on its stdin, in order, exactly those this run wrote: the stand-in's video is
+// what it read.
 TEST_F(RenderCliTest, TheVideoHasExactlyTheFramesThisRunWroteOnePerShader) {
-  const fs::path ffmpeg = dir / "bin" / "ffmpeg", log = dir / "ffmpeg.log", out = dir / "frames";
-  writeFrameListingFfmpeg(ffmpeg, log);
+  const fs::path bin = writeFfmpeg(dir, "cat > \"$out\""), out = dir / "frames";
   // An earlier, longer run's frames in the same folders: they must not end up in this run's videos.
   for (const char* shader : {"toon", "normal"}) {
     fs::create_directories(out / shader);
@@ -207,21 +226,112 @@ TEST_F(RenderCliTest, TheVideoHasExactlyTheFramesThisRunWroteOnePerShader) {
   }
   const Result r = run("render " + scene("sphere.json") + " --frames 4 --every 2 --size 32x32 --shader toon,normal" +
                            " --out " + quote(out.string()) + " --video " + quote((dir / "v.mp4").string()),
-                       "PATH=" + quote((dir / "bin").string()) + ":\"$PATH\"");
+                       "PATH=" + quote(bin.string()) + ":\"$PATH\"");
   ASSERT_EQ(r.status, 0) << r.err;
-  std::ifstream in(log);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string expected;
   for (const char* shader : {"toon", "normal"}) {
-    expected += "video " + (dir / ("v_" + std::string(shader) + ".mp4")).string() + "\n";
+    std::string frames;
     for (const char* frame : {"frame_0000.png", "frame_0002.png", "frame_0004.png"})
-      expected += (out / shader / frame).string() + "\n";
+      frames += slurp(out / shader / frame);
+    EXPECT_EQ(slurp(dir / ("v_" + std::string(shader) + ".mp4")), frames) << shader;
   }
-  EXPECT_EQ(text.str(), expected);
-  EXPECT_TRUE(fs::exists(dir / "v_toon.mp4"));
-  EXPECT_TRUE(fs::exists(dir / "v_normal.mp4"));
   EXPECT_FALSE(fs::exists(dir / "v.mp4")) << "several shaders: one video each, none under the plain name";
+  EXPECT_TRUE(leftBehind(dir).empty()) << leftBehind(dir).front();
+}
+
+// The race of issue 28: a link planted at the video while the run goes on. ffmpeg writes drape's
+// temporary, which replaces the link: what it pointed to is untouched.
+TEST_F(RenderCliTest, ALinkPlantedAtTheVideoMidRunIsReplacedNotWrittenThrough) {
+  std::ofstream(dir / "victim") << "precious";
+  const fs::path video = dir / "late.mp4";
+  const fs::path bin = writeFfmpeg(dir, "ln -s victim " + quote(video.string()) + "\ncat > \"$out\"");
+  const Result r = run("render " + scene("sphere.json") + " --frames 1 --size 32x32 --out " +
+                           quote((dir / "frames").string()) + " --video " + quote(video.string()),
+                       "PATH=" + quote(bin.string()) + ":\"$PATH\"");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(slurp(dir / "victim"), "precious");
+  EXPECT_FALSE(fs::is_symlink(fs::symlink_status(video)));
+  EXPECT_EQ(slurp(video), slurp(dir / "frames" / "frame_0000.png") + slurp(dir / "frames" / "frame_0001.png"));
+  EXPECT_TRUE(leftBehind(dir).empty());
+}
+
+TEST_F(RenderCliTest, AFailingFfmpegLeavesTheVideoAsItWasAndNoTemporary) {
+  std::ofstream(dir / "v.mp4") << "old video";
+  const fs::path bin = writeFfmpeg(dir, "echo partial > \"$out\"\nexit 3");
+  const Result r = run("render " + scene("sphere.json") + " --frames 1 --size 32x32 --out " +
+                           quote((dir / "frames").string()) + " --video " + quote((dir / "v.mp4").string()),
+                       "PATH=" + quote(bin.string()) + ":\"$PATH\"");
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("--video: ffmpeg failed to write " + (dir / "v.mp4").string() + " (exit status 3)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(slurp(dir / "v.mp4"), "old video");
+  EXPECT_TRUE(leftBehind(dir).empty()) << leftBehind(dir).front();
+}
+
+// Checked before the first frame: the frames' folder is not even made.
+TEST_F(RenderCliTest, AVideoFolderThatCannotTakeTheVideoIsRefusedBeforeAnyFrame) {
+  const fs::path mount = dir / "readonly";
+  fs::create_directories(mount);
+  if (std::system(("mount -t tmpfs -o ro,size=16k tmpfs " + quote(mount.string()) + " 2>/dev/null").c_str()) != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here; AtomicFileTest.AReadOnlyFolderIsABadTargetBeforeAnyWrite covers it";
+  const fs::path bin = writeFfmpeg(dir, "cat > \"$out\"");
+  const Result r = run("render " + scene("sphere.json") + " --frames 2 --size 32x32 --out " +
+                           quote((dir / "frames").string()) + " --video " + quote((mount / "v.mp4").string()),
+                       "PATH=" + quote(bin.string()) + ":\"$PATH\"");
+  std::system(("umount " + quote(mount.string())).c_str());
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find((mount / "v.mp4").string() + ": cannot create a file in its directory: Read-only file system"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir / "frames")) << "refused before any frame";
+}
+
+// kill -9 while ffmpeg runs: ffmpeg dies with drape, the video is untouched, no folder is left (drape's
+// TMPDIR stays empty), and the next drape to write in the video's folder removes the stale temporary.
+TEST_F(RenderCliTest, FfmpegDiesWithAKilledDrapeAndNothingIsLeftForLong) {
+  std::ofstream(dir / "v.mp4") << "old video";
+  fs::create_directories(dir / "tmp");
+  const fs::path bin = writeFfmpeg(dir, "echo $$ > " + quote((dir / "ffmpeg.pid").string()) + "\nexec sleep 60");
+  const std::string command = "PATH=" + quote(bin.string()) + ":\"$PATH\" TMPDIR=" + quote((dir / "tmp").string()) +
+                              " exec " + DRAPE_BINARY + " render " + scene("sphere.json") +
+                              " --frames 1 --size 32x32 --out " + quote((dir / "frames").string()) + " --video " +
+                              quote((dir / "v.mp4").string()) + " 2>/dev/null";
+  const pid_t drape = ::fork();
+  ASSERT_GE(drape, 0);
+  if (drape == 0) {
+    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  pid_t ffmpeg = 0;
+  for (int i = 0; i < 6000 && ffmpeg <= 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    std::ifstream(dir / "ffmpeg.pid") >> ffmpeg;
+  }
+  ::kill(drape, SIGKILL);
+  ::waitpid(drape, nullptr, 0);
+  ASSERT_GT(ffmpeg, 0) << "ffmpeg never started";
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  const auto running = [&] {
+    std::ifstream stat("/proc/" + std::to_string(ffmpeg) + "/stat");
+    std::string text;
+    return std::getline(stat, text) && text.find(") Z") == std::string::npos;
+  };
+  while (running() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  EXPECT_FALSE(running()) << "ffmpeg " << ffmpeg << " outlived drape";
+  if (running()) ::kill(ffmpeg, SIGKILL);
+  EXPECT_EQ(slurp(dir / "v.mp4"), "old video");
+  EXPECT_TRUE(fs::is_empty(dir / "tmp")) << "a folder of drape's left in TMPDIR";
+  const std::vector<std::string> stale = leftBehind(dir);
+  ASSERT_EQ(stale.size(), 1u) << "the killed run's temporary";
+  fs::last_write_time(stale.front(), fs::file_time_type::clock::now() - std::chrono::minutes(2));
+  std::ofstream(dir / "tiny.json") << R"({"cloth": {"width": 1, "height": 1, "num_width_points": 4,
+    "num_height_points": 4, "thickness": 0.01, "orientation": 0}})";
+  ASSERT_EQ(run("simulate " + quote((dir / "tiny.json").string()) + " --frames 1 --out " +
+                quote((dir / "positions.json").string()))
+                .status,
+            0);
+  EXPECT_TRUE(leftBehind(dir).empty()) << "the next write in the folder removes it";
 }
 
 // The installed drape (cmake --install) compiles the shaders under its prefix: one broken there, and
@@ -242,8 +352,9 @@ TEST_F(RenderCliTest, TheInstalledDrapeReadsItsOwnShaders) {
   std::ofstream(shader) << "this is not GLSL\n";
   const std::string env =
       "cd / && env -u DRAPE_GLSL_DIR -u DRAPE_TEXTURE_DIR " + quote((prefix / "bin" / "drape").string());
-  const std::string args = " render " + scene("sphere.json") + " --frames 0 --size 32x32 --solver cpu --out " +
-                           quote((dir / "o").string()) + " >/dev/null";
+  const std::string args = " render " + scene("sphere.json") +
+                           " --frames 0 --camera start --size 32x32 --solver cpu --out " + quote((dir / "o").string()) +
+                           " >/dev/null";
   std::string command = env + args + " 2>" + quote((dir / "err").string());
   EXPECT_NE(std::system(command.c_str()), 0);
   std::ifstream broken_err(dir / "err");
@@ -260,8 +371,9 @@ TEST_F(RenderCliTest, AFullDiskIsStatusOneAndLeavesOnlyWholeFrames) {
   fs::create_directories(mount);
   if (std::system(("mount -t tmpfs -o size=48k tmpfs " + quote(mount.string()) + " 2>/dev/null").c_str()) != 0)
     GTEST_SKIP() << "cannot mount a tmpfs here; AtomicFileTest covers the writer's errors";
-  const Result r = run("render " + scene("sphere.json") + " --frames 20 --size 256x192 --shader normal --out " +
-                       quote((mount / "frames").string()));
+  const Result r =
+      run("render " + scene("sphere.json") + " --frames 20 --camera start --size 256x192 --shader normal --out " +
+          quote((mount / "frames").string()));
   std::vector<fs::path> frames;
   for (const auto& entry : fs::directory_iterator(mount / "frames"))
     frames.push_back(entry.path());
@@ -300,12 +412,14 @@ TEST_F(RenderCliTest, AFailureBeforeRenderingLeavesNoDirectory) {
 
 TEST_F(RenderCliTest, AnOutThatIsAFileOrAFrameThatIsALinkIsStatusTwo) {
   std::ofstream(dir / "file") << "x";
-  Result r = run("render " + scene("sphere.json") + " --frames 0 --size 32x32 --out '" + (dir / "file").string() + "'");
+  Result r = run("render " + scene("sphere.json") + " --frames 0 --camera start --size 32x32 --out '" +
+                 (dir / "file").string() + "'");
   EXPECT_EQ(r.status, 2) << r.err;
   fs::create_directories(dir / "frames");
   std::ofstream(dir / "victim") << "precious";
   fs::create_symlink(dir / "victim", dir / "frames" / "frame_0000.png");
-  r = run("render " + scene("sphere.json") + " --frames 0 --size 32x32 --out '" + (dir / "frames").string() + "'");
+  r = run("render " + scene("sphere.json") + " --frames 0 --camera start --size 32x32 --out '" +
+          (dir / "frames").string() + "'");
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_NE(r.err.find("frame_0000.png"), std::string::npos) << r.err;
   std::ifstream in(dir / "victim");
@@ -333,6 +447,20 @@ TEST_F(RenderCliTest, ViewerRunsSixtyFramesAndSavesAScreenshot) {
   EXPECT_EQ(image.width, 320);
   EXPECT_EQ(image.height, 240);
   EXPECT_GT(clothPixels(image), 1000u) << "the cloth should be in view after 60 frames";
+  // The viewer's camera, light and floor are `render`'s: the same frame of the same run is the same picture.
+  const Result rendered = run("render " + scene("sphere.json") + " --frames 60 --every 60 --size 320x240 --out '" +
+                              (dir / "render").string() + "'");
+  ASSERT_EQ(rendered.status, 0) << rendered.err;
+  const Image same = loadImage(dir / "render" / "frame_0060.png", 3);
+  std::size_t differ = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        if (std::abs(int(image.at(x, y)[c]) - int(same.at(x, y)[c])) > 2) {
+          ++differ;
+          break;
+        }
+  EXPECT_LT(differ, std::size_t(image.width * image.height / 200)) << "pixels differ from `render`'s frame 60";
 }
 
 }  // namespace

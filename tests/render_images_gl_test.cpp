@@ -130,8 +130,10 @@ struct Stage {
   }
   glm::mat4 viewProjection() const { return camera.viewProjection(float(kSize.x) / float(kSize.y)); }
   Mask expectedCloth() { return projectCloth(solver->topology(), solver->readPositions(), viewProjection()); }
-  // Pixels the cloth changes: the picture with it against the picture without it.
+  // Pixels the cloth changes: the picture with it against the picture without it. Without shadows on the
+  // floor: the cloth's shadow changes pixels away from the cloth.
   Mask drawnCloth(RenderSettings settings) {
+    settings.shadows = false;
     const Picture with = draw(settings);
     settings.show_cloth = false;
     const Picture without = draw(settings);
@@ -276,15 +278,14 @@ TEST_F(RenderImageTest, DrawsStraightFromTheSolverBuffers) {
   ASSERT_TRUE(stage.feed->borrowsSolverBuffers());
   const ClothBuffers buffers = stage.feed->prepare();
   EXPECT_EQ(buffers.positions, gpu.positionBuffer().id());
-  EXPECT_EQ(buffers.normals, gpu.normalBuffer().id());
-  EXPECT_EQ(buffers.tangents, gpu.tangentBuffer().id());
+  EXPECT_EQ(buffers.health, gpu.healthBuffer().id());
 
   RenderSettings settings;
   const Picture before = stage.draw(settings);
   const Mask cloth_before = morph(stage.expectedCloth(), 1);
   const int centre = 25 * gpu.topology().W + 25;
   const glm::vec3 lifted =
-      glm::vec3(gpu.topology().initial_positions[std::size_t(centre)]) + glm::vec3(0.0f, 0.2f, 0.0f);
+      glm::vec3(gpu.topology().initial_positions[std::size_t(centre)]) + glm::vec3(0.0f, 0.3f, 0.0f);
   gpu.setPosition(std::uint32_t(centre), lifted);  // the solver's own upload, into its buffer
   const Picture after = stage.draw(settings);
 
@@ -334,9 +335,10 @@ TEST_F(RenderImageTest, AClothWithRaisedFlagsIsNotDrawn) {
   EXPECT_GT(count(stage.drawnCloth(settings)), 100u) << "drawn again once the flags are cleared";
 }
 
-// The CPU path (explicit upload, normals on the CPU) matches the GPU path: same coverage at the start,
-// and the GPU solver's normals and tangents agree with the CPU's, including the bitangent sign.
-TEST_F(RenderImageTest, CpuFeedMatchesGpuFeed) {
+// The CPU path (an explicit upload) matches the GPU path: same coverage at the start. The renderer's surface
+// pass on the GPU agrees with its CPU reference on the fallen cloth: normals, tangents with the bitangent's
+// sign, and the quad centres.
+TEST_F(RenderImageTest, CpuFeedMatchesGpuFeedAndTheSurfacePassItsReference) {
   Stage gpu_stage(sphereScene(), std::make_unique<GpuSolver>(sphereScene()), 0);
   Stage cpu_stage(sphereScene(), std::make_unique<CpuSolver<float>>(sphereScene()), 0);
   EXPECT_FALSE(cpu_stage.feed->borrowsSolverBuffers());
@@ -345,36 +347,22 @@ TEST_F(RenderImageTest, CpuFeedMatchesGpuFeed) {
 
   Stage& fallen_stage = fallen();
   auto& gpu = static_cast<GpuSolver&>(*fallen_stage.solver);
-  fallen_stage.feed->prepare();
-  const std::size_t n = std::size_t(gpu.topology().pointCount());
-  const auto positions = gpu.positionBuffer().download<glm::vec4>(n);
-  const auto gpu_normals = gpu.normalBuffer().download<glm::vec4>(n);
-  const auto gpu_tangents = gpu.tangentBuffer().download<glm::vec4>(n);
-  std::vector<glm::vec4> normals, tangents;
-  computeNormalsAndTangents(gpu.topology(), positions, normals, tangents);
-  for (std::size_t i = 0; i < n; ++i) {
-    ASSERT_GT(glm::dot(glm::vec3(normals[i]), glm::vec3(gpu_normals[i])), 0.999f) << "normal of point " << i;
-    ASSERT_GT(glm::dot(glm::vec3(tangents[i]), glm::vec3(gpu_tangents[i])), 0.999f) << "tangent of point " << i;
-    ASSERT_EQ(tangents[i].w, gpu_tangents[i].w) << "bitangent sign of point " << i;
+  fallen_stage.draw(settings);
+  const SurfacePass& surface = fallen_stage.renderer->surface();
+  const auto positions = gpu.positionBuffer().download<glm::vec4>(std::size_t(gpu.topology().pointCount()));
+  std::vector<glm::vec4> normals, tangents, centres;
+  computeSurface(surface.layout(), positions, normals, tangents, centres);
+  const auto gpu_normals = surface.downloadNormals(), gpu_tangents = surface.downloadTangents();
+  const auto gpu_centres = surface.downloadCentres();
+  ASSERT_EQ(gpu_normals.size(), normals.size());
+  ASSERT_EQ(gpu_centres.size(), centres.size());
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    ASSERT_GT(glm::dot(glm::vec3(normals[i]), glm::vec3(gpu_normals[i])), 0.999f) << "normal of vertex " << i;
+    ASSERT_GT(glm::dot(glm::vec3(tangents[i]), glm::vec3(gpu_tangents[i])), 0.999f) << "tangent of vertex " << i;
+    ASSERT_EQ(tangents[i].w, gpu_tangents[i].w) << "bitangent sign of vertex " << i;
   }
-}
-
-TEST(CpuNormals, FlatGridFacesUpWithTangentAlongU) {
-  ClothSpec cloth;
-  cloth.num_width_points = 4;
-  cloth.num_height_points = 3;
-  const Topology topo = buildTopology(cloth);
-  std::vector<glm::vec4> x;
-  for (const glm::dvec3& p : topo.initial_positions)
-    x.emplace_back(glm::vec3(p), 1.0f);
-  std::vector<glm::vec4> normals, tangents;
-  computeNormalsAndTangents(topo, x, normals, tangents);
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    EXPECT_NEAR(glm::distance(glm::vec3(normals[i]), glm::vec3(0, 1, 0)), 0.0f, 1e-6f);
-    EXPECT_NEAR(glm::distance(glm::vec3(tangents[i]), glm::vec3(1, 0, 0)), 0.0f, 1e-6f);  // u grows along x
-    // v grows along +z: bitangent = w * cross(N, T) = w * (0, 0, -1) must be +z.
-    EXPECT_EQ(tangents[i].w, -1.0f);
-  }
+  for (std::size_t q = 0; q < centres.size(); ++q)
+    ASSERT_LT(glm::distance(glm::vec3(centres[q]), glm::vec3(gpu_centres[q])), 1e-5f) << "centre of quad " << q;
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include "core/stability.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -13,6 +15,7 @@
 #include <fstream>
 #include <ostream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace drape {
@@ -573,6 +576,7 @@ TEST(SceneValues, LargestGridIsAccepted) {
   nlohmann::json scene = fullScene();
   scene["cloth"]["num_width_points"] = 2048;
   scene["cloth"]["num_height_points"] = 2048;
+  scene["cloth"]["thickness"] = 0.0002;  // self-collision's bound (SceneLimits below): 2 neighbours a point
   EXPECT_EQ(parseScene(scene.dump(), "large.json").cloth.pointCount(), kMaxClothPoints);
 }
 
@@ -588,15 +592,78 @@ TEST(SceneValues, LargestCountsAndSmallestFloatsAreAccepted) {
   EXPECT_GT(float(s.cloth.thickness), 0.0f);
 }
 
-TEST(SceneFiles, AFileBeyondTheSizeLimitIsRefusedWithoutReadingItAll) {
-  // /dev/zero never ends; the loader stops one byte past the limit.
+// Each count is checked before the work it would cost: the meshes below do not exist, and the count is
+// what is refused.
+TEST(SceneLimits, CollidersAreCountedBeforeAnyIsRead) {
+  std::string meshes, spheres;
+  for (int i = 0; i <= kMaxMeshes; ++i)
+    meshes += std::string(i ? ", " : "") + R"({"obj": "no_such_mesh.obj"})";
+  expectRejected("{" + kCloth + R"(, "meshes": [)" + meshes + "]}", "m.json", "meshes",
+                 "17 meshes, more than the 16 a scene may have");
+  for (int i = 0; i < kMaxSpheres; ++i)
+    spheres += std::string(i ? ", " : "") + R"({"origin": [0, 0, 0], "radius": 1})";
+  EXPECT_EQ(parseScene("{" + kCloth + R"(, "spheres": [)" + spheres + "]}", "s.json").spheres.size(), 256u);
+  expectRejected("{" + kCloth + R"(, "sphere": {"origin": [0, 0, 0], "radius": 1}, "spheres": [)" + spheres + "]}",
+                 "s.json", "spheres", "257 spheres, more than the 256 a scene may have");
+}
+
+std::string grid(int n, double thickness, bool self_collision = true) {
+  return R"({"cloth": {"width": 1, "height": 1, "num_width_points": )" + std::to_string(n) +
+         R"(, "num_height_points": )" + std::to_string(n) + R"(, "thickness": )" + std::to_string(thickness) +
+         R"(, "orientation": 0}, "simulation": {"self_collision": )" + (self_collision ? "true" : "false") + "}}";
+}
+
+// A thickness large against the spacing made self-collision compare nearly every pair (29 s a frame).
+TEST(SceneLimits, SelfCollisionNeighboursAndPairsAreBounded) {
+  expectRejected(grid(50, 0.5), "t.json", "cloth.thickness",
+                 "self-collision would compare each point with about 7543 others within 2 x thickness (at most 1024)");
+  EXPECT_NO_THROW(parseScene(grid(50, 0.5, false), "t.json")) << "without self-collision the thickness is free";
+  EXPECT_NO_THROW(parseScene(grid(512, 0.0095), "t.json")) << "a CS184 scene refined to 512^2: about 300 a point";
+  expectRejected(grid(2048, 0.0014), "t.json", "cloth.thickness", "pairs within 2 x thickness (at most 134217728)");
+}
+
+std::string loadError(const std::string& path) {
   try {
-    loadScene("/dev/zero");
-    ADD_FAILURE() << "/dev/zero loaded";
+    loadScene(path);
   } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("/dev/zero: too large for a scene (more than 16 MiB)"), std::string::npos)
-        << e.what();
+    return e.what();
   }
+  return "loaded";
+}
+
+TEST(SceneFiles, ADeviceIsRefusedBeforeAnyRead) {
+  // /dev/zero never ends: it is not read at all.
+  EXPECT_EQ(loadError("/dev/zero"), "/dev/zero: cannot open: is a device, not a file");
+}
+
+// A pipe's size is not known before: it is read one byte past the limit and no further.
+TEST(SceneFiles, APipeBeyondTheSizeLimitIsRefusedAfterTheLimit) {
+  int ends[2];
+  ASSERT_EQ(::pipe(ends), 0);
+  std::thread writer([&] {
+    const std::string block(1 << 16, ' ');
+    for (long long sent = 0; sent <= kMaxSceneBytes + (1 << 20);) {
+      const ssize_t n = ::write(ends[1], block.data(), block.size());
+      if (n <= 0) break;
+      sent += n;
+    }
+    ::close(ends[1]);
+  });
+  const std::string path = "/proc/self/fd/" + std::to_string(ends[0]);
+  EXPECT_EQ(loadError(path), path + ": too large for a scene (more than 16 MiB)");
+  char rest[1 << 16];
+  while (::read(ends[0], rest, sizeof rest) > 0) {
+  }
+  writer.join();
+  ::close(ends[0]);
+}
+
+TEST(SceneFiles, AFifoWithNoWriterIsRefusedWithoutWaiting) {
+  const fs::path fifo = fs::temp_directory_path() / ("drape_scene_fifo_" + std::to_string(::getpid()));
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(loadError(fifo.string()), fifo.string() + ": cannot read: a FIFO with nothing written to it");
+  fs::remove(fifo);
 }
 
 }  // namespace

@@ -109,6 +109,37 @@ TEST(ViewerInput, KeysControlTheSimulation) {
   EXPECT_FALSE(v.frame(&panel));
 }
 
+// H hides the panel: it is no longer drawn, and its last answer no longer keeps the mouse and the keys from
+// the view; H again brings it back.
+TEST(ViewerInput, HHidesAndShowsThePanel) {
+  RUN_WITH_DISPLAY();
+  Session s;
+  Viewer& v = *s.viewer;
+  FakePanel panel;
+  panel.mouse = true;
+  panel.keyboard = false;
+  ASSERT_TRUE(v.frame(&panel));
+  EXPECT_EQ(panel.draws, 1);
+  const float distance = v.camera().distance();
+  v.onScroll(1.0);
+  EXPECT_EQ(v.camera().distance(), distance) << "the pointer is over the panel";
+
+  s.press(ViewerKeys::kTogglePanel);
+  EXPECT_FALSE(v.panelShown());
+  ASSERT_TRUE(v.frame(&panel));
+  EXPECT_EQ(panel.draws, 1) << "a hidden panel is not drawn";
+  v.onScroll(1.0);
+  EXPECT_LT(v.camera().distance(), distance) << "a hidden panel does not take the mouse";
+  panel.keyboard = true;
+  s.press(ViewerKeys::kPause);
+  EXPECT_TRUE(v.paused()) << "nor the keys";
+
+  s.press(ViewerKeys::kTogglePanel);
+  EXPECT_TRUE(v.panelShown());
+  ASSERT_TRUE(v.frame(&panel));
+  EXPECT_EQ(panel.draws, 2);
+}
+
 TEST(ViewerInput, MouseOrbitsPansAndZooms) {
   RUN_WITH_DISPLAY();
   Session s;

@@ -90,7 +90,7 @@ TEST(XpbdSolver, TheIntegratorKeyChangesTheRunAndVerletIsUnchanged) {
 // Float against double over one simulated second of the hanging cloths, pinned2 with 1 sweep and pinned4
 // with 3: round-off carried through a damped system, measured at 9e-6 of the cloth size on pinned2; 1e-3
 // of the size (1.4 mm) is where it would no longer be round-off. Not a scene with contact: there float and
-// double part by 1e-2 of the size within a second, with Verlet as with XPBD (README, accuracy with
+// double part by 1e-2 of the size within a second, with Verlet as with XPBD (docs/results/README.md, accuracy with
 // contact), because a fold amplifies any difference.
 TEST_P(ImplicitSolver, FloatStaysCloseToDouble) {
   for (const auto& [file, iterations] : {std::pair{"pinned2.json", 1}, std::pair{"pinned4.json", 3}}) {

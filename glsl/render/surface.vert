@@ -1,6 +1,7 @@
 // Every surface (cloth, sphere, plane) by vertex pulling: gl_VertexID is the index from the element
 // buffer, and the attributes come from storage buffers, so the cloth is drawn straight from the
-// solver's buffers without a vertex-array copy.
+// solver's buffers without a vertex-array copy. The cloth's vertices past its points are its quads'
+// centres, which the surface pass (cloth_surface.comp) places; its normals, tangents and UVs cover both.
 //   TANGENT_SPACE  pass the tangent on (bump and displacement)
 //   DISPLACE       move each vertex along its normal by the height map (displacement)
 //   SHADOW_RECEIVER  pass the position in the light's clip space on (shadow)
@@ -9,6 +10,9 @@
 
 layout(std430, binding = RENDER_BINDING_POSITIONS) readonly buffer Positions {
   vec4 positions[];
+};
+layout(std430, binding = RENDER_BINDING_CENTRES) readonly buffer Centres {
+  vec4 centres[];
 };
 
 // The solver's blow-up flags, read on the GPU: a cloth whose flags are raised is not drawn, so no frame of
@@ -20,6 +24,7 @@ layout(std430, binding = RENDER_BINDING_HEALTH) readonly buffer ClothHealth {
 
 uniform mat4 u_model;
 uniform mat4 u_view_projection;
+uniform uint u_point_count;  // vertices from here on are quad centres (the cloth's; no collider has any)
 
 #ifndef DEPTH_ONLY
 layout(std430, binding = RENDER_BINDING_NORMALS) readonly buffer Normals {
@@ -53,7 +58,8 @@ out vec4 v_light_clip;
 
 void main() {
   uint i = uint(gl_VertexID);
-  vec4 world = u_model * vec4(positions[i].xyz, 1.0);
+  vec3 position = i < u_point_count ? positions[i].xyz : centres[i - u_point_count].xyz;
+  vec4 world = u_model * vec4(position, 1.0);
 #ifndef DEPTH_ONLY
   vec3 n = normalize(u_normal_matrix * normals[i].xyz);
   v_uv = uvs[i];

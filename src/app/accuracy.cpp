@@ -23,10 +23,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
 // A run to the last sample frame: positions at each sample frame, stopped at the first blow-up.
 struct Trajectory {
   std::vector<Positions> at;  // one per sample frame reached
@@ -229,8 +225,17 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
   report.jobs = jobsFor(o.jobs, cpu_jobs.size());
   report.threads_per_run = threadsPerJob(report.jobs);
   std::mutex say_mutex;
-  std::size_t runs_done = 0;
-  const Clock::time_point sweep_start = Clock::now();
+  // The time left weighs each run by its substeps (VBD's twice: it costs about twice Verlet's on the CPU), and
+  // the GPU runs, which come last, by what they cost here: until one has finished, a GPU substep is taken as
+  // 3 times a one-thread CPU run's (llvmpipe, docs/results/README.md), alone where the CPU runs went `jobs`
+  // at a time. A GPU that is faster brings the estimate down once its first run is in.
+  std::vector<double> cost;
+  std::vector<int> lane;
+  for (const SweepJob& job : sweep) {
+    cost.push_back(job.run.steps_per_frame * (runIntegrator(job.run.solver) == Integrator::Vbd ? 2.0 : 1.0));
+    lane.push_back(isGpuSolver(baseSolver(job.run.solver)) ? 1 : 0);
+  }
+  SweepEstimate estimate(cost, lane, 3.0 * report.jobs);
   // The report with the runs finished so far, in sweep order; called with say_mutex held.
   auto reportDone = [&] {
     if (!finished) return;
@@ -246,7 +251,8 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
     finished(partial);
   };
   reportDone();  // the references
-  auto runOne = [&](SweepJob& job, SolverFactory& maker) {
+  auto runOne = [&](std::size_t index, SolverFactory& maker) {
+    SweepJob& job = sweep[index];
     AccuracyRun& run = job.run;
     const Scene s = configure(scene, run.steps_per_frame, run.stretch_passes, runIntegrator(run.solver));
     std::unique_ptr<Solver> solver;
@@ -267,10 +273,8 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
     }
     std::lock_guard<std::mutex> lock(say_mutex);
     job.done = true;
-    ++runs_done;
-    std::string line = fmt::format(
-        "{}: {} {} substeps, {} stretch passes: ", progressText(runs_done, sweep.size(), secondsSince(sweep_start)),
-        run.solver, run.steps_per_frame, run.stretch_passes);
+    std::string line = fmt::format("{}: {} {} substeps, {} stretch passes: ", estimate.finished(index), run.solver,
+                                   run.steps_per_frame, run.stretch_passes);
     if (!run.skipped.empty())
       line += "skipped (" + run.skipped + ")";
     else if (!run.unstable.empty())
@@ -285,10 +289,10 @@ AccuracyReport runAccuracy(const AccuracyOptions& o, const std::function<void(co
                   report.threads_per_run, report.threads_per_run == 1 ? "" : "s", gpu_jobs.size()));
   forEachJob(cpu_jobs.size(), report.jobs, [&](std::size_t k) {
     SolverFactory cpu_factory({.skip_unavailable = true});  // CPU solvers only: no context off the main thread
-    runOne(sweep[cpu_jobs[k]], cpu_factory);
+    runOne(cpu_jobs[k], cpu_factory);
   });
   for (std::size_t j : gpu_jobs)
-    runOne(sweep[j], factory);
+    runOne(j, factory);
   std::vector<const std::vector<Positions>*> states;  // per run, its positions at the sample frames
   for (SweepJob& job : sweep) {
     report.runs.push_back(std::move(job.run));

@@ -8,15 +8,12 @@
 #include "core/data_dir.hpp"
 
 #include <fmt/core.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
-#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 
 namespace drape {
 
@@ -53,27 +50,22 @@ void plot(const fs::path& dir, const std::string& title) {
   }
   // Absolute paths and --title=: a name starting with '-' must not read as an option to argparse.
   const fs::path abs = fs::absolute(dir);
-  // matplotlib writes wherever it is told, through links and in place: it draws into a fresh file of
-  // our own (mkstemps), whose bytes then reach accuracy.png through the checked, atomic writer.
-  // The name ends in .png: matplotlib picks the format from it.
-  std::string scratch = (abs / ".accuracy.XXXXXX.png").string();
-  const int fd = ::mkstemps(scratch.data(), 4);
-  if (fd < 0)
-    throw CommandError(kExitFailure, fmt::format("accuracy: no plot: cannot create a file in {}: {}", dir.string(),
-                                                 std::strerror(errno)));
-  ::close(fd);
-  const std::vector<std::string> command = {
-      python,  script.string(),   (abs / "accuracy.csv").string(), (abs / "reference.csv").string(),
-      scratch, "--title=" + title};
+  // matplotlib writes wherever it is told, through links and in place: it draws into a temporary of ours
+  // beside accuracy.png (core/atomic_file.hpp), which is renamed over it once it is whole. The name
+  // ends in .png: matplotlib picks the format from it.
+  checkOutputFile(dir / "accuracy.png");
+  TemporaryFile scratch(dir / "accuracy.png", ".png");
+  const std::vector<std::string> command = {python,
+                                            script.string(),
+                                            (abs / "accuracy.csv").string(),
+                                            (abs / "reference.csv").string(),
+                                            fs::absolute(scratch.path()).string(),
+                                            "--title=" + title};
   const int status = runProcess(command);
-  std::ifstream in(scratch, std::ios::binary);
-  const std::string png((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  in.close();
-  std::error_code ignored;
-  fs::remove(scratch, ignored);
-  if (status != 0 || png.empty())
+  struct stat drawn {};
+  if (status != 0 || !scratch.stillOurs() || ::fstat(scratch.fd(), &drawn) != 0 || drawn.st_size == 0)
     throw CommandError(kExitFailure, fmt::format("accuracy: {} failed (the CSV files are written)", script.string()));
-  writeFileAtomically(dir / "accuracy.png", png);
+  scratch.renameOverTarget();
   fmt::print(stderr, "accuracy: wrote {}\n", (dir / "accuracy.png").string());
 }
 

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 
 namespace drape {
@@ -352,43 +354,83 @@ std::string benchMarkdown(const BenchReport& r) {
   return md;
 }
 
+namespace {
+
+// An object of a baseline file (a run, its frame_ms): every value the comparison reads, checked for type
+// and range, so that a hand-edited or foreign file is refused naming the key that is wrong instead of
+// compared as garbage.
+class BaselineObject {
+ public:
+  BaselineObject(const nlohmann::json& o, std::string where) : o_(o), where_(std::move(where)) {
+    if (!o.is_object()) throw std::runtime_error(where_ + ": not an object");
+  }
+
+  bool has(const char* key) const { return o_.contains(key); }
+
+  std::string text(const char* key, const char* otherwise = nullptr) const {
+    if (!has(key) && otherwise) return otherwise;
+    if (!has(key) || !o_[key].is_string()) fail(key, "missing or not a string");
+    return o_[key].get<std::string>();
+  }
+
+  // An integer in [lo, hi]; `otherwise` when absent (required when there is none).
+  int integer(const char* key, long long lo, long long hi, std::optional<int> otherwise = std::nullopt) const {
+    if (!has(key) && otherwise) return *otherwise;
+    if (!has(key) || !o_[key].is_number_integer()) fail(key, "missing or not an integer");
+    const nlohmann::json& v = o_[key];
+    // nlohmann keeps a non-negative literal unsigned, a negative one signed.
+    const bool in_range = v.is_number_unsigned() ? v.get<std::uint64_t>() >= std::uint64_t(std::max(lo, 0LL)) &&
+                                                       v.get<std::uint64_t>() <= std::uint64_t(hi)
+                                                 : v.get<std::int64_t>() >= lo && v.get<std::int64_t>() <= hi;
+    if (!in_range) fail(key, fmt::format("{} is out of range ({} to {})", v.dump(), lo, hi));
+    return int(v.get<std::int64_t>());
+  }
+
+  // A number >= 0 (times, counts per frame); `otherwise` when absent.
+  double amount(const char* key, std::optional<double> otherwise = std::nullopt) const {
+    if (!has(key) && otherwise) return *otherwise;
+    if (!has(key) || !o_[key].is_number()) fail(key, "missing or not a number");
+    const double v = o_[key].get<double>();
+    if (!(v >= 0) || !std::isfinite(v)) fail(key, fmt::format("{} is not a number >= 0", o_[key].dump()));
+    return v;
+  }
+
+  [[noreturn]] void fail(const std::string& key, const std::string& problem) const {
+    throw std::runtime_error(where_ + "." + key + ": " + problem);
+  }
+
+ private:
+  const nlohmann::json& o_;
+  std::string where_;
+};
+
+}  // namespace
+
 std::vector<BenchRun> benchRunsFromJson(const nlohmann::json& j) {
   if (!j.is_object() || !j.contains("runs") || !j["runs"].is_array())
     throw std::runtime_error("\"runs\": missing, or not an array (not a drape bench --json file)");
   std::vector<BenchRun> runs;
   for (std::size_t k = 0; k < j["runs"].size(); ++k) {
-    const nlohmann::json& o = j["runs"][k];
-    auto need = [&](const char* key, bool (nlohmann::json::*is)() const noexcept) -> const nlohmann::json& {
-      if (!o.is_object() || !o.contains(key) || !(o[key].*is)())
-        throw std::runtime_error(fmt::format("runs[{}].{}: missing or of the wrong type", k, key));
-      return o[key];
-    };
+    const std::string where = fmt::format("runs[{}]", k);
+    const BaselineObject o(j["runs"][k], where);
     BenchRun run;
-    run.scene = need("scene", &nlohmann::json::is_string).get<std::string>();
-    run.solver = need("solver", &nlohmann::json::is_string).get<std::string>();
-    // Older files have no integrator: Verlet was the only one.
-    run.integrator =
-        o.contains("integrator") && o["integrator"].is_string() ? o["integrator"].get<std::string>() : "verlet";
-    run.size = need("size", &nlohmann::json::is_number_integer).get<int>();
-    run.threads = o.contains("threads") ? need("threads", &nlohmann::json::is_number_integer).get<int>() : 0;
-    if (o.contains("skipped") && o["skipped"].is_string()) run.skipped = o["skipped"].get<std::string>();
-    if (o.contains("frame_ms") && o["frame_ms"].is_object()) {
-      const nlohmann::json& f = o["frame_ms"];
-      if (!f.contains("median") || !f["median"].is_number())
-        throw std::runtime_error(fmt::format("runs[{}].frame_ms.median: missing or not a number", k));
-      run.frame_ms.median = f["median"].get<double>();
-      run.frame_ms.samples = f.contains("samples") && f["samples"].is_number_integer() ? f["samples"].get<int>() : 1;
+    run.scene = o.text("scene");
+    run.solver = o.text("solver");
+    run.integrator = o.text("integrator", "verlet");  // older files have none: Verlet was the only one
+    run.size = o.integer("size", 2, 2048);
+    run.threads = o.integer("threads", 0, 1024, 0);
+    if (o.has("skipped")) run.skipped = o.text("skipped");
+    if (o.has("frame_ms")) {
+      const BaselineObject frame(j["runs"][k]["frame_ms"], where + ".frame_ms");
+      run.frame_ms.median = frame.amount("median");
+      run.frame_ms.samples = frame.integer("samples", 0, 1000000, 1);
     }
-    if (o.contains("passes")) {
-      if (!o["passes"].is_array()) throw std::runtime_error(fmt::format("runs[{}].passes: not an array", k));
-      for (const nlohmann::json& p : o["passes"]) {
-        if (!p.is_object() || !p.contains("name") || !p["name"].is_string() || !p.contains("ms_per_frame") ||
-            !p["ms_per_frame"].is_number())
-          throw std::runtime_error(fmt::format("runs[{}].passes: an entry without name and ms_per_frame", k));
-        run.passes.push_back({p["name"].get<std::string>(), p["ms_per_frame"].get<double>(),
-                              p.contains("calls_per_frame") && p["calls_per_frame"].is_number()
-                                  ? p["calls_per_frame"].get<double>()
-                                  : 0.0});
+    if (o.has("passes")) {
+      const nlohmann::json& passes = j["runs"][k]["passes"];
+      if (!passes.is_array()) o.fail("passes", "not an array");
+      for (std::size_t p = 0; p < passes.size(); ++p) {
+        const BaselineObject pass(passes[p], fmt::format("{}.passes[{}]", where, p));
+        run.passes.push_back({pass.text("name"), pass.amount("ms_per_frame"), pass.amount("calls_per_frame", 0.0)});
       }
     }
     runs.push_back(std::move(run));

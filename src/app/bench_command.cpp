@@ -5,6 +5,7 @@
 #include "app/options.hpp"
 #include "app/output.hpp"
 #include "core/data_dir.hpp"
+#include "core/input_file.hpp"
 #include "gl/context.hpp"
 
 #include <fmt/core.h>
@@ -13,7 +14,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 
 namespace drape {
 
@@ -37,11 +37,18 @@ struct BenchCommandOptions {
   std::vector<std::string> integrators;  // empty: each scene's
 };
 
+// Far beyond any bench --json (a few hundred KB for the largest sweep).
+constexpr long long kMaxBaselineBytes = 64LL * 1024 * 1024;
+
 // An earlier `drape bench --json` to compare with; read before the runs so a bad file costs nothing.
 std::vector<BenchRun> readBaseline(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw CommandError(kExitBadInput, fmt::format("--baseline: {}: cannot be read", path));
-  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  std::string text;
+  try {
+    text = readInputFile(path, kMaxBaselineBytes, "a bench --json file");
+  } catch (const InputError& e) {
+    throw CommandError(kExitBadInput, fmt::format("--baseline: {}: {}", path, e.what()));
+  }
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
   if (j.is_discarded()) throw CommandError(kExitBadInput, fmt::format("--baseline: {}: not valid JSON", path));
   try {
     return benchRunsFromJson(j);
@@ -119,8 +126,9 @@ void addBenchCommand(CLI::App& app) {
       ->check(kPositive)
       ->capture_default_str();
   cmd->add_option("--peak-gbs", c->peak_gbs,
-                  "The GPU's peak memory bandwidth in GB/s, for the share-of-peak column (default: known GPUs by name)")
-      ->check(kPositive);
+                  "The GPU's peak memory bandwidth in GB/s, for the share-of-peak column (unset: known GPUs by name)")
+      ->check(kPositive)
+      ->default_str("");  // 0 stands for unset
   addListOption(
       cmd, "--integrator", c->integrators,
       "Comma-separated integrators (verlet, xpbd, vbd), a run each; default: the scene's simulation.integrator")

@@ -5,43 +5,81 @@
 
 #include <fmt/format.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <bit>
+#include <cerrno>
 #include <cstring>
+#include <optional>
 
 namespace drape {
 
-ExportFormat parseExportFormat(const std::string& format, const std::filesystem::path& path) {
-  std::string name = format;
-  if (name.empty()) {
-    name = path.extension().string();
-    if (!name.empty()) name.erase(0, 1);
-    if (name != "obj" && name != "ply" && name != "usda")
-      throw CommandError(kExitBadInput, fmt::format("--export: {}: cannot tell the format from the extension; "
-                                                    "add --format obj, ply or usda",
-                                                    path.string()));
-  }
-  if (name == "obj") return ExportFormat::Obj;
-  if (name == "ply") return ExportFormat::Ply;
-  if (name == "usda") return ExportFormat::Usda;
-  throw CommandError(kExitBadInput, fmt::format("--format: unknown format '{}' (obj, ply or usda)", name));
+namespace {
+
+constexpr ExportFormat kFormats[] = {ExportFormat::Obj, ExportFormat::Ply, ExportFormat::Usda};
+
+std::string nameOf(ExportFormat format) {
+  return format == ExportFormat::Obj ? "obj" : format == ExportFormat::Ply ? "ply" : "usda";
 }
 
-std::filesystem::path sequenceFile(const std::filesystem::path& path, int frame) {
-  std::filesystem::path file = path;
-  file.replace_filename(fmt::format("{}_{:04d}{}", path.stem().string(), frame, path.extension().string()));
-  return file;
+std::optional<ExportFormat> formatNamed(const std::string& name) {
+  for (ExportFormat f : kFormats)
+    if (name == nameOf(f)) return f;
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::filesystem::path ExportTarget::file(int frame) const {
+  std::filesystem::path path = stem;
+  if (format == ExportFormat::Usda) return path += ".usda";
+  return path.replace_filename(fmt::format("{}_{:04d}.{}", stem.filename().string(), frame, nameOf(format)));
+}
+
+ExportTarget resolveExport(const std::string& path, const std::string& format) {
+  if (path.empty()) throw CommandError(kExitBadInput, "--export: an empty path");
+  std::optional<ExportFormat> asked;
+  if (!format.empty()) {
+    asked = formatNamed(format);
+    if (!asked)
+      throw CommandError(kExitBadInput, fmt::format("--format: unknown format '{}' (obj, ply or usda)", format));
+  }
+  std::error_code error;
+  if (path.back() == '/' || std::filesystem::is_directory(path, error))
+    return {std::filesystem::path(path) / "cloth", asked.value_or(ExportFormat::Obj)};
+  const std::filesystem::path given(path);
+  std::string extension = given.extension().string();
+  const std::optional<ExportFormat> named = extension.empty() ? std::nullopt : formatNamed(extension.substr(1));
+  if (!asked && !named)
+    throw CommandError(kExitBadInput, fmt::format("--export: {}: cannot tell the format from the extension; "
+                                                  "add --format obj, ply or usda",
+                                                  path));
+  if (asked && named && *asked != *named)
+    throw CommandError(kExitBadInput, fmt::format("--export: {} is {}, but --format says {}", path, extension.substr(1),
+                                                  nameOf(*asked)));
+  std::filesystem::path stem = given;
+  if (named) stem.replace_extension();
+  return {stem, asked.value_or(named.value_or(ExportFormat::Obj))};
 }
 
 std::vector<glm::dvec3> vertexNormals(const Topology& topology, const Positions& x) {
   std::vector<glm::dvec3> n(x.size(), glm::dvec3(0.0));
-  for (std::size_t t = 0; t + 2 < topology.triangles.size(); t += 3) {
-    const std::uint32_t a = topology.triangles[t], b = topology.triangles[t + 1], c = topology.triangles[t + 2];
-    // |cross| is twice the area: summing it weights every face by its size.
-    const glm::dvec3 face = glm::cross(x[b] - x[a], x[c] - x[a]);
-    n[a] += face;
-    n[b] += face;
-    n[c] += face;
-  }
+  const auto add = [&](const glm::dvec3& face, std::initializer_list<std::uint32_t> corners) {
+    for (std::uint32_t c : corners)
+      n[c] += face;
+  };
+  // |cross| is twice the area: summing it weights every face by its size.
+  for (const auto& f : topology.faces)
+    if (f[3] == kNoCorner)
+      add(glm::cross(x[f[1]] - x[f[0]], x[f[2]] - x[f[0]]), {f[0], f[1], f[2]});
+    else
+      add(glm::cross(x[f[2]] - x[f[0]], x[f[3]] - x[f[1]]), {f[0], f[1], f[2], f[3]});
+  if (topology.faces.empty())
+    for (std::size_t t = 0; t + 2 < topology.triangles.size(); t += 3) {
+      const std::uint32_t a = topology.triangles[t], b = topology.triangles[t + 1], c = topology.triangles[t + 2];
+      add(glm::cross(x[b] - x[a], x[c] - x[a]), {a, b, c});
+    }
   for (glm::dvec3& v : n) {
     const double len = glm::length(v);
     v = len > 0.0 ? v / len : glm::dvec3(0, 1, 0);
@@ -109,54 +147,181 @@ std::string plyBytes(const Topology& topology, const Positions& x) {
   return s;
 }
 
-ClothExport::ClothExport(std::filesystem::path path, ExportFormat format, const Scene& scene, const Topology& topology)
-    : path_(std::move(path)), format_(format), scene_(&scene), topology_(&topology) {
+namespace {
+
+// A nameless file beside the export (removed from its folder as soon as it is made, so nothing is left
+// however the run ends), written once and read back once: the USD file's normals wait here while its points
+// are written, since each attribute's samples must stay together.
+class ScratchFile {
+ public:
+  explicit ScratchFile(const std::filesystem::path& beside) : target_(beside) {
+    std::string name = ((beside.has_parent_path() ? beside.parent_path() : ".") / ".drape-XXXXXX").string();
+    fd_ = ::mkostemp(name.data(), O_CLOEXEC);
+    if (fd_ < 0) fail("cannot create a file in its directory");
+    ::unlink(name.c_str());
+  }
+  ~ScratchFile() { ::close(fd_); }
+  ScratchFile(const ScratchFile&) = delete;
+  ScratchFile& operator=(const ScratchFile&) = delete;
+
+  void append(std::string_view text) {
+    if (!writeAll(fd_, text)) fail("write failed");
+  }
+  void copyInto(StreamedFile& out) {
+    if (::lseek(fd_, 0, SEEK_SET) != 0) fail("read back failed");
+    std::string chunk(std::size_t(1) << 20, '\0');
+    for (;;) {
+      const ssize_t n = ::read(fd_, chunk.data(), chunk.size());
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) fail("read back failed");
+      if (n == 0) return;
+      out.append(std::string_view(chunk.data(), std::size_t(n)));
+    }
+  }
+
+ private:
+  [[noreturn]] void fail(const char* what) const {
+    throw OutputError(false, target_.string() + ": " + what + ": " + std::strerror(errno));
+  }
+  std::filesystem::path target_;
+  int fd_ = -1;
+};
+
+// Frame numbers in the header are written this wide, so that the end can be rewritten in place.
+constexpr int kTimeCodeWidth = 12;
+
+template <class Vec, class Each>
+void appendList(std::string& s, const std::vector<Vec>& values, Each each) {
+  s += '[';
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (i) s += ", ";
+    each(s, values[i]);
+  }
+  s += ']';
+}
+
+}  // namespace
+
+// The USD file, streamed: the header and the mesh's topology and UVs first, then each frame's points as it
+// comes; its normals wait in a scratch file and its extent (two corners a frame) in memory until finish().
+class UsdaStream {
+ public:
+  UsdaStream(const std::filesystem::path& path, const Scene& scene, const Topology& topology, int last_frame)
+      : file_(path), normals_(path), scene_(&scene), topology_(&topology), planned_last_(last_frame) {}
+
+  void add(int frame, const Positions& x) {
+    if (first_ < 0) begin(frame);
+    last_ = frame;
+    std::string s = fmt::format("        {}: ", frame);
+    appendList(s, x, [](std::string& out, const glm::dvec3& p) {
+      fmt::format_to(std::back_inserter(out), "({:.9g}, {:.9g}, {:.9g})", p.x, p.y, p.z);
+    });
+    file_.append(s += ",\n");
+    s = fmt::format("        {}: ", frame);
+    appendList(s, vertexNormals(*topology_, x), [](std::string& out, const glm::dvec3& n) {
+      fmt::format_to(std::back_inserter(out), "({:.6g}, {:.6g}, {:.6g})", n.x, n.y, n.z);
+    });
+    normals_.append(s += ",\n");
+    glm::dvec3 lo = x.front(), hi = x.front();
+    for (const glm::dvec3& p : x) {
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    fmt::format_to(std::back_inserter(extent_), "        {}: [({:.9g}, {:.9g}, {:.9g}), ({:.9g}, {:.9g}, {:.9g})],\n",
+                   frame, lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
+  }
+
+  // False when no frame was added: then there is no file.
+  bool finish() {
+    if (first_ < 0) return false;
+    file_.append(
+        "    }\n    normal3f[] normals (\n        interpolation = \"vertex\"\n    )\n"
+        "    normal3f[] normals.timeSamples = {\n");
+    normals_.copyInto(file_);
+    file_.append("    }\n    float3[] extent.timeSamples = {\n" + extent_ + "    }\n}\n");
+    if (last_ != planned_last_) file_.overwrite(end_offset_, fmt::format("{:<{}}", last_, kTimeCodeWidth));
+    file_.commit();
+    return true;
+  }
+
+ private:
+  void begin(int first) {
+    first_ = first;
+    const Topology& topo = *topology_;
+    const double fps = scene_->sim.frames_per_sec;
+    std::string s =
+        fmt::format("#usda 1.0\n(\n    defaultPrim = \"Cloth\"\n    startTimeCode = {}\n    endTimeCode = ", first);
+    end_offset_ = s.size();
+    fmt::format_to(std::back_inserter(s),
+                   "{:<{}}\n    timeCodesPerSecond = {:.9g}\n    framesPerSecond = {:.9g}\n    metersPerUnit = 1\n"
+                   "    upAxis = \"Y\"\n)\n\ndef Mesh \"Cloth\"\n{{\n    int[] faceVertexCounts = [",
+                   std::max(planned_last_, first), kTimeCodeWidth, fps, fps);
+    planned_last_ = std::max(planned_last_, first);
+    for (std::size_t t = 0; t < topo.triangles.size() / 3; ++t)
+      s += t ? ", 3" : "3";
+    s += "]\n    int[] faceVertexIndices = ";
+    appendList(s, topo.triangles,
+               [](std::string& out, std::uint32_t i) { fmt::format_to(std::back_inserter(out), "{}", i); });
+    s += "\n    uniform token orientation = \"rightHanded\"\n    uniform token subdivisionScheme = \"none\"\n";
+    s += "    texCoord2f[] primvars:st = ";
+    appendList(s, topo.uvs, [](std::string& out, const glm::vec2& uv) {
+      fmt::format_to(std::back_inserter(out), "({:.9g}, {:.9g})", uv.x, uv.y);
+    });
+    s += " (\n        interpolation = \"vertex\"\n    )\n    point3f[] points.timeSamples = {\n";
+    file_.append(s);
+  }
+
+  StreamedFile file_;
+  ScratchFile normals_;
+  const Scene* scene_;
+  const Topology* topology_;
+  std::string extent_;
+  int planned_last_;
+  int first_ = -1, last_ = -1;
+  std::size_t end_offset_ = 0;  // of endTimeCode's value in the file
+};
+
+ClothExport::ClothExport(const ExportTarget& target, const Scene& scene, const Topology& topology, int last_frame)
+    : target_(target), topology_(&topology) {
+  const std::filesystem::path first = target_.file(0);
+  if (first.has_parent_path()) {
+    std::error_code error;
+    std::filesystem::create_directories(first.parent_path(), error);
+    if (error)
+      throw CommandError(kExitBadInput, fmt::format("--export: cannot create the folder {}: {}",
+                                                    first.parent_path().string(), error.message()));
+  }
   try {
-    checkOutputFile(format_ == ExportFormat::Usda ? path_ : sequenceFile(path_, 0));
+    checkOutputFile(first);
+    if (target_.format == ExportFormat::Usda) usda_ = std::make_unique<UsdaStream>(first, scene, topology, last_frame);
   } catch (const OutputError& e) {
-    throw CommandError(kExitBadInput, fmt::format("--export: {}", e.what()));
+    throw CommandError(e.badTarget() ? kExitBadInput : kExitFailure, fmt::format("--export: {}", e.what()));
   }
 }
 
+ClothExport::~ClothExport() = default;
+
 void ClothExport::add(int frame, const Positions& x) {
-  if (first_ < 0) first_ = frame;
   last_ = frame;
-  if (format_ == ExportFormat::Usda) {
-    fmt::format_to(std::back_inserter(samples_), "        {}: [", frame);
-    for (std::size_t i = 0; i < x.size(); ++i)
-      fmt::format_to(std::back_inserter(samples_), "{}({:.9g}, {:.9g}, {:.9g})", i ? ", " : "", x[i].x, x[i].y, x[i].z);
-    samples_ += "],\n";
+  if (usda_) {
+    usda_->add(frame, x);
     return;
   }
-  const std::filesystem::path file = sequenceFile(path_, frame);
-  writeFileAtomically(file, format_ == ExportFormat::Obj ? objText(*topology_, x, frame) : plyBytes(*topology_, x));
+  const std::filesystem::path file = target_.file(frame);
+  writeFileAtomically(file,
+                      target_.format == ExportFormat::Obj ? objText(*topology_, x, frame) : plyBytes(*topology_, x));
   ++written_;
+}
+
+std::string keepExport(ClothExport& exporter) {
+  exporter.finish();
+  if (exporter.lastFrame() < 0) return "; --export wrote nothing";
+  return fmt::format("; --export keeps frames 0 to {}", exporter.lastFrame());
 }
 
 void ClothExport::finish() {
-  if (format_ != ExportFormat::Usda || first_ < 0) return;
-  const Topology& topo = *topology_;
-  const double fps = scene_->sim.frames_per_sec;
-  std::string s = "#usda 1.0\n(\n    defaultPrim = \"Cloth\"\n";
-  fmt::format_to(std::back_inserter(s),
-                 "    startTimeCode = {}\n    endTimeCode = {}\n    timeCodesPerSecond = {:.9g}\n"
-                 "    framesPerSecond = {:.9g}\n    metersPerUnit = 1\n    upAxis = \"Y\"\n)\n\n",
-                 first_, last_, fps, fps);
-  s += "def Mesh \"Cloth\"\n{\n    int[] faceVertexCounts = [";
-  for (std::size_t t = 0; t < topo.triangles.size() / 3; ++t)
-    s += t ? ", 3" : "3";
-  s += "]\n    int[] faceVertexIndices = [";
-  for (std::size_t k = 0; k < topo.triangles.size(); ++k)
-    fmt::format_to(std::back_inserter(s), "{}{}", k ? ", " : "", topo.triangles[k]);
-  s += "]\n    uniform token orientation = \"rightHanded\"\n    uniform token subdivisionScheme = \"none\"\n";
-  s += "    point3f[] points.timeSamples = {\n";
-  s += samples_;
-  s += "    }\n    texCoord2f[] primvars:st = [";
-  for (std::size_t i = 0; i < topo.uvs.size(); ++i)
-    fmt::format_to(std::back_inserter(s), "{}({:.9g}, {:.9g})", i ? ", " : "", topo.uvs[i].x, topo.uvs[i].y);
-  s += "] (\n        interpolation = \"vertex\"\n    )\n}\n";
-  writeFileAtomically(path_, s);
-  ++written_;
+  if (usda_ && usda_->finish()) ++written_;
+  usda_.reset();
 }
 
 }  // namespace drape

@@ -23,10 +23,8 @@ bool dragVector(const char* label, glm::dvec3& value, float speed) {
 }
 
 void drawHelp() {
-  ImGui::TextWrapped(
-      "P pause/resume, N one frame while paused, R reset the cloth, Space reset the camera, S screenshot, "
-      "F5 reload shaders, Esc quit.\nLeft-drag orbit, right-drag or Ctrl+left-drag pan, scroll zoom, "
-      "Shift+left-drag pull the cloth (GPU solver).");
+  static const std::string text = viewerControlsText();
+  ImGui::TextUnformatted(text.c_str());
 }
 
 }  // namespace
@@ -77,14 +75,19 @@ void ImGuiPanel::draw(Viewer& viewer) {
   }
   ImGui::NewFrame();
   rects_.clear();
-  ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(440, 0), ImGuiCond_FirstUseEver);
-  ImGui::Begin("Drape");
-  ImGui::PushItemWidth(ImGui::GetFontSize() * 16);  // leaves room for the labels on the right
+  // Narrow and short by default (the parameters open, the look and the timings folded), over the top-left
+  // corner, which the default camera leaves to the sky; H hides it.
+  ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+  // As tall as what is open, within the window: a section opened later grows it, a long one scrolls.
+  const float font = ImGui::GetFontSize();
+  ImGui::SetNextWindowSizeConstraints(ImVec2(font * 23, 0), ImVec2(font * 23, ImGui::GetIO().DisplaySize.y - 16));
+  ImGui::SetNextWindowBgAlpha(0.8f);
+  ImGui::Begin("Drape (H hides this)", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+  ImGui::PushItemWidth(ImGui::GetFontSize() * 10);  // leaves room for the labels on the right
   drawControls(viewer);
   if (ImGui::CollapsingHeader("Cloth and simulation", ImGuiTreeNodeFlags_DefaultOpen)) drawParameters(viewer);
-  if (ImGui::CollapsingHeader("Appearance", ImGuiTreeNodeFlags_DefaultOpen)) drawAppearance(viewer.settings);
-  if (ImGui::CollapsingHeader("Performance", ImGuiTreeNodeFlags_DefaultOpen)) drawPerformance(viewer);
+  if (ImGui::CollapsingHeader("Appearance")) drawAppearance(viewer);
+  if (ImGui::CollapsingHeader("Performance")) drawPerformance(viewer);
   if (ImGui::CollapsingHeader("Keys and mouse")) drawHelp();
   ImGui::PopItemWidth();
   ImGui::End();
@@ -101,9 +104,8 @@ void ImGuiPanel::drawControls(Viewer& viewer) {
   if (ImGui::Button("Camera (Space)")) viewer.resetCamera();
   ImGui::SameLine();
   if (ImGui::Button("Screenshot (S)")) viewer.requestScreenshot();
-  ImGui::SameLine();
-  if (ImGui::Button("Reload shaders (F5)")) viewer.reloadShaders();
-  ImGui::Text("frame %lld, t = %.3f s", viewer.framesSimulated(), viewer.solver().time());
+  ImGui::Text("frame %lld, t = %.3f s, %.0f frames/s", viewer.framesSimulated(), viewer.solver().time(),
+              viewer.stats().fps);
   const ImVec4 red(1.0f, 0.4f, 0.4f, 1.0f);
   if (!viewer.blowUp().empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, red);
@@ -139,13 +141,13 @@ void ImGuiPanel::drawParameters(Viewer& viewer) {
   changed |= track(ImGui::Checkbox("self-collision", &s.self_collision), "self-collision");
   ImGui::SameLine();
   changed |= track(ImGui::Checkbox("wind", &s.wind.enabled), "wind");
+  ImGui::SameLine();
+  changed |= track(ImGui::Checkbox("tethers", &s.tethers), "tethers");
   if (s.wind.enabled) {
     changed |= track(dragVector("wind (m/s)", s.wind.velocity, 0.05f), "wind (m/s)");
     changed |= track(sliderDouble("turbulence", s.wind.turbulence, 0.0, 2.0, "%.2f", 0), "turbulence");
   }
   changed |= track(ImGui::SliderInt("stretch passes", &s.stretch_passes, 0, 10), "stretch passes");
-  ImGui::SameLine();
-  changed |= track(ImGui::Checkbox("tethers", &s.tethers), "tethers");
   // Verlet, XPBD or VBD, switched live: all run on the same state (x and x - x_prev).
   for (Integrator i : kIntegrators) {
     if (i != Integrator::Verlet) ImGui::SameLine();
@@ -154,22 +156,20 @@ void ImGuiPanel::drawParameters(Viewer& viewer) {
       changed = true;
     }
   }
-  if (isImplicit(s.integrator)) {
-    ImGui::SameLine();
-    changed |= track(ImGui::SliderInt("iterations", &s.iterations, 1, 10), "iterations");
-  }
+  if (isImplicit(s.integrator)) changed |= track(ImGui::SliderInt("iterations", &s.iterations, 1, 10), "iterations");
   if (changed) viewer.applyParams();
 
   // The explicit-integration bound of what is set now (core/stability.hpp), and the way back inside it.
   const StabilityCheck& check = viewer.stability();
   const ImVec4 colour = check.ok ? ImVec4(0.5f, 0.85f, 0.5f, 1.0f) : ImVec4(1.0f, 0.4f, 0.4f, 1.0f);
+  ImGui::PushTextWrapPos(0.0f);  // within the panel's width
   if (isImplicit(s.integrator))
     ImGui::TextColored(colour, "%s: no explicit bound (Verlet's dt sqrt(k/m) = %.3g)", integratorName(s.integrator),
                        check.number);
   else
     ImGui::TextColored(colour, "dt sqrt(k/m) = %.3g, stable below %.3g", check.number, check.limit);
+  ImGui::PopTextWrapPos();
   if (!check.ok && check.steps_needed > 0 && check.steps_needed <= 10000) {
-    ImGui::SameLine();
     const std::string label = "use " + std::to_string(check.steps_needed) + " steps/frame";
     if (track(ImGui::Button(label.c_str()), "auto substeps")) {
       s.steps_per_frame = check.steps_needed;
@@ -178,7 +178,9 @@ void ImGuiPanel::drawParameters(Viewer& viewer) {
   }
 }
 
-void ImGuiPanel::drawAppearance(RenderSettings& r) {
+void ImGuiPanel::drawAppearance(Viewer& viewer) {
+  RenderSettings& r = viewer.settings;
+  if (ImGui::Button("Reload shaders (F5)")) viewer.reloadShaders();
   const std::string current(shadingName(r.shading));
   if (ImGui::BeginCombo("shader", current.c_str())) {
     for (Shading option : allShadings()) {
@@ -218,6 +220,10 @@ void ImGuiPanel::drawAppearance(RenderSettings& r) {
   ImGui::DragFloat3("light position (m)", &r.light.position.x, 0.02f);
   ImGui::DragFloat3("light intensity", &r.light.intensity.x, 0.05f, 0.0f, 100.0f);
   ImGui::Checkbox("show colliders", &r.show_colliders);
+  ImGui::SameLine();
+  ImGui::Checkbox("floor", &r.floor);
+  ImGui::SameLine();
+  ImGui::Checkbox("shadows", &r.shadows);
 }
 
 void ImGuiPanel::drawPerformance(const Viewer& viewer) {

@@ -48,7 +48,7 @@ class ImGuiPanel final : public ViewerPanel {
  private:
   void drawControls(Viewer& viewer);
   void drawParameters(Viewer& viewer);
-  void drawAppearance(RenderSettings& r);
+  void drawAppearance(Viewer& viewer);
   void drawPerformance(const Viewer& viewer);
   bool track(bool changed, const char* label);  // records the last item's rect under `label`
 

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <climits>
 #include <cmath>
 #include <regex>
 
@@ -104,11 +106,16 @@ void applyIntegrator(Scene& scene, const std::string& name) {
 }
 
 glm::ivec2 parseSize(const std::string& option, const std::string& text, int min_side, int max_side) {
-  static const std::regex pattern("([0-9]{1,5})x([0-9]{1,5})");
+  static const std::regex pattern("([0-9]+)x([0-9]+)");
   std::smatch m;
   if (!std::regex_match(text, m, pattern))
     throw CommandError(kExitBadInput, fmt::format("{}: '{}' is not WIDTHxHEIGHT (e.g. 640x480)", option, text));
-  const glm::ivec2 size{std::stoi(m[1]), std::stoi(m[2])};
+  // Any number of digits is a size, too large ones included: those are out of range, not malformed.
+  const auto side = [](const std::string& digits) {
+    const std::size_t first = std::min(digits.find_first_not_of('0'), digits.size() - 1);
+    return digits.size() - first > 9 ? INT_MAX : std::stoi(digits.substr(first));
+  };
+  const glm::ivec2 size{side(m[1]), side(m[2])};
   if (size.x < min_side || size.y < min_side || size.x > max_side || size.y > max_side)
     throw CommandError(kExitBadInput, fmt::format("{}: {} is outside {}x{} .. {}x{}", option, text, min_side, min_side,
                                                   max_side, max_side));

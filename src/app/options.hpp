@@ -1,5 +1,5 @@
 // Option parsing the commands share: the number checks, comma-separated lists and WIDTHxHEIGHT sizes.
-// A bad value is one line naming the option and exit status 2, like every usage error (README "Exit status").
+// A bad value is one line naming the option and exit status 2, like every usage error (docs/exit-status.md).
 #pragma once
 
 #include "core/scene.hpp"

@@ -47,8 +47,9 @@ void runPenetration(const PenetrationOptions& o) {
   const PenetrationGauge gauge(scene, topology, o.spacing_mm * 1e-3);
   fmt::print(
       "# {}: cloth points and triangles inside its spheres and meshes (exact surfaces; triangles sampled {:g} mm "
-      "apart), mm. nearest: the closest cloth point's signed distance (exact within 2 field cells of a mesh, a "
-      "lower bound beyond); inside: how many points are inside; vertex, triangle: the deepest point and the deepest "
+      "apart), mm. nearest: the closest cloth point's signed distance (exact within 2 field cells of a mesh, the "
+      "field's estimate beyond); inside: how many points are inside; vertex, triangle: the deepest point and the "
+      "deepest "
       "point of any triangle, and which\n",
       o.scene, o.spacing_mm);
   fmt::print("{:>6} {:>10} {:>7} {:>10} {:>7} {:>10} {:>9}\n", "frame", "nearest", "inside", "vertex", "point",
@@ -60,7 +61,7 @@ void runPenetration(const PenetrationOptions& o) {
     const std::string& file = o.frames[k];
     PolygonMesh mesh;
     try {
-      mesh = readObj(file, kMaxClothPoints);
+      mesh = readObj(file, {kMaxClothPoints, " (the most a cloth may have)"});
     } catch (const MeshError& e) {
       throw CommandError(kExitBadInput, fmt::format("{}: {}", file, e.what()));
     }

@@ -1,10 +1,12 @@
 // `drape render`: run a scene headless (EGL, no display) and write frames as PNGs, optionally a video.
 #include "app/commands.hpp"
 #include "app/export.hpp"
+#include "app/look_ahead.hpp"
 #include "app/options.hpp"
 #include "app/output.hpp"
 #include "app/process.hpp"
 #include "app/solver_factory.hpp"
+#include "app/video.hpp"
 #include "core/metrics.hpp"
 #include "gl/context.hpp"
 #include "render/image.hpp"
@@ -15,10 +17,7 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <optional>
 #include <vector>
@@ -77,15 +76,6 @@ Image readImage(const gl::Framebuffer& target) {
   return image;
 }
 
-// ffmpeg's image2 pattern reads % as the start of the frame number: the directory's own % must match
-// literally.
-std::string patternEscape(const std::string& text) {
-  std::string out;
-  for (char c : text)
-    out += c == '%' ? std::string("%%") : std::string(1, c);
-  return out;
-}
-
 // The video of each shading model: VIDEO itself for one; VIDEO's stem, the model's name and its
 // extension for several (out.mp4 -> out_phong.mp4, out_toon.mp4).
 std::vector<std::filesystem::path> videoPaths(const std::string& video, const std::vector<Shading>& shadings) {
@@ -96,66 +86,6 @@ std::vector<std::filesystem::path> videoPaths(const std::string& video, const st
     paths.push_back(given.parent_path() /
                     (given.stem().string() + "_" + std::string(shadingName(shading)) + given.extension().string()));
   return paths;
-}
-
-// A fresh directory of numbered links to exactly the frames this run wrote, in order; removed with it.
-// A glob over --out would also take frames an earlier, longer run left there.
-class FrameSequence {
- public:
-  explicit FrameSequence(const std::vector<std::filesystem::path>& frames) {
-    std::string dir = (std::filesystem::temp_directory_path() / "drape-video.XXXXXX").string();
-    if (!::mkdtemp(dir.data()))
-      throw CommandError(kExitFailure,
-                         fmt::format("--video: cannot make a directory in {}: {}",
-                                     std::filesystem::temp_directory_path().string(), std::strerror(errno)));
-    dir_ = dir;
-    for (std::size_t i = 0; i < frames.size(); ++i) {
-      std::error_code error;
-      std::filesystem::create_symlink(std::filesystem::absolute(frames[i]), dir_ / fmt::format("{:06d}.png", i), error);
-      if (error)
-        throw CommandError(kExitFailure, fmt::format("--video: cannot link {} in {}: {}", frames[i].string(),
-                                                     dir_.string(), error.message()));
-    }
-  }
-  ~FrameSequence() {
-    std::error_code ignored;
-    std::filesystem::remove_all(dir_, ignored);
-  }
-  FrameSequence(const FrameSequence&) = delete;
-  FrameSequence& operator=(const FrameSequence&) = delete;
-  std::string pattern() const { return patternEscape(dir_.string()) + "/%06d.png"; }
-
- private:
-  std::filesystem::path dir_;
-};
-
-// No shell: the frame and video names reach ffmpeg as they are. Absolute paths, so that a name
-// starting with '-' is not an option and one with a ':' is not a protocol (e.g. pipe:).
-void encodeVideo(const std::vector<std::filesystem::path>& frames, const std::filesystem::path& video, double fps) {
-  const FrameSequence sequence(frames);
-  const std::string output = std::filesystem::absolute(video).string();
-  const std::vector<std::string> command = {"ffmpeg",
-                                            "-nostdin",
-                                            "-loglevel",
-                                            "error",
-                                            "-y",
-                                            "-framerate",
-                                            fmt::format("{:.6g}", fps),
-                                            "-start_number",
-                                            "0",
-                                            "-i",
-                                            sequence.pattern(),
-                                            "-c:v",
-                                            "libx264",
-                                            "-pix_fmt",
-                                            "yuv420p",
-                                            "-vf",
-                                            "pad=ceil(iw/2)*2:ceil(ih/2)*2",
-                                            output};
-  if (const int status = runProcess(command); status != 0)
-    throw CommandError(kExitFailure,
-                       fmt::format("--video: ffmpeg failed to write {} (exit status {})", video.string(), status));
-  fmt::print(stderr, "render: wrote {} ({} frames)\n", video.string(), frames.size());
 }
 
 // An existing --out must be a directory; the directories are made only once everything else is known to
@@ -198,12 +128,12 @@ void runRender(const RenderOptions& o) {
     throw CommandError(kExitFailure, fmt::format("--video: ffmpeg is not installed (apt-get install ffmpeg); "
                                                  "leave out --video to write the PNG frames only"));
   checkOutputDirectory(o.out);
-  const std::vector<std::filesystem::path> videos =
+  const std::vector<std::filesystem::path> video_paths =
       o.video.empty() ? std::vector<std::filesystem::path>{} : videoPaths(o.video, shadings);
-  for (const std::filesystem::path& video : videos)
+  for (const std::filesystem::path& video : video_paths)
     checkOutputFile(video);
-  const ExportFormat export_format =
-      o.export_path.empty() ? ExportFormat::Obj : parseExportFormat(o.export_format, o.export_path);
+  const ExportTarget export_target =
+      o.export_path.empty() ? ExportTarget{} : resolveExport(o.export_path, o.export_format);
   Scene scene = loadScene(o.scene);
   applyIntegrator(scene, o.integrator);
 
@@ -219,9 +149,20 @@ void runRender(const RenderOptions& o) {
   std::unique_ptr<Solver> solver = factory.make(scene, o.solver);
   ClothFeed feed(*solver);
   std::optional<ClothExport> exporter;
-  if (!o.export_path.empty()) exporter.emplace(o.export_path, export_format, scene, solver->topology());
-  Renderer renderer(scene, solver->topology(), {.sphere_latitudes = o.latitudes, .sphere_longitudes = o.longitudes});
+  if (!o.export_path.empty()) exporter.emplace(export_target, scene, solver->topology(), o.frames / o.every * o.every);
+  // The default camera frames the whole run (at least the 2 s the viewer frames, so that the two agree),
+  // and the floor, the light and the shadow map follow where the cloth goes; --camera start frames the
+  // scene as it starts, without the look-ahead.
+  const SceneExtent extent = o.camera != "start" ? lookAheadExtent(scene, solver->topology(),
+                                                                   std::max(o.frames, lookAheadFrames(scene)), "render")
+                                                 : SceneExtent(scene, solver->topology());
+  Renderer renderer(scene, solver->topology(), extent,
+                    {.sphere_latitudes = o.latitudes, .sphere_longitudes = o.longitudes});
   gl::Framebuffer target = gl::Framebuffer::createColorDepth(size.x, size.y, o.samples);
+  // Each video's temporary is made before the first frame: a folder that cannot take the video fails now.
+  std::vector<std::unique_ptr<VideoOutput>> videos;
+  for (const std::filesystem::path& video : video_paths)
+    videos.push_back(std::make_unique<VideoOutput>(video));
   const std::vector<std::filesystem::path> dirs = makeOutputDirectories(o, shadings);
   Camera camera;
   const float aspect = float(size.x) / float(size.y);
@@ -229,15 +170,24 @@ void runRender(const RenderOptions& o) {
   camera.zoom(float(o.zoom));
   RenderSettings settings;
   settings.springs = enabledSprings(scene.cloth);
+  settings.light = renderer.defaultLight();
 
   const bool interactive = ::isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
+  std::string export_kept;  // set once a blow-up ended the export early
   int written = 0;
   std::vector<std::vector<std::filesystem::path>> frames_written(shadings.size());
   for (int frame = 0; frame <= o.frames; ++frame) {
     if (frame > 0) solver->stepFrame();
     if (frame % o.every != 0) continue;
-    if (exporter) exporter->add(frame, solver->readPositions());
+    if (exporter && export_kept.empty()) {
+      // A blown-up cloth is not exported: the export keeps the frames before it, the images go on.
+      const std::vector<glm::dvec3> x = solver->readPositions();
+      if (allFinite(x))
+        exporter->add(frame, x);
+      else
+        export_kept = keepExport(*exporter);
+    }
     if (o.camera == "cloth") {
       // Framing the cloth where it is now takes an explicit read-back of its positions, per image.
       const std::vector<glm::dvec3> x = solver->readPositions();
@@ -267,11 +217,11 @@ void runRender(const RenderOptions& o) {
   // One explicit read-back at the end: a cloth that blew up leaves empty pictures, which must not pass.
   if (!allFinite(solver->readPositions()))
     throw CommandError(kExitBlowUp, fmt::format("{}: the simulation became non-finite within {} frames; the images "
-                                                "in {} show it",
-                                                scene.path, o.frames, o.out));
+                                                "in {} show it{}",
+                                                scene.path, o.frames, o.out, exporter ? keepExport(*exporter) : ""));
   if (exporter) exporter->finish();
   for (std::size_t k = 0; k < videos.size(); ++k)
-    encodeVideo(frames_written[k], videos[k], scene.sim.frames_per_sec / o.every);
+    videos[k]->encode(frames_written[k], scene.sim.frames_per_sec / o.every);
 }
 
 }  // namespace
@@ -286,30 +236,32 @@ void addRenderCommand(CLI::App& app) {
   cmd->add_option("--every", opts->every, "Write every K-th frame")->check(CLI::Range(1, kMaxRenderFrames));
   cmd->add_option("--out", opts->out, "Directory for frame_NNNN.png")->required();
   cmd->add_option("--export", opts->export_path,
-                  "Also write the cloth per written frame: PATH.obj/.ply become PATH_NNNN.obj/.ply, .usda one file");
-  cmd->add_option("--format", opts->export_format, "--export format: obj, ply or usda (default: PATH's extension)")
+                  "Also write the cloth per written frame: PATH_NNNN.obj or .ply, or one PATH.usda; a folder (DIR/) "
+                  "gets cloth_NNNN.obj inside; missing folders are made");
+  cmd->add_option("--format", opts->export_format,
+                  "--export format: obj, ply or usda, which decides the files' extension (default: PATH's extension; "
+                  "obj for a folder)")
       ->check(CLI::IsMember({"obj", "ply", "usda"}));
   addListOption(cmd, "--shader", opts->shader, "Shading models, comma-separated, or all")
       ->check(CLI::IsMember(shaderChoices()));
-  cmd->add_option("--size", opts->size, "Image size WIDTHxHEIGHT (default 640x480)");
+  cmd->add_option("--size", opts->size, "Image size WIDTHxHEIGHT");
   cmd->add_option("--solver", opts->solver,
-                  "gpu (default; the path chosen for the device), gpu-general, gpu-tiled or gpu-onedispatch (forced), "
+                  "gpu (the path chosen for the device), gpu-general, gpu-tiled or gpu-onedispatch (forced), "
                   "cpu or cpu64")
       ->check(CLI::IsMember(solverNames(false)));
   addIntegratorOption(cmd, opts->integrator);
   cmd->add_option("--video", opts->video,
                   "Also encode the frames this run wrote into this video with ffmpeg (e.g. out.mp4; with several "
                   "shaders one video each, out_SHADER.mp4)");
-  cmd->add_option("-a,--latitudes", opts->latitudes, "Sphere latitude rings (default 40)")->check(CLI::Range(2, 1000));
-  cmd->add_option("-o,--longitudes", opts->longitudes, "Sphere longitude segments (default 40)")
-      ->check(CLI::Range(3, 1000));
-  cmd->add_option("--samples", opts->samples, "Multisampling per pixel (default 1)")->check(CLI::Range(1, 16));
+  cmd->add_option("-a,--latitudes", opts->latitudes, "Sphere latitude rings")->check(CLI::Range(2, 1000));
+  cmd->add_option("-o,--longitudes", opts->longitudes, "Sphere longitude segments")->check(CLI::Range(3, 1000));
+  cmd->add_option("--samples", opts->samples, "Multisampling per pixel")->check(CLI::Range(1, 16));
   cmd->add_option("--camera", opts->camera,
-                  "scene: one view of everything the cloth may reach (default); cloth: frame the cloth where it is "
-                  "in each image")
-      ->check(CLI::IsMember({"scene", "cloth"}));
-  cmd->add_option("--zoom", opts->zoom, "Camera distance factor (< 1 is closer; default 1)")
-      ->check(CLI::Range(0.01, 100.0));
+                  "scene: one view of the scene and everywhere the cloth goes in the run (run once on the CPU "
+                  "before the first image; at least 2 s of it, as `view` frames it); start: the scene as it "
+                  "starts; cloth: the cloth where it is in each image")
+      ->check(CLI::IsMember({"scene", "start", "cloth"}));
+  cmd->add_option("--zoom", opts->zoom, "Camera distance factor (< 1 is closer)")->check(CLI::Range(0.01, 100.0));
   cmd->callback([opts] { runRender(*opts); });
 }
 

@@ -14,7 +14,10 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
+#include <cstdio>
+#include <cstring>
 #include <optional>
 
 namespace drape {
@@ -89,8 +92,8 @@ void warnAboutHeldPairs(const Scene& scene, const Topology& topology) {
 
 void runSimulate(const SimulateOptions& o) {
   if (!o.out.empty()) checkOutputFile(o.out);  // before the run, not after it
-  const ExportFormat format =
-      o.export_path.empty() ? ExportFormat::Obj : parseExportFormat(o.export_format, o.export_path);
+  const ExportTarget export_target =
+      o.export_path.empty() ? ExportTarget{} : resolveExport(o.export_path, o.export_format);
   Scene loaded = loadScene(o.scene);
   applyIntegrator(loaded, o.integrator);
   const Scene scene = guardStability(std::move(loaded), o.auto_substeps);
@@ -98,14 +101,15 @@ void runSimulate(const SimulateOptions& o) {
   auto solver = factory.make(scene, o.solver, {.threads = o.threads});
   warnAboutHeldPairs(scene, solver->topology());
   std::optional<ClothExport> exporter;
-  if (!o.export_path.empty()) exporter.emplace(o.export_path, format, scene, solver->topology());
+  if (!o.export_path.empty()) exporter.emplace(export_target, scene, solver->topology(), o.frames / o.every * o.every);
   if (o.verbose) fmt::print(stderr, "{}", describePasses(*solver));
   const auto start = std::chrono::steady_clock::now();
   if (exporter) exporter->add(0, solver->readPositions());
   const auto stopIfBlownUp = [&](const Health& h) {
     if (h.ok()) return;
     const long long frame = (h.substeps + scene.sim.steps_per_frame - 1) / scene.sim.steps_per_frame;
-    throw CommandError(kExitBlowUp, fmt::format("{}: blew up at frame {}: {}", scene.path, frame, h.describe()));
+    throw CommandError(kExitBlowUp, fmt::format("{}: blew up at frame {}: {}{}", scene.path, frame, h.describe(),
+                                                exporter ? keepExport(*exporter) : ""));
   };
   TerminalProgress progress("simulate: frame", o.frames, ::isatty(STDERR_FILENO));
   for (int f = 0; f < o.frames; ++f) {
@@ -125,9 +129,14 @@ void runSimulate(const SimulateOptions& o) {
   if (!allFinite(x))
     throw CommandError(kExitBlowUp,
                        fmt::format("{}: the simulation became non-finite within {} frames", scene.path, o.frames));
-  printSummary(scene, *solver, o.frames, ms);
+  // The files first: the summary measures the cloth (distances to the obstacles) and goes to a stream that
+  // may fail; neither may cost the run's output.
   if (!o.out.empty()) writePositionsJson(o.out, x);
   if (exporter) exporter->finish();
+  printSummary(scene, *solver, o.frames, ms);
+  if (std::fflush(stdout) != 0 || std::ferror(stdout))
+    throw CommandError(kExitFailure,
+                       fmt::format("simulate: cannot write the summary to standard output: {}", std::strerror(errno)));
 }
 
 }  // namespace
@@ -146,11 +155,14 @@ void addSimulateCommand(CLI::App& app) {
   cmd->add_option("--out", opts->out, "Write the final positions as JSON [[x,y,z],...]");
   cmd->add_flag("--verbose,-v", opts->verbose, "List the passes and dispatches per frame");
   cmd->add_option("--threads", opts->threads,
-                  "CPU solvers' threads (default 0: every core); every count computes the same bytes")
+                  "CPU solvers' threads (0: every core); every count computes the same bytes")
       ->check(CLI::Range(0, 1024));
   cmd->add_option("--export", opts->export_path,
-                  "Write the cloth per exported frame: PATH.obj/.ply become PATH_NNNN.obj/.ply, .usda one file");
-  cmd->add_option("--format", opts->export_format, "--export format: obj, ply or usda (default: PATH's extension)")
+                  "Write the cloth per exported frame: PATH_NNNN.obj or .ply, or one PATH.usda; a folder (DIR/) gets "
+                  "cloth_NNNN.obj inside; missing folders are made");
+  cmd->add_option("--format", opts->export_format,
+                  "--export format: obj, ply or usda, which decides the files' extension (default: PATH's extension; "
+                  "obj for a folder)")
       ->check(CLI::IsMember({"obj", "ply", "usda"}));
   cmd->add_option("--every", opts->every, "--export every K-th frame (frame 0 is the initial state)")
       ->check(CLI::Range(1, 1000000));

@@ -1,6 +1,7 @@
 #include "app/solver_factory.hpp"
 
 #include "app/commands.hpp"
+#include "core/memory_stage.hpp"
 #include "cpu/cpu_solver.hpp"
 #include "gl/context.hpp"
 #include "gl/objects.hpp"
@@ -39,6 +40,7 @@ SolverFactory::SolverFactory(SolverFactoryOptions options) : options_(options) {
 SolverFactory::~SolverFactory() = default;
 
 std::unique_ptr<Solver> SolverFactory::make(const Scene& scene, const std::string& name, SolverRequest request) {
+  const MemoryStage stage(fmt::format("building the {} solver for {} points", name, scene.cloth.pointCount()));
   const CpuSolverOptions cpu{.threads = request.threads};
   if (name == "cpu") return std::make_unique<CpuSolver<float>>(scene, cpu);
   if (name == "cpu64") return std::make_unique<CpuSolver<double>>(scene, cpu);

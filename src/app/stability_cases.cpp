@@ -1,5 +1,7 @@
 #include "app/stability_cases.hpp"
 #include "app/jobs.hpp"
+#include "app/progress.hpp"
+#include "app/stability_summary.hpp"
 
 #include "core/derived.hpp"
 #include "core/hash.hpp"
@@ -229,7 +231,8 @@ std::string describe(const StabilityResult& r) {
                                  isImplicit(r.integrator) ? std::string(integratorName(r.integrator)) + " " : "",
                                  r.steps_per_frame, r.guarded ? " (guard)" : "");
   if (r.stable)
-    line += fmt::format("stable, max strain {:.3g}, KE end/max {:.2g}, energy {}", r.max_strain,
+    line += fmt::format("stable, {}, max strain {:.3g}, end {:.3g}, KE end/max {:.2g}, energy {}",
+                        keepsShape(r) ? "keeps its shape" : "OUT OF SHAPE", r.max_strain, r.end_strain,
                         r.ke_max > 0 ? r.ke_end / r.ke_max : 0.0, trend(r));
   else
     line += fmt::format("UNSTABLE at frame {}: {}", r.first_bad_frame, r.what);
@@ -272,12 +275,17 @@ StabilityReport runStability(const std::vector<StabilityCase>& cases, const std:
   report.jobs = jobsFor(jobs, jobs_list.size());
   report.threads_per_run = threadsPerJob(report.jobs);
   report.results.resize(jobs_list.size());
+  std::vector<double> cost;
+  for (const Job& job : jobs_list)
+    cost.push_back(stabilityRunCost(*job.c, job.steps, job.guard));
+  SweepEstimate estimate(cost);
   std::mutex progress_mutex;
   forEachJob(jobs_list.size(), report.jobs, [&](std::size_t j) {
     const Job& job = jobs_list[j];
     report.results[j] = runStabilityCase(*job.c, job.steps, job.guard, report.threads_per_run);
     std::lock_guard<std::mutex> lock(progress_mutex);
-    if (progress) progress(describe(report.results[j]));
+    const std::string count = estimate.finished(j);
+    if (progress) progress(count + ": " + describe(report.results[j]));
   });
   report.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report;

@@ -4,7 +4,9 @@
 #include "app/measure.hpp"
 #include "app/options.hpp"
 #include "app/output.hpp"
+#include "app/progress.hpp"
 #include "app/stability_cases.hpp"
+#include "app/stability_summary.hpp"
 
 #include <fmt/core.h>
 #include <fmt/format.h>
@@ -52,9 +54,14 @@ void runStabilityCommand(const StabilityCommandOptions& o) {
   writeFileAtomically((dir / "stability.csv").string(), stabilityCsv(report));
   const std::string md = stabilityMarkdown(report, chosen);
   writeFileAtomically((dir / "stability.md").string(), md);
-  fmt::print("{}", md);
-  fmt::print(stderr, "stability: wrote {} and {} ({:.0f} s)\n", (dir / "stability.csv").string(),
-             (dir / "stability.md").string(), report.wall_s);
+  // The short table here, the full one (every case, every run) in the file.
+  std::size_t stable = 0;
+  for (const StabilityResult& r : report.results)
+    stable += r.stable;
+  fmt::print("{} runs, {} stable, {} unstable, in {} ({} at a time); every case in {}\n\n{}", report.results.size(),
+             stable, report.results.size() - stable, formatDuration(report.wall_s), report.jobs,
+             (dir / "stability.md").string(), stabilitySummary(report, chosen));
+  fmt::print(stderr, "stability: wrote {} and {}\n", (dir / "stability.csv").string(), (dir / "stability.md").string());
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // `drape view`: the interactive viewer (src/render/viewer.hpp) with its Dear ImGui control panel.
 #include "app/commands.hpp"
 #include "app/imgui_panel.hpp"
+#include "app/look_ahead.hpp"
 #include "app/options.hpp"
 #include "app/solver_factory.hpp"
 #include "core/data_dir.hpp"
@@ -28,6 +29,7 @@ struct ViewOptions {
   std::string screenshot;
   std::string size = "1280x800";
   std::string integrator;  // empty: the scene's
+  std::string camera = "scene";
 };
 
 // The default scene is found from the current directory or, failing that, among drape's own scenes.
@@ -64,6 +66,9 @@ void runView(const ViewOptions& o) {
   options.shading = *shading;
   options.frames = o.frames;
   options.screenshot = o.screenshot;
+  // The camera `render` has by default: the first 2 s of the run, looked ahead on the CPU before the window
+  // shows the scene.
+  if (o.camera == "scene") options.extent = lookAheadExtent(scene, solver->topology(), lookAheadFrames(scene), "view");
   Viewer viewer(window, std::move(solver), options);
   // Created after the viewer (its callbacks chain to the viewer's) and destroyed before it.
   ImGuiPanel panel(window.window());
@@ -76,20 +81,27 @@ void addViewCommand(CLI::App& app) {
   auto opts = std::make_shared<ViewOptions>();
   CLI::App* cmd = app.add_subcommand("view", "Interactive viewer (needs a display; see `drape render` otherwise)");
   cmd->add_option("scene", opts->scene, "Scene JSON file (default scenes/sphere.json)");
-  cmd->add_option("-a,--latitudes", opts->latitudes, "Sphere latitude rings (default 40)")->check(CLI::Range(2, 1000));
-  cmd->add_option("-o,--longitudes", opts->longitudes, "Sphere longitude segments (default 40)")
-      ->check(CLI::Range(3, 1000));
+  cmd->add_option("-a,--latitudes", opts->latitudes, "Sphere latitude rings")->check(CLI::Range(2, 1000));
+  cmd->add_option("-o,--longitudes", opts->longitudes, "Sphere longitude segments")->check(CLI::Range(3, 1000));
   cmd->add_option("--shader", opts->shader, "Shading model: " + shadingNames());
   cmd->add_option("--solver", opts->solver,
-                  "gpu (default; the path chosen for the device), gpu-general, gpu-tiled or gpu-onedispatch (forced), "
+                  "gpu (the path chosen for the device), gpu-general, gpu-tiled or gpu-onedispatch (forced), "
                   "cpu or cpu64")
       ->check(CLI::IsMember(solverNames(false)));
   addIntegratorOption(cmd, opts->integrator);
   auto* frames =
-      cmd->add_option("--frames", opts->frames, "Simulate N frames, then close (with --screenshot: save the last)")
-          ->check(kPositive);
+      cmd->add_option(
+             "--frames", opts->frames,
+             "Simulate N frames, then close (with --screenshot: save the last); unset: until the window closes")
+          ->check(kPositive)
+          ->default_str("");  // 0 stands for unset
   cmd->add_option("--screenshot", opts->screenshot, "PNG of the last frame of a --frames run")->needs(frames);
-  cmd->add_option("--size", opts->size, "Window size WIDTHxHEIGHT (default 1280x800)");
+  cmd->add_option("--size", opts->size, "Window size WIDTHxHEIGHT");
+  cmd->add_option("--camera", opts->camera,
+                  "scene: one view of the scene and everywhere the cloth goes in its first 2 s (run once on the CPU "
+                  "before the window opens; the camera `render` has); start: the scene as it starts")
+      ->check(CLI::IsMember({"scene", "start"}));
+  cmd->footer(viewerControlsText());
   cmd->callback([opts] { runView(*opts); });
 }
 

@@ -68,7 +68,10 @@ ClothMesh buildClothMesh(const PolygonMesh& mesh) {
       for (std::size_t j = 0; j < k; ++j)
         if (face[j] == face[k]) throw MeshError(name + " is degenerate: " + vertexText(face[k]) + " appears twice");
     }
-    if (face.size() == 4) ++out.quads;
+    if (face.size() == 4) {
+      ++out.quads;
+      out.faces.push_back({face[0], face[1], face[2], face[3]});
+    }
     for (std::size_t k = 1; k + 1 < face.size(); ++k) {
       const std::uint32_t a = face[0], b = face[k], c = face[k + 1];
       const double longest =
@@ -78,6 +81,7 @@ ClothMesh buildClothMesh(const PolygonMesh& mesh) {
         throw MeshError(name + " is degenerate: the triangle of vertices " + std::to_string(a) + ", " +
                         std::to_string(b) + ", " + std::to_string(c) + " has zero area");
       out.triangles.insert(out.triangles.end(), {a, b, c});
+      if (face.size() != 4) out.faces.push_back({a, b, c, kNoCorner});
     }
   }
   for (std::size_t v = 0; v < n; ++v)

@@ -12,6 +12,9 @@
 
 namespace drape {
 
+// Corner 3 of a triangle in ClothMesh::faces and Topology::faces.
+inline constexpr std::uint32_t kNoCorner = 0xffffffffu;
+
 struct MeshSpring {
   std::uint32_t a = 0, b = 0;  // a < b
   SpringType type = SpringType::Structural;
@@ -21,9 +24,10 @@ struct ClothMesh {
   std::vector<glm::dvec3> positions;  // m, as in the file
   std::vector<glm::vec2> uvs;         // the file's, else a projection on the two longest bounding-box axes
   bool uvs_from_file = false;
-  std::vector<std::uint32_t> triangles;  // quads and larger faces split into a fan from their first corner
-  std::vector<MeshSpring> springs;       // structural, then shearing, then bending
-  std::vector<double> area;              // m^2 per vertex: a third of each triangle it is a corner of
+  std::vector<std::uint32_t> triangles;             // quads and larger faces split into a fan from their first corner
+  std::vector<std::array<std::uint32_t, 4>> faces;  // Topology::faces: quads whole, the rest as `triangles`
+  std::vector<MeshSpring> springs;                  // structural, then shearing, then bending
+  std::vector<double> area;                         // m^2 per vertex: a third of each triangle it is a corner of
   // Wind needs a normal per point: cross(x[1] - x[0], x[3] - x[2]) over these four points, chosen at rest
   // among the vertex and its neighbours (the grid's stencil is its four neighbours).
   std::vector<std::array<std::uint32_t, 4>> normal_stencil;

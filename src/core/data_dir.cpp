@@ -11,6 +11,11 @@ std::filesystem::path executablePath() {
   return error ? std::filesystem::path() : exe;
 }
 
+bool runsFromItsBuildTree(const std::filesystem::path& exe) {
+  std::error_code error;
+  return std::filesystem::equivalent(exe.parent_path(), DRAPE_BUILD_DIR, error) && !error;
+}
+
 std::filesystem::path dataDir(const std::string& name, const char* env) {
   if (env)
     if (const char* dir = std::getenv(env); dir && *dir) return dir;
@@ -20,6 +25,10 @@ std::filesystem::path dataDir(const std::string& name, const char* env) {
     const std::filesystem::path installed = (exe.parent_path() / DRAPE_DATA_FROM_BIN / name).lexically_normal();
     std::error_code error;
     if (std::filesystem::is_directory(installed, error)) return installed;
+    // A drape outside its build tree whose data is missing (a partial install, a copied binary) reads
+    // nothing of the machine it was built on: the installed path, whose files it then fails to find by
+    // that name, and --version says it is missing.
+    if (!runsFromItsBuildTree(exe)) return installed;
   }
   return std::filesystem::path(DRAPE_SOURCE_DIR) / name;
 }

@@ -12,8 +12,12 @@ namespace drape {
 //  1. $`env`, when `env` is given and that variable is set and not empty;
 //  2. <prefix>/share/drape/<name> when the running executable is <prefix>/bin/drape and that
 //     directory exists (`cmake --install` puts them there);
-//  3. the source tree this drape was built from (DRAPE_SOURCE_DIR), for the build tree's binary.
+//  3. the source tree this drape was built from (DRAPE_SOURCE_DIR), for the build tree's binary only (one
+//     in the build directory it was built in); any other drape gets 2.'s path, present or not.
 std::filesystem::path dataDir(const std::string& name, const char* env = nullptr);
+
+// Whether `exe` is in the build directory this drape was built in (DRAPE_BUILD_DIR).
+bool runsFromItsBuildTree(const std::filesystem::path& exe);
 
 // The running executable (/proc/self/exe); empty when it cannot be read.
 std::filesystem::path executablePath();

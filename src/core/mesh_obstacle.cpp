@@ -212,6 +212,27 @@ double unsignedDistance(const MeshObstacle& mesh, glm::dvec3 p) {
   return best;
 }
 
+std::optional<double> fieldDistance(const DistanceField& field, glm::dvec3 p) {
+  const glm::dvec3 g = (p - field.origin) / field.cell;
+  // Written so that NaN fails too.
+  if (!(g.x >= 0 && g.y >= 0 && g.z >= 0 && g.x <= field.dims.x - 1 && g.y <= field.dims.y - 1 &&
+        g.z <= field.dims.z - 1))
+    return std::nullopt;
+  // The last sample of an axis takes the cell below it, at t = 1.
+  const glm::ivec3 i = glm::min(glm::ivec3(glm::floor(g)), field.dims - 2);
+  const glm::dvec3 t = g - glm::dvec3(i);
+  auto s = [&](int dx, int dy, int dz) { return double(field.samples[field.index(i.x + dx, i.y + dy, i.z + dz)]); };
+  const double x00 = glm::mix(s(0, 0, 0), s(1, 0, 0), t.x), x10 = glm::mix(s(0, 1, 0), s(1, 1, 0), t.x);
+  const double x01 = glm::mix(s(0, 0, 1), s(1, 0, 1), t.x), x11 = glm::mix(s(0, 1, 1), s(1, 1, 1), t.x);
+  return glm::mix(glm::mix(x00, x10, t.y), glm::mix(x01, x11, t.y), t.z);
+}
+
+double triangleDistance(const MeshObstacle& mesh, std::size_t t, glm::dvec3 p) {
+  const auto& x = mesh.positions;
+  const auto& tri = mesh.triangles;
+  return glm::distance(p, closestOnTriangle(p, x[tri[3 * t]], x[tri[3 * t + 1]], x[tri[3 * t + 2]]));
+}
+
 bool insideMesh(const MeshObstacle& mesh, glm::dvec3 p) {
   const glm::dvec2 shift = columnShift(mesh.field.cell);
   const auto& x = mesh.positions;

@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace drape {
@@ -55,6 +56,13 @@ inline constexpr double kMeshSurfaceOffset = 2e-3;
 // something; closed parts may overlap, the inside is their union, by winding number) and has no zero-area
 // triangle, places it (x * scale + offset), winds it outward, and bakes the field. Throws MeshError.
 MeshObstacle buildMeshObstacle(const PolygonMesh& mesh, glm::dvec3 offset, double scale);
+
+// The field's value at p: trilinear between the eight samples around it, as the solvers interpolate it
+// (in double here). nullopt outside the sampled box, and for a non-finite p.
+std::optional<double> fieldDistance(const DistanceField& field, glm::dvec3 p);
+
+// Distance from p to triangle t (the t-th three entries of `triangles`).
+double triangleDistance(const MeshObstacle& mesh, std::size_t t, glm::dvec3 p);
 
 // Exact queries against the triangles, for tests and reports (slow: every triangle).
 double unsignedDistance(const MeshObstacle& mesh, glm::dvec3 p);

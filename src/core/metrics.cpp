@@ -1,7 +1,7 @@
 #include "core/metrics.hpp"
 
 #include "core/cloth_mesh.hpp"
-#include "core/mesh_obstacle.hpp"
+#include "core/mesh_distance.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -86,12 +86,8 @@ std::vector<double> colliderDistances(const Scene& scene, const Positions& x) {
       m = std::min(m, glm::dot(p - pl.point, pl.normal));
     out.push_back(m);
   }
-  for (const MeshSpec& mesh : scene.meshes) {
-    double m = inf;
-    for (const auto& p : x)
-      m = std::min(m, signedDistance(*mesh.mesh, p));
-    out.push_back(m);
-  }
+  for (const MeshSpec& mesh : scene.meshes)
+    out.push_back(closestSignedDistance(*mesh.mesh, x));
   return out;
 }
 

@@ -21,7 +21,8 @@ double clothSize(const ClothSpec& cloth);                     // diagonal of the
 double maxStrain(const Topology& topo, const ClothSpec& cloth, const Positions& x);
 // sum m |v/dt|^2 / 2 with v the per-substep displacement.
 double kineticEnergy(const Positions& displacement, double mass, double dt);
-// Signed distance of the closest point to each collider (negative: inside), spheres first, then planes.
+// Signed distance of the closest point to each collider (negative: inside): spheres, then planes, then
+// meshes (core/mesh_distance.hpp: from the obstacle's field where it holds exact values).
 std::vector<double> colliderDistances(const Scene& scene, const Positions& x);
 bool allFinite(const Positions& x);
 

@@ -4,20 +4,22 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace drape {
 
 namespace {
 
-// fieldDistance is within 2 cells of the exact distance (core/mesh_query.hpp): beyond this, surely outside.
+// The field's value is within 2 cells of the exact distance (docs/design.md, section 2): beyond this, surely
+// outside.
 constexpr double kFieldSlackCells = 2.0;
+constexpr double kFar = std::numeric_limits<double>::infinity();
 
 // What the field says of p's distance to the mesh: its estimate, or beyond the lattice (where it says
 // nothing) the distance to the lattice's box, which holds the mesh: never more than the distance plus the
 // slack.
 double estimateDistance(const DistanceField& f, glm::dvec3 p) {
-  const double d = fieldDistance(f, p);
-  if (d < std::numeric_limits<double>::infinity()) return d;
+  if (const std::optional<double> d = fieldDistance(f, p)) return *d;
   const glm::dvec3 hi = f.origin + f.cell * glm::dvec3(f.dims - 1);
   return glm::length(glm::max(glm::max(f.origin - p, p - hi), glm::dvec3(0.0)));
 }
@@ -101,7 +103,7 @@ void PenetrationGauge::measureMesh(const MeshObstacle& mesh, const MeshQuery& qu
     for (int i = 0; i <= n; ++i)
       for (int j = 0; i + j <= n; ++j) {
         const glm::dvec3 p = a + (double(i) / n) * (b - a) + (double(j) / n) * (c - a);
-        if (fieldDistance(mesh.field, p) > slack || !query.inside(p)) continue;
+        if (fieldDistance(mesh.field, p).value_or(kFar) > slack || !query.inside(p)) continue;
         const double depth = query.distance(p);
         if (depth > out.surface) {
           out.surface = depth;

@@ -7,17 +7,17 @@
 #include "core/scene.hpp"
 
 #include "core/cloth_mesh.hpp"
+#include "core/input_file.hpp"
+#include "core/memory_stage.hpp"
 #include "core/mesh_obstacle.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <cerrno>
 #include <cfloat>
 #include <climits>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <initializer_list>
 #include <optional>
 #include <sstream>
@@ -371,7 +371,9 @@ void readMesh(const Node& n, ClothSpec& c, const std::string& scene_file) {
   if (c.mesh_file.empty()) mesh.fail("empty path");
   const std::filesystem::path file = std::filesystem::path(scene_file).parent_path() / c.mesh_file;
   try {
-    c.mesh = std::make_shared<const ClothMesh>(buildClothMesh(readObj(file, kMaxClothPoints)));
+    const MemoryStage stage("reading the cloth mesh " + file.string());
+    c.mesh = std::make_shared<const ClothMesh>(
+        buildClothMesh(readObj(file, {kMaxClothPoints, " (the most a cloth may have)"})));
   } catch (const MeshError& e) {
     mesh.fail(file.string() + ": " + e.what());
   }
@@ -443,10 +445,8 @@ PlaneSpec readPlane(const Node& n) {
   return p;
 }
 
-// Obstacles beyond this many vertices are not what a scene here needs, and each costs its bake.
-constexpr long long kMaxObstacleVertices = 4LL * 1024 * 1024;
-
-MeshSpec readMeshObstacle(const Node& n, const std::string& scene_file) {
+// `vertices_used`: what the obstacles before this one read, of kMaxObstacleVertices.
+MeshSpec readMeshObstacle(const Node& n, const std::string& scene_file, long long& vertices_used) {
   n.expectObject({"obj", "offset", "scale", "friction", "thickness"});
   MeshSpec m;
   Node obj = n.require("obj");
@@ -457,9 +457,16 @@ MeshSpec readMeshObstacle(const Node& n, const std::string& scene_file) {
   if (auto v = n.find("friction")) m.friction = between(*v, 0.0, 1.0);
   if (auto v = n.find("thickness")) m.thickness = positive(*v);
   const std::filesystem::path file = std::filesystem::path(scene_file).parent_path() / m.obj;
+  const long long left = kMaxObstacleVertices - vertices_used;
+  const std::string note = vertices_used == 0
+                               ? " (the most the obstacles may have)"
+                               : " (the obstacles may have " + std::to_string(kMaxObstacleVertices) +
+                                     " in all; those before this one have " + std::to_string(vertices_used) + ")";
   try {
-    m.mesh =
-        std::make_shared<const MeshObstacle>(buildMeshObstacle(readObj(file, kMaxObstacleVertices), m.offset, m.scale));
+    const MemoryStage stage("reading and baking the obstacle " + file.string());
+    const PolygonMesh mesh = readObj(file, {left, note});
+    vertices_used += (long long)mesh.positions.size();
+    m.mesh = std::make_shared<const MeshObstacle>(buildMeshObstacle(mesh, m.offset, m.scale));
   } catch (const MeshError& e) {
     obj.fail(file.string() + ": " + e.what());
   }
@@ -511,13 +518,60 @@ SimParams readSimulation(const Node& n) {
   return s;
 }
 
+// The count is checked before any element is read: each may cost a file and a bake.
+void checkCount(const Node& list, std::size_t before, int most, const char* what) {
+  const std::size_t count = list.arraySize();
+  if (before + count > std::size_t(most))
+    list.fail(std::to_string(before + count) + " " + what + ", more than the " + std::to_string(most) +
+              " a scene may have");
+}
+
 template <class Spec, class Read>
-void readColliders(const Node& root, const char* single, const char* list, Read read, std::vector<Spec>& out) {
+void readColliders(const Node& root, const char* single, const char* list, int most, Read read,
+                   std::vector<Spec>& out) {
   if (auto v = root.find(single)) out.push_back(read(*v));
   if (auto v = root.find(list)) {
+    checkCount(*v, out.size(), most, list);
     for (std::size_t i = 0, count = v->arraySize(); i < count; ++i)
       out.push_back(read(v->element(i)));
   }
+}
+
+// Self-collision's work and memory grow with the neighbours each point has within the contact distance:
+// a thickness large against the point spacing makes it compare nearly every pair.
+void checkSelfCollisionLoad(const Scene& scene, const Node& root) {
+  const ClothSpec& c = scene.cloth;
+  if (!scene.sim.self_collision) return;
+  const double points = double(c.pointCount());
+  double per_point = 0;  // m^2 of cloth a point
+  if (c.mesh) {
+    for (double a : c.mesh->area)
+      per_point += a / points;
+  } else {
+    per_point = c.width / (c.num_width_points - 1) * (c.height / (c.num_height_points - 1));
+  }
+  const double reach = 2.0 * c.thickness;
+  const double neighbours = 3.141592653589793 * reach * reach / per_point;
+  const double pairs = neighbours * points / 2;
+  const auto brief = [](double v) {
+    std::ostringstream s;
+    s.precision(4);
+    s << v;
+    return s.str();
+  };
+  const auto count = [](double v) { return std::to_string((long long)std::llround(v)); };
+  const char* fix = "; a smaller thickness or simulation.self_collision false";
+  if (neighbours > kMaxSelfCollisionNeighbours)
+    root.child("cloth")
+        .child("thickness")
+        .fail(brief(c.thickness) + " m against " + brief(std::sqrt(per_point)) +
+              " m between points: self-collision would compare each point with about " + count(neighbours) +
+              " others within 2 x thickness (at most " + count(kMaxSelfCollisionNeighbours) + ")" + fix);
+  if (pairs > kMaxSelfCollisionPairs)
+    root.child("cloth")
+        .child("thickness")
+        .fail(brief(c.thickness) + " m on " + count(points) + " points: self-collision would list about " +
+              count(pairs) + " pairs within 2 x thickness (at most " + count(kMaxSelfCollisionPairs) + ")" + fix);
 }
 
 // A value the solvers divide by: it must be a normal float, neither 0 nor infinite there.
@@ -563,34 +617,29 @@ Scene parseScene(const std::string& json_text, const std::string& name) {
   Scene scene;
   scene.path = name;
   scene.cloth = readCloth(root.require("cloth"), name);
-  readColliders(root, "sphere", "spheres", readSphere, scene.spheres);
-  readColliders(root, "plane", "planes", readPlane, scene.planes);
-  if (auto v = root.find("meshes")) {
-    for (std::size_t i = 0, count = v->arraySize(); i < count; ++i)
-      scene.meshes.push_back(readMeshObstacle(v->element(i), name));
-  }
+  readColliders(root, "sphere", "spheres", kMaxSpheres, readSphere, scene.spheres);
+  readColliders(root, "plane", "planes", kMaxPlanes, readPlane, scene.planes);
   if (auto v = root.find("simulation")) scene.sim = readSimulation(*v);
   checkDerived(scene, root);
+  checkSelfCollisionLoad(scene, root);
+  // Last: reading and baking the obstacles is the costly part, spent only on a scene otherwise valid.
+  if (auto v = root.find("meshes")) {
+    checkCount(*v, 0, kMaxMeshes, "meshes");
+    long long vertices_used = 0;
+    for (std::size_t i = 0, count = v->arraySize(); i < count; ++i)
+      scene.meshes.push_back(readMeshObstacle(v->element(i), name, vertices_used));
+  }
   return scene;
 }
 
 Scene loadScene(const std::filesystem::path& file) {
   const std::string name = file.string();
-  std::error_code ec;
-  auto status = std::filesystem::status(file, ec);
-  if (!std::filesystem::exists(status)) throw SceneError(name + ": cannot open: no such file");
-  if (std::filesystem::is_directory(status)) throw SceneError(name + ": cannot open: is a directory, not a file");
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw SceneError(name + ": cannot open: " + std::strerror(errno));
-  // Read at most one byte past the limit, whatever the file claims its size is: /dev/zero has none.
-  std::string text(std::size_t(kMaxSceneBytes) + 1, '\0');
-  in.read(text.data(), std::streamsize(text.size()));
-  if (in.bad()) throw SceneError(name + ": cannot read: " + std::strerror(errno));
-  text.resize(std::size_t(in.gcount()));
-  if (text.size() > std::size_t(kMaxSceneBytes))
-    throw SceneError(name + ": too large for a scene (more than " + std::to_string(kMaxSceneBytes / (1024 * 1024)) +
-                     " MiB)");
-  return parseScene(text, name);
+  try {
+    const MemoryStage stage("reading the scene " + name);
+    return parseScene(readInputFile(file, kMaxSceneBytes, "a scene"), name);
+  } catch (const InputError& e) {
+    throw SceneError(name + ": " + e.what());
+  }
 }
 
 void applyLiveParams(Scene& scene, const ClothSpec& cloth, const SimParams& sim) {

@@ -163,5 +163,20 @@ inline constexpr long long kMaxSceneBytes = 16LL * 1024 * 1024;
 inline constexpr int kMaxStepsPerFrame = 10000;
 inline constexpr int kMaxStretchPasses = 100;
 inline constexpr int kMaxIterations = 100;  // XPBD sweeps per substep, the same reasoning
+// Colliders: every point visits each one every substep, and each mesh obstacle costs its bake (0.2-0.35 s
+// and a few MB for the bundled ones) before the first frame. The shipped scenes use at most 2 spheres, 1
+// plane and 1 mesh; 100 copies of the table took 35 s and 453 MB to load.
+inline constexpr int kMaxSpheres = 256;
+inline constexpr int kMaxPlanes = 256;
+inline constexpr int kMaxMeshes = 16;
+// Vertices of all the obstacles' OBJ files together (the largest cloth's count): counted while each file
+// is read, so a file beyond it stops being read there.
+inline constexpr long long kMaxObstacleVertices = 4LL * 1024 * 1024;
+// Self-collision compares each point with the points within the contact distance (2 x thickness). At rest
+// a point has about pi (2 thickness)^2 / (cloth area per point) of them; beyond these bounds the pass
+// compares nearly every pair (a 50 x 50 cloth with a 0.5 m thickness took 29 s a frame) or its candidate
+// lists would take gigabytes (16 bytes a pair). A CS184 scene has 3 a point; refined to 512^2, about 300.
+inline constexpr double kMaxSelfCollisionNeighbours = 1024;
+inline constexpr double kMaxSelfCollisionPairs = double(1 << 27);
 
 }  // namespace drape

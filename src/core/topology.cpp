@@ -67,6 +67,7 @@ Topology buildMeshTopology(const ClothSpec& cloth) {
   topo.initial_positions = mesh.positions;
   topo.uvs = mesh.uvs;
   topo.triangles = mesh.triangles;
+  topo.faces = mesh.faces;
   topo.area = mesh.area;
   topo.normal_stencil = mesh.normal_stencil;
   topo.pinned.assign(mesh.positions.size(), 0);
@@ -127,10 +128,12 @@ Topology buildTopology(const ClothSpec& cloth) {
 
   // Two triangles per quad, wound so that a horizontal cloth faces +y.
   topo.triangles.reserve(std::size_t(W - 1) * (H - 1) * 6);
+  topo.faces.reserve(std::size_t(W - 1) * (H - 1));
   for (int y = 0; y + 1 < H; ++y)
     for (int x = 0; x + 1 < W; ++x) {
       auto p00 = std::uint32_t(y * W + x), p10 = p00 + 1, p01 = p00 + std::uint32_t(W), p11 = p01 + 1;
       topo.triangles.insert(topo.triangles.end(), {p00, p01, p10, p10, p01, p11});
+      topo.faces.push_back({p00, p01, p11, p10});
     }
   return topo;
 }

@@ -2,6 +2,7 @@
 // both solvers gather over, pin flags, and triangles/UVs for rendering. No GL here.
 #pragma once
 
+#include "core/cloth_mesh.hpp"
 #include "core/scene.hpp"
 
 #include <array>
@@ -36,7 +37,12 @@ struct Topology {
   std::vector<std::uint32_t> offsets;
   std::vector<Neighbor> adjacency;
   std::vector<std::uint32_t> triangles;  // 3 indices each, counter-clockwise seen from +normal
-  std::vector<glm::vec2> uvs;            // grid: (x/(W-1), y/(H-1)); mesh: the file's or projected
+  // The faces the triangles come from, for drawing (render/cloth_surface.hpp): the grid's cells and a mesh's
+  // quads with their 4 corners in order around the face, the triangles wound as `triangles`, corner 3
+  // kNoCorner; a mesh's larger polygons as their fan triangles. A quad's normal does not depend on which
+  // diagonal `triangles` splits it along.
+  std::vector<std::array<std::uint32_t, 4>> faces;
+  std::vector<glm::vec2> uvs;  // grid: (x/(W-1), y/(H-1)); mesh: the file's or projected
   // Each point's share of the cloth's area (m^2); derived::pointMass and derived::dragArea follow it.
   std::vector<double> area;
   // The four points whose cross(x[1] - x[0], x[3] - x[2]) is a point's normal for wind: the grid's left,

@@ -1,11 +1,15 @@
 #include "cpu/collision_pairs.hpp"
+#include "core/memory_stage.hpp"
 #include "cpu/parallel.hpp"
 
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <new>
+#include <string>
 #include <utility>
 
 namespace drape {
@@ -60,21 +64,34 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
   const std::size_t n = x.size();
   // Each pair once (half the cell lookups), found in parallel; the lists made from them are sorted, so
   // they do not depend on how the points were split between threads.
+  const MemoryStage stage("listing the self-collision candidates of " + std::to_string(n) + " points");
   found_.resize(std::size_t(threads));
   const long long count = (long long)n;
+  // An exception may not leave an OpenMP region: a thread that runs out of memory says so, and the
+  // caller's thread throws once the region is over.
+  std::atomic<bool> out_of_memory = false;
 #pragma omp parallel num_threads(teamFor(threads, count))
   {
     std::vector<Pair>& mine = found_[std::size_t(omp_get_thread_num())];
     mine.clear();
 #pragma omp for schedule(static)
     for (long long p = 0; p < count; ++p) {
+      if (out_of_memory.load(std::memory_order_relaxed)) continue;
       const std::size_t i = std::size_t(p);
-      grid_.forEachForwardCandidate(i, [&](std::uint32_t j) {
-        const vec3 d = x[i] - x[j];
-        if (glm::dot(d, d) < reach2 && (rest_.empty() || !physics::heldAtRest(rest_[i], rest_[j], range_)))
-          mine.push_back({std::uint32_t(i), j});
-      });
+      try {
+        grid_.forEachForwardCandidate(i, [&](std::uint32_t j) {
+          const vec3 d = x[i] - x[j];
+          if (glm::dot(d, d) < reach2 && (rest_.empty() || !physics::heldAtRest(rest_[i], rest_[j], range_)))
+            mine.push_back({std::uint32_t(i), j});
+        });
+      } catch (const std::bad_alloc&) {
+        out_of_memory = true;
+      }
     }
+  }
+  if (out_of_memory) {
+    found_.clear();
+    failAllocation();
   }
   start_.assign(n + 1, 0);
   for (const std::vector<Pair>& part : found_)

@@ -30,6 +30,15 @@ void Camera::frame(const Bounds& bounds, float aspect) {
   frame(corners, aspect);
 }
 
+ViewAxes Camera::defaultAxes() {
+  Camera camera;
+  camera.target_ = glm::vec3(0.0f);
+  camera.distance_ = 1.0f;
+  const glm::vec3 back = camera.position();
+  const glm::vec3 right = glm::normalize(glm::cross(-back, glm::vec3(0.0f, 1.0f, 0.0f)));
+  return {right, glm::cross(right, -back), back};
+}
+
 void Camera::frame(const FramingSubject& subject, float aspect) {
   const Bounds bounds = subject.bounds();
   target_ = bounds.centre();
@@ -38,9 +47,7 @@ void Camera::frame(const FramingSubject& subject, float aspect) {
   pitch_ = kDefaultPitch;
   distance_ = 1.0f;
   // The view's axes for this direction; they do not depend on the distance.
-  const glm::vec3 back = glm::normalize(position() - target_);
-  const glm::vec3 right = glm::normalize(glm::cross(-back, glm::vec3(0.0f, 1.0f, 0.0f)));
-  const glm::vec3 up = glm::cross(right, -back);
+  const auto [right, up, back] = defaultAxes();
   // A point at (x, y) across the view and z towards the camera is inside the margin seen from
   // target + (a, b) in the view plane and distance d when |x - a| <= t_x (d - z), t_x = kFill
   // tan(fov_x / 2), and likewise for y; a sphere of radius r when its centre is r away from each side
@@ -49,7 +56,7 @@ void Camera::frame(const FramingSubject& subject, float aspect) {
   // subject; the least d is (R + L) / 2 at a = t_x (R - L) / 2, which centres the subject in the frame
   // (a flat cloth seen from above looms larger at its near edge than at its far one).
   const float t_y = kFill * std::tan(0.5f * kFovY);
-  const float t_x = t_y * std::max(aspect, 1e-3f);
+  const float t_x = t_y * std::clamp(aspect, 1e-3f, kFramingAspect);
   const float s_x = std::sqrt(1.0f + t_x * t_x), s_y = std::sqrt(1.0f + t_y * t_y);
   float right_most = -1e30f, left_most = -1e30f, top_most = -1e30f, bottom_most = -1e30f, nearest = -1e30f;
   auto fit = [&](const glm::vec3& p, float r) {

@@ -33,16 +33,26 @@ struct Ray {
   glm::vec3 direction;  // unit
 };
 
+// The default view's axes in world space: right and up across the image, back towards the camera.
+struct ViewAxes {
+  glm::vec3 right, up, back;
+};
+
 class Camera {
  public:
-  static constexpr float kDefaultYaw = 0.35f;    // rad, a little to the right of +z
-  static constexpr float kDefaultPitch = 0.45f;  // rad above the horizon
-  static constexpr float kFovY = 0.7854f;        // rad (45 degrees)
-  static constexpr float kFill = 0.92f;          // of the half-width and half-height a framed box may reach
+  static constexpr float kDefaultYaw = 0.35f;   // rad, a little to the right of +z
+  static constexpr float kDefaultPitch = 0.6f;  // rad above the horizon
+  static constexpr float kFovY = 0.7854f;       // rad (45 degrees)
+  static constexpr float kFill = 0.92f;         // of the half-width and half-height a framed box may reach
+  // A view wider than this frames as this: `render` (640x480) and a wider viewer window get the same
+  // camera, the wider one showing more on each side.
+  static constexpr float kFramingAspect = 4.0f / 3.0f;
 
-  // Looks at the centre of the subject's bounds from the default direction, as close as keeps every
-  // point and every sphere inside kFill of the view at this aspect ratio: the subject's wider side
-  // nearly fills the frame.
+  static ViewAxes defaultAxes();
+
+  // Looks at the subject from the default direction, as close as keeps every point and every sphere
+  // inside kFill of the view at this aspect ratio (at most kFramingAspect), centred: the subject's
+  // wider side nearly fills the frame.
   void frame(const FramingSubject& subject, float aspect);
   // The same for the eight corners of a box.
   void frame(const Bounds& bounds, float aspect);

@@ -1,7 +1,7 @@
-// Where the renderer reads the cloth from: storage buffers of one vec4 per point (positions, unit
-// normals, tangents). With the GPU solver they are the solver's own buffers, borrowed: nothing goes
-// through the CPU. With a CPU solver the positions are uploaded once per drawn frame, explicitly,
-// by CpuClothUpload, which also computes normals and tangents.
+// Where the renderer reads the cloth from: a storage buffer of one vec4 position per point (the renderer
+// computes the normals and tangents it draws with from these: render/surface_pass.hpp). With the GPU solver
+// it is the solver's own buffer, borrowed: nothing goes through the CPU. With a CPU solver the positions
+// are uploaded once per drawn frame, explicitly, by CpuClothUpload.
 #pragma once
 
 #include "core/solver.hpp"
@@ -16,33 +16,25 @@ namespace drape {
 
 struct ClothBuffers {
   GLuint positions = 0;  // vec4: xyz position (m)
-  GLuint normals = 0;    // vec4: xyz unit normal
-  GLuint tangents = 0;   // vec4: xyz unit tangent along +u, w = bitangent sign (B = w * cross(N, T))
   GLuint health = 0;     // uint blow-up flags first (shared/layout.h Health): nonzero hides the cloth; 0: none
 };
-
-// Area-weighted vertex normals and UV tangents of the cloth's triangles, on the CPU. A point whose
-// triangles all have zero area keeps a normal of +y.
-void computeNormalsAndTangents(const Topology& topology, const std::vector<glm::vec4>& positions,
-                               std::vector<glm::vec4>& normals, std::vector<glm::vec4>& tangents);
 
 class CpuClothUpload {
  public:
   explicit CpuClothUpload(const Topology& topology);
 
-  // The once-per-frame upload: reads the solver's positions (a CPU solver holds them in memory),
-  // computes normals and tangents, uploads all three.
+  // The once-per-frame upload: reads the solver's positions (a CPU solver holds them in memory) and
+  // uploads them.
   ClothBuffers uploadFrom(Solver& solver);
-  ClothBuffers buffers() const { return {positions_.id(), normals_.id(), tangents_.id()}; }
+  ClothBuffers buffers() const { return {positions_.id()}; }
 
  private:
-  const Topology* topology_;
-  std::vector<glm::vec4> positions_cpu_, normals_cpu_, tangents_cpu_;
-  gl::Buffer positions_, normals_, tangents_;
+  std::vector<glm::vec4> positions_cpu_;
+  gl::Buffer positions_;
 };
 
 // One interface for the viewer and `drape render`: prepare() once per drawn frame gives the buffers
-// to draw. For the GPU solver it runs the solver's normal pass (on the GPU) and hands out its buffers.
+// to draw. For the GPU solver it hands out the solver's own buffers.
 class ClothFeed {
  public:
   explicit ClothFeed(Solver& solver);

@@ -46,13 +46,16 @@ MeshData buildSphereMesh(int latitudes, int longitudes) {
 }
 
 MeshData buildObstacleMesh(const std::vector<glm::dvec3>& positions, const std::vector<std::uint32_t>& triangles) {
-  MeshData m;
-  std::vector<glm::dvec3> normals(positions.size(), glm::dvec3(0.0));
-  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
-    const glm::dvec3& a = positions[triangles[t]];
-    const glm::dvec3 face = glm::cross(positions[triangles[t + 1]] - a, positions[triangles[t + 2]] - a);
+  const std::size_t face_count = triangles.size() / 3;
+  std::vector<glm::dvec3> face(face_count), unit(face_count);
+  std::vector<std::vector<std::uint32_t>> around(positions.size());  // the faces at each vertex
+  for (std::size_t t = 0; t < face_count; ++t) {
+    const glm::dvec3& a = positions[triangles[3 * t]];
+    face[t] = glm::cross(positions[triangles[3 * t + 1]] - a, positions[triangles[3 * t + 2]] - a);
+    const double len = glm::length(face[t]);
+    unit[t] = len > 0.0 ? face[t] / len : glm::dvec3(0.0);
     for (int k = 0; k < 3; ++k)
-      normals[triangles[t + std::size_t(k)]] += face;
+      around[triangles[3 * t + std::size_t(k)]].push_back(std::uint32_t(t));
   }
   glm::dvec3 lo = positions.front(), hi = lo;
   for (const glm::dvec3& p : positions) {
@@ -61,16 +64,34 @@ MeshData buildObstacleMesh(const std::vector<glm::dvec3>& positions, const std::
   }
   const glm::dvec3 extent = hi - lo;
   const int u = extent.x >= extent.z ? 0 : 2, v = extent.y >= extent[2 - u] ? 1 : 2 - u;
-  for (std::size_t i = 0; i < positions.size(); ++i) {
-    const double len = glm::length(normals[i]);
-    const glm::vec3 n = len > 0.0 ? glm::vec3(normals[i] / len) : glm::vec3(0, 1, 0);
-    const glm::vec3 t = glm::normalize(glm::cross(std::fabs(n.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0), n));
-    m.positions.emplace_back(glm::vec3(positions[i]), 1.0f);
-    m.normals.emplace_back(n, 0.0f);
-    m.tangents.emplace_back(t, 1.0f);
-    m.uvs.emplace_back(float(positions[i][u]), float(positions[i][v]));
-  }
-  m.triangles = triangles;
+
+  MeshData m;
+  // A corner's normal is the area-weighted sum over the faces at its vertex that meet its own face at less
+  // than kHardEdgeCos: a box keeps its flat sides and sharp edges, a curved surface stays smooth. Corners of
+  // a vertex with the same normal share one drawn vertex.
+  std::vector<std::vector<std::uint32_t>> drawn(positions.size());
+  for (std::size_t t = 0; t < face_count; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t p = triangles[3 * t + std::size_t(k)];
+      glm::dvec3 sum(0.0);
+      for (std::uint32_t other : around[p])
+        if (glm::dot(unit[t], unit[other]) >= kHardEdgeCos) sum += face[other];
+      const double len = glm::length(sum);
+      const glm::vec3 n = len > 0.0 ? glm::vec3(sum / len) : glm::vec3(0, 1, 0);
+      std::uint32_t index = std::uint32_t(m.positions.size());
+      for (std::uint32_t candidate : drawn[p])
+        if (glm::dot(glm::vec3(m.normals[candidate]), n) > 0.99999f) index = candidate;
+      if (index == m.positions.size()) {
+        const glm::vec3 tangent =
+            glm::normalize(glm::cross(std::fabs(n.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0), n));
+        m.positions.emplace_back(glm::vec3(positions[p]), 1.0f);
+        m.normals.emplace_back(n, 0.0f);
+        m.tangents.emplace_back(tangent, 1.0f);
+        m.uvs.emplace_back(float(positions[p][u]), float(positions[p][v]));
+        drawn[p].push_back(index);
+      }
+      m.triangles.push_back(index);
+    }
   return m;
 }
 

@@ -28,8 +28,13 @@ MeshData buildSphereMesh(int latitudes, int longitudes);
 // UVs are in metres (a texture repeats every metre).
 MeshData buildPlaneMesh(const glm::vec3& centre, const glm::vec3& normal, float size);
 
-// A mesh obstacle as placed in the scene, with area-weighted vertex normals, any tangent across them, and
-// UVs in metres from its two longest bounding-box axes.
+// Faces that meet at more than about 40 degrees show the edge between them (a box's sides); smaller angles
+// are shaded smoothly across.
+inline constexpr double kHardEdgeCos = 0.766;
+
+// A mesh obstacle as placed in the scene: each corner's normal the area-weighted average of the faces at its
+// vertex that meet its face at less than a hard edge's angle (a vertex on a hard edge is drawn once per side),
+// any tangent across them, and UVs in metres from its two longest bounding-box axes.
 MeshData buildObstacleMesh(const std::vector<glm::dvec3>& positions, const std::vector<std::uint32_t>& triangles);
 
 }  // namespace drape

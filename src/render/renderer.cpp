@@ -55,69 +55,50 @@ void bindStorage(GLuint binding, GLuint buffer) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buffer);
 }
 
-// The cloth's footprint on a plane: where it lands when it falls flat.
-void includePlaneFootprint(Bounds& bounds, FramingSubject& subject, const PlaneSpec& plane, const Topology& topology) {
-  const glm::vec3 n = glm::normalize(glm::vec3(plane.normal)), p = glm::vec3(plane.point);
-  auto include = [&](std::size_t i) {
-    const glm::vec3 x = glm::vec3(topology.initial_positions[i]);
-    bounds.include(x - glm::dot(x - p, n) * n);
-    subject.points.push_back(x - glm::dot(x - p, n) * n);
-  };
-  const int W = topology.W, H = topology.H;
-  if (W > 0) {
-    for (int corner : {0, W - 1, (H - 1) * W, H * W - 1})
-      include(std::size_t(corner));
-  } else {
-    for (std::size_t i = 0; i < topology.initial_positions.size(); ++i)
-      include(i);
-  }
-}
+// The default light's offset from the scene's centre, in units of the scene's radius, along the default
+// view's right, world up and towards the camera: above, left and in front.
+constexpr glm::vec3 kLightOffset{-1.1f, 2.2f, 1.0f};
+// The default light is as far from a scene (in its radii) as Light's own default is from the unit
+// scenes' centre (0.5, 0.5, 0.5), about 2.1 m, at 3 units of intensity.
+constexpr float kUnitSceneLightDistance = 2.12f;
+// u_point_count for the colliders: every vertex is a point, none a quad centre.
+constexpr std::uint32_t kNoCentres = 0xffffffffu;
 
 }  // namespace
 
 Renderer::Renderer(const Scene& scene, const Topology& topology, const RendererOptions& options)
+    : Renderer(scene, topology, SceneExtent(scene, topology), options) {}
+
+Renderer::Renderer(const Scene& scene, const Topology& topology, const SceneExtent& extent,
+                   const RendererOptions& options)
     : scene_(&scene),
       topology_(&topology),
       options_(options),
       programs_(ProgramSet::compileAll()),
-      textures_(TextureSet::load(options.texture_dir)) {
+      textures_(TextureSet::load(options.texture_dir)),
+      subject_(extent.subject()),
+      bounds_(subject_.bounds()),
+      casters_(extent.casterBounds()),
+      ground_(extent.ground()),
+      surface_(topology) {
   glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
 
-  const glm::vec3 first = glm::vec3(topology.initial_positions.front());
-  bounds_ = {first, first};
-  for (const glm::dvec3& x : topology.initial_positions) {
-    bounds_.include(glm::vec3(x));
-    subject_.points.push_back(glm::vec3(x));
-  }
-  for (const SphereSpec& s : scene.spheres) {
-    bounds_.include(glm::vec3(s.origin - s.radius));
-    bounds_.include(glm::vec3(s.origin + s.radius));
-    subject_.spheres.push_back(glm::vec4(glm::vec3(s.origin), float(s.radius)));
-  }
-  for (const PlaneSpec& p : scene.planes)
-    includePlaneFootprint(bounds_, subject_, p, topology);
-  for (const MeshSpec& m : scene.meshes) {
-    for (const glm::dvec3& x : m.mesh->positions) {
-      bounds_.include(glm::vec3(x));
-      subject_.points.push_back(glm::vec3(x));
-    }
+  for (const MeshSpec& m : scene.meshes)
     obstacles_.push_back(uploadMesh(buildObstacleMesh(m.mesh->positions, m.mesh->triangles)));
-  }
-
   sphere_ = uploadMesh(buildSphereMesh(options.sphere_latitudes, options.sphere_longitudes));
-  // Large enough to reach the horizon from any sensible camera position.
+  // Large enough to reach the horizon from any sensible camera position; the ground shader fades it out
+  // well before its edge.
   const float plane_size = std::max(10.0f, 40.0f * bounds_.radius());
+  const glm::vec3 centre = casters_.centre();
   for (const PlaneSpec& p : scene.planes) {
     const glm::vec3 n = glm::normalize(glm::vec3(p.normal)), point = glm::vec3(p.point);
-    const glm::vec3 centre = bounds_.centre() - glm::dot(bounds_.centre() - point, n) * n;
-    planes_.push_back(uploadMesh(buildPlaneMesh(centre, n, plane_size)));
+    planes_.push_back(uploadMesh(buildPlaneMesh(centre - glm::dot(centre - point, n) * n, n, plane_size)));
+  }
+  if (!ground_.from_scene) {
+    const glm::vec3 n = ground_.normal;
+    planes_.push_back(uploadMesh(buildPlaneMesh(centre - glm::dot(centre - ground_.point, n) * n, n, plane_size)));
   }
 
-  cloth_.uvs = gl::Buffer::fromVector(topology.uvs, 0);
-  cloth_.triangles = gl::Buffer::fromVector(topology.triangles, 0);
-  cloth_.triangle_count = GLsizei(topology.triangles.size());
-  cloth_.triangle_vao = gl::VertexArray::create();
-  glVertexArrayElementBuffer(cloth_.triangle_vao.id(), cloth_.triangles.id());
   for (int t = 0; t < kSpringTypeCount; ++t) {
     std::vector<std::uint32_t> lines;
     for (const Spring& s : topology.springs)
@@ -130,8 +111,17 @@ Renderer::Renderer(const Scene& scene, const Topology& topology, const RendererO
   empty_vao_ = gl::VertexArray::create();
   const std::uint32_t no_flags[4] = {};
   no_health_ = gl::Buffer::create(sizeof no_flags, no_flags, 0);
+  const glm::vec4 no_centre(0.0f);
+  no_centres_ = gl::Buffer::create(sizeof no_centre, &no_centre, 0);
 
-  shadow_.depth = gl::Texture::create2D(options.shadow_map_size, options.shadow_map_size, GL_DEPTH_COMPONENT24);
+  ensureShadowMap(options.shadow_map_size);
+  gl::checkDebugErrors();
+}
+
+void Renderer::ensureShadowMap(int size) {
+  if (shadow_.depth.id() != 0 && shadow_.depth.width() == size) return;
+  shadow_ = DepthTarget{};
+  shadow_.depth = gl::Texture::create2D(size, size, GL_DEPTH_COMPONENT24);
   shadow_.depth.setSampling(GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE);
   // Comparison sampling: the hardware filters the four depth tests of a lookup (sampler2DShadow).
   glTextureParameteri(shadow_.depth.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
@@ -144,7 +134,6 @@ Renderer::Renderer(const Scene& scene, const Topology& topology, const RendererO
   glNamedFramebufferReadBuffer(framebuffer, GL_NONE);
   if (glCheckNamedFramebufferStatus(framebuffer, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw gl::GlError("shadow-map framebuffer is incomplete");
-  gl::checkDebugErrors();
 }
 
 Renderer::GpuMesh Renderer::uploadMesh(const MeshData& mesh) {
@@ -160,10 +149,25 @@ Renderer::GpuMesh Renderer::uploadMesh(const MeshData& mesh) {
   return gpu;
 }
 
+Light Renderer::defaultLight() const {
+  const ViewAxes axes = Camera::defaultAxes();
+  const glm::vec3 up = ground_.normal;
+  const glm::vec3 right = glm::normalize(axes.right - glm::dot(axes.right, up) * up);
+  const glm::vec3 towards_camera = glm::cross(right, up);
+  const float radius = std::max(bounds_.radius(), 1e-3f);
+  const glm::vec3 offset = radius * (kLightOffset.x * right + kLightOffset.y * up + kLightOffset.z * towards_camera);
+  Light light;
+  light.position = casters_.centre() + offset;
+  const float ratio = glm::length(offset) / kUnitSceneLightDistance;
+  light.intensity = Light{}.intensity * ratio * ratio;
+  return light;
+}
+
 glm::mat4 Renderer::lightViewProjection(const Light& light) const {
-  const glm::vec3 centre = bounds_.centre();
-  // The cloth may swing out of its rest bounds; a margin keeps it in the light's frustum.
-  const float radius = 1.25f * bounds_.radius();
+  const glm::vec3 centre = casters_.centre();
+  // The casters are where the extent saw them; a margin for a run that strays a little (another device's
+  // rounding, a cloth dragged in the viewer).
+  const float radius = std::max(1.05f * casters_.radius(), 1e-3f);
   const glm::vec3 to_centre = centre - light.position;
   const float distance = std::max(glm::length(to_centre), 1.05f * radius);
   const glm::vec3 direction = glm::normalize(glm::length(to_centre) > 0.0f ? to_centre : glm::vec3(0, -1, 0));
@@ -190,7 +194,15 @@ void Renderer::draw(const ClothBuffers& cloth, const Camera& camera, glm::ivec2 
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
 
-  if (settings.shading == Shading::Shadow) {
+  if (settings.show_cloth) surface_.update(cloth.positions);
+  const bool ground_shown = ground_.from_scene ? settings.show_colliders : settings.floor;
+  if (settings.shading == Shading::Shadow || (settings.shadows && ground_shown)) {
+    // About as many texels across as the image has pixels (a power of two, 256 at least, the option's size
+    // at most): the shadows are as sharp as the picture, and a small picture pays for a small map.
+    int size = 256;
+    while (size < std::max(viewport.x, viewport.y) && size < options_.shadow_map_size)
+      size *= 2;
+    ensureShadowMap(std::min(size, options_.shadow_map_size));
     renderShadowMap(cloth, frame);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(target));
   }
@@ -204,7 +216,8 @@ void Renderer::draw(const ClothBuffers& cloth, const Camera& camera, glm::ivec2 
   shadow_.depth.bind(RENDER_UNIT_SHADOW_MAP);
 
   if (settings.shading == Shading::Mirror && settings.sky) drawSky(frame);
-  if (settings.show_colliders) drawColliders(colliderProgram(settings.shading), frame, false);
+  if (settings.show_colliders) drawColliders(colliderProgram(settings.shading), frame);
+  drawGround(frame);
   if (settings.show_cloth) {
     if (settings.shading == Shading::Wireframe)
       drawWireframe(cloth, frame);
@@ -224,7 +237,7 @@ void Renderer::renderShadowMap(const ClothBuffers& cloth, const Frame& frame) {
   glPolygonOffset(1.5f, 4.0f);
   Frame light_frame = frame;
   light_frame.view_projection = frame.light_view_projection;
-  if (frame.settings->show_colliders) drawColliders(ProgramId::ShadowDepth, light_frame, true);
+  if (frame.settings->show_colliders) drawColliders(ProgramId::ShadowDepth, light_frame);
   if (frame.settings->show_cloth) drawCloth(ProgramId::ShadowDepth, cloth, light_frame);
   glDisable(GL_POLYGON_OFFSET_FILL);
 }
@@ -252,12 +265,14 @@ void offerModel(const ShadingProgram& p, const glm::mat4& model, const glm::vec3
 
 }  // namespace
 
-void Renderer::drawColliders(ProgramId id, const Frame& frame, bool depth_only) {
+void Renderer::drawColliders(ProgramId id, const Frame& frame) {
   const ShadingProgram& program = programs_[id];
   const RenderSettings& s = *frame.settings;
   program.use();
   offerFrame(program, s, frame.view_projection, frame.light_view_projection, frame.eye);
   bindStorage(RENDER_BINDING_HEALTH, no_health_.id());
+  bindStorage(RENDER_BINDING_CENTRES, no_centres_.id());
+  offer(program, "u_point_count", kNoCentres);
   const auto bindMesh = [](const GpuMesh& mesh) {
     bindStorage(RENDER_BINDING_POSITIONS, mesh.positions.id());
     bindStorage(RENDER_BINDING_NORMALS, mesh.normals.id());
@@ -277,13 +292,36 @@ void Renderer::drawColliders(ProgramId id, const Frame& frame, bool depth_only) 
     offerModel(program, glm::mat4(1.0f), s.collider_colour);
     glDrawElements(GL_TRIANGLES, obstacle.count, GL_UNSIGNED_INT, nullptr);
   }
-  // Planes receive shadows but cast none (nothing lies beneath them that could be shadowed).
-  if (depth_only) return;
+}
+
+// The planes receive shadows but cast none (nothing lies beneath them that could be shadowed), in one
+// program whatever the shading model: the ground is the stage, not the subject.
+void Renderer::drawGround(const Frame& frame) {
+  const RenderSettings& s = *frame.settings;
+  const ShadingProgram& program = programs_[ProgramId::Ground];
+  program.use();
+  offerFrame(program, s, frame.view_projection, frame.light_view_projection, frame.eye);
+  program.set("u_background", s.background);
+  program.set("u_shadows", s.shadows);
+  // Gone at 12 radii of the scene from its centre: past the framed view's corners, well before the quad's edge.
+  const glm::vec3 centre =
+      bounds_.centre() - glm::dot(bounds_.centre() - ground_.point, ground_.normal) * ground_.normal;
+  program.set("u_fade", glm::vec4(centre, 12.0f * std::max(bounds_.radius(), 1e-3f)));
+  bindStorage(RENDER_BINDING_HEALTH, no_health_.id());
+  bindStorage(RENDER_BINDING_CENTRES, no_centres_.id());
+  program.set("u_point_count", kNoCentres);
   // Cloth resting on a plane lies SURFACE_OFFSET (0.1 mm) above it: push the plane back in depth.
   glEnable(GL_POLYGON_OFFSET_FILL);
   glPolygonOffset(1.0f, 2.0f);
-  for (const GpuMesh& plane : planes_) {
-    bindMesh(plane);
+  for (std::size_t i = 0; i < planes_.size(); ++i) {
+    const bool scene_plane = i < scene_->planes.size();
+    if (scene_plane ? !s.show_colliders : !s.floor) continue;
+    const GpuMesh& plane = planes_[i];
+    bindStorage(RENDER_BINDING_POSITIONS, plane.positions.id());
+    bindStorage(RENDER_BINDING_NORMALS, plane.normals.id());
+    bindStorage(RENDER_BINDING_TANGENTS, plane.tangents.id());
+    bindStorage(RENDER_BINDING_UVS, plane.uvs.id());
+    plane.vao.bind();
     offerModel(program, glm::mat4(1.0f), s.plane_colour);
     glDrawElements(GL_TRIANGLES, plane.count, GL_UNSIGNED_INT, nullptr);
   }
@@ -295,13 +333,11 @@ void Renderer::drawCloth(ProgramId id, const ClothBuffers& cloth, const Frame& f
   program.use();
   offerFrame(program, *frame.settings, frame.view_projection, frame.light_view_projection, frame.eye);
   offerModel(program, glm::mat4(1.0f), frame.settings->cloth_colour);
+  program.set("u_point_count", surface_.points());
   bindStorage(RENDER_BINDING_POSITIONS, cloth.positions);
-  bindStorage(RENDER_BINDING_NORMALS, cloth.normals);
-  bindStorage(RENDER_BINDING_TANGENTS, cloth.tangents);
-  bindStorage(RENDER_BINDING_UVS, cloth_.uvs.id());
   bindStorage(RENDER_BINDING_HEALTH, cloth.health != 0 ? cloth.health : no_health_.id());
-  cloth_.triangle_vao.bind();
-  glDrawElements(GL_TRIANGLES, cloth_.triangle_count, GL_UNSIGNED_INT, nullptr);
+  surface_.bindForDraw();
+  glDrawElements(GL_TRIANGLES, surface_.indexCount(), GL_UNSIGNED_INT, nullptr);
   ++cloth_draws_;
 }
 
@@ -355,6 +391,7 @@ std::optional<PickHit> Renderer::pick(const ClothBuffers& cloth, const Camera& c
   if (p.x < 0 || p.y < 0 || p.x >= viewport.x || p.y >= viewport.y) return std::nullopt;
   const GLint target = currentDrawFramebuffer();
   ensurePickTarget(viewport);
+  surface_.update(cloth.positions);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, pick_.framebuffer.get());
   glViewport(0, 0, viewport.x, viewport.y);
   const GLuint no_point = 0;
@@ -374,12 +411,11 @@ std::optional<PickHit> Renderer::pick(const ClothBuffers& cloth, const Camera& c
   program.set("u_model", glm::mat4(1.0f));
   program.set("u_view_projection", camera.viewProjection(float(viewport.x) / float(std::max(viewport.y, 1))));
   program.set("u_grid_size", glm::vec2(float(topology_->W), float(topology_->H)));
+  program.set("u_point_count", surface_.points());
   bindStorage(RENDER_BINDING_POSITIONS, cloth.positions);
-  bindStorage(RENDER_BINDING_NORMALS, cloth.normals);
-  bindStorage(RENDER_BINDING_UVS, cloth_.uvs.id());
   bindStorage(RENDER_BINDING_HEALTH, cloth.health != 0 ? cloth.health : no_health_.id());
-  cloth_.triangle_vao.bind();
-  glDrawElements(GL_TRIANGLES, cloth_.triangle_count, GL_UNSIGNED_INT, nullptr);
+  surface_.bindForDraw();
+  glDrawElements(GL_TRIANGLES, surface_.indexCount(), GL_UNSIGNED_INT, nullptr);
   glBindVertexArray(0);
 
   // The one explicit read-back of picking: a single pixel of each target.

@@ -20,7 +20,7 @@ Uniforms join(std::initializer_list<Uniforms> groups) {
   return all;
 }
 
-const Uniforms kTransform = {"u_model", "u_view_projection", "u_normal_matrix"};
+const Uniforms kTransform = {"u_model", "u_view_projection", "u_normal_matrix", "u_point_count"};
 const Uniforms kLight = {"u_light_position", "u_light_intensity"};
 const Uniforms kBump = {"u_height_map", "u_height_scaling", "u_normal_scaling"};
 
@@ -43,10 +43,13 @@ std::array<ProgramSpec, kProgramCount> makeSpecs() {
        join({kTransform, {"u_light_position", "u_colour", "u_eye", "u_toon_levels"}})},
       {ProgramId::Shadow, "shadow", vert, "render/shadow.frag", {{"SHADOW_RECEIVER", ""}},
        join({kTransform, kLight, {"u_colour", "u_eye", "u_light_view_projection", "u_shadow_map"}})},
+      {ProgramId::Ground, "ground", vert, "render/ground.frag", {{"SHADOW_RECEIVER", ""}},
+       join({kTransform, kLight,
+             {"u_colour", "u_light_view_projection", "u_shadow_map", "u_background", "u_fade", "u_shadows"}})},
       {ProgramId::ShadowDepth, "shadow_depth", vert, "render/depth.frag", {{"DEPTH_ONLY", ""}},
-       {"u_model", "u_view_projection"}},
+       {"u_model", "u_view_projection", "u_point_count"}},
       {ProgramId::Sky, "sky", "render/sky.vert", "render/sky.frag", {}, {"u_environment", "u_inverse_view_projection"}},
-      {ProgramId::Pick, "pick", vert, "render/pick.frag", {}, {"u_model", "u_view_projection", "u_grid_size"}},
+      {ProgramId::Pick, "pick", vert, "render/pick.frag", {}, {"u_model", "u_view_projection", "u_point_count", "u_grid_size"}},
   }};
   // clang-format on
 }

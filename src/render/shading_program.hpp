@@ -25,11 +25,12 @@ enum class ProgramId {
   Mirror,
   Toon,
   Shadow,
+  Ground,       // the planes and the neutral floor, in every shading model, receiving shadows
   ShadowDepth,  // depth-only pass from the light
   Sky,          // cube-map background behind the mirror
   Pick,         // cloth point and world position under a pixel
 };
-inline constexpr int kProgramCount = 13;
+inline constexpr int kProgramCount = 14;
 
 struct ProgramSpec {
   ProgramId id;

@@ -14,7 +14,8 @@ namespace drape {
 
 static_assert(ViewerKeys::kPause == GLFW_KEY_P && ViewerKeys::kReset == GLFW_KEY_R && ViewerKeys::kStep == GLFW_KEY_N &&
               ViewerKeys::kScreenshot == GLFW_KEY_S && ViewerKeys::kResetCamera == GLFW_KEY_SPACE &&
-              ViewerKeys::kReloadShaders == GLFW_KEY_F5 && ViewerKeys::kQuit == GLFW_KEY_ESCAPE);
+              ViewerKeys::kReloadShaders == GLFW_KEY_F5 && ViewerKeys::kQuit == GLFW_KEY_ESCAPE &&
+              ViewerKeys::kTogglePanel == GLFW_KEY_H);
 
 namespace {
 
@@ -43,6 +44,29 @@ void scrollCallback(GLFWwindow* w, double /*dx*/, double dy) {
 
 }  // namespace
 
+std::string viewerControlsText() {
+  struct Control {
+    const char* input;
+    const char* action;
+  };
+  static const Control keys[] = {
+      {"P", "pause / resume"},        {"N", "one frame, while paused"},
+      {"R", "reset the cloth"},       {"Space", "reset the camera"},
+      {"H", "hide / show the panel"}, {"S", "screenshot (drape_screenshot_NNN.png, in the current folder)"},
+      {"F5", "reload the shaders"},   {"Esc", "quit"}};
+  static const Control mouse[] = {{"left-drag", "orbit"},
+                                  {"right-drag, Ctrl+left-drag", "pan"},
+                                  {"scroll", "zoom"},
+                                  {"Shift+left-drag", "pull the cloth (GPU solver)"}};
+  std::string text = "Keys:\n";
+  for (const Control& c : keys)
+    text += "  " + std::string(c.input) + std::string(28 - std::string(c.input).size(), ' ') + c.action + "\n";
+  text += "Mouse:\n";
+  for (const Control& c : mouse)
+    text += "  " + std::string(c.input) + std::string(28 - std::string(c.input).size(), ' ') + c.action + "\n";
+  return text;
+}
+
 Viewer::Viewer(gl::WindowContext& window, std::unique_ptr<Solver> solver, const ViewerOptions& options)
     : cloth(solver->scene().cloth),
       sim(solver->scene().sim),
@@ -52,8 +76,10 @@ Viewer::Viewer(gl::WindowContext& window, std::unique_ptr<Solver> solver, const 
       gpu_(dynamic_cast<GpuSolver*>(solver_.get())),
       scene_(solver_->scene()),
       feed_(*solver_),
-      renderer_(scene_, solver_->topology(), options.renderer) {
+      renderer_(scene_, solver_->topology(),
+                options.extent ? *options.extent : SceneExtent(scene_, solver_->topology()), options.renderer) {
   settings.shading = options.shading;
+  settings.light = renderer_.defaultLight();
   settings.springs = enabledSprings(cloth);
   stability_ = checkStability(scene_);
   if (!stability_.ok) status_ = stability_.message;
@@ -97,7 +123,7 @@ bool Viewer::frame(ViewerPanel* panel) {
     saveScreenshot(*screenshot_request_);
     screenshot_request_.reset();
   }
-  if (panel) panel->draw(*this);
+  if (panel && panel_shown_) panel->draw(*this);
   glfwSwapBuffers(window_->window());
   updateStats();
   return !done;
@@ -219,7 +245,7 @@ void Viewer::saveScreenshot(const std::filesystem::path& file) {
 
 void Viewer::onKey(int key, int action, int /*mods*/) {
   if (action != GLFW_PRESS) return;
-  if (panel_ && panel_->capturesKeyboard()) return;
+  if (panelTakesKeys()) return;
   switch (key) {
     case ViewerKeys::kPause:
       paused_ = !paused_;
@@ -232,6 +258,9 @@ void Viewer::onKey(int key, int action, int /*mods*/) {
       break;
     case ViewerKeys::kResetCamera:
       resetCamera();
+      break;
+    case ViewerKeys::kTogglePanel:
+      panel_shown_ = !panel_shown_;
       break;
     case ViewerKeys::kScreenshot:
       requestScreenshot();
@@ -253,7 +282,7 @@ void Viewer::onMouseButton(int button, int action, int mods, glm::vec2 cursor) {
     mouse_mode_ = MouseMode::None;
     return;
   }
-  if (action != GLFW_PRESS || (panel_ && panel_->capturesMouse())) return;
+  if (action != GLFW_PRESS || panelTakesMouse()) return;
   last_cursor_ = cursor;
   if (button == GLFW_MOUSE_BUTTON_RIGHT || (button == GLFW_MOUSE_BUTTON_LEFT && (mods & GLFW_MOD_CONTROL))) {
     mouse_mode_ = MouseMode::Pan;
@@ -287,8 +316,17 @@ void Viewer::onCursor(double x, double y) {
 }
 
 void Viewer::onScroll(double dy) {
-  if (panel_ && panel_->capturesMouse()) return;
+  if (panelTakesMouse()) return;
   camera_.zoom(std::pow(kZoomPerNotch, float(dy)));
+}
+
+// A hidden panel's last answer may still say it has the pointer: it is not asked.
+bool Viewer::panelTakesMouse() const {
+  return panel_ && panel_shown_ && panel_->capturesMouse();
+}
+
+bool Viewer::panelTakesKeys() const {
+  return panel_ && panel_shown_ && panel_->capturesKeyboard();
 }
 
 glm::vec2 Viewer::toFramebuffer(glm::vec2 cursor) const {

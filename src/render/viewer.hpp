@@ -31,9 +31,14 @@ struct ViewerKeys {
   static constexpr int kStep = 'N';
   static constexpr int kScreenshot = 'S';
   static constexpr int kResetCamera = ' ';
+  static constexpr int kTogglePanel = 'H';
   static constexpr int kReloadShaders = 294;  // GLFW_KEY_F5
   static constexpr int kQuit = 256;           // GLFW_KEY_ESCAPE
 };
+
+// The keys and the mouse, as `view --help`, the panel and the README list them: "Keys:" then one line a
+// key, "Mouse:" then one line a gesture.
+std::string viewerControlsText();
 
 // The on-screen panel. Dear ImGui lives in the app layer; it reaches the viewer through this.
 class ViewerPanel {
@@ -46,6 +51,9 @@ class ViewerPanel {
 
 struct ViewerOptions {
   RendererOptions renderer;
+  // Where the cloth goes (render/framing.hpp): what the camera frames (Space) and the floor, the light and
+  // the shadow map follow. Empty: the scene as it starts.
+  std::optional<SceneExtent> extent;
   Shading shading = Shading::Phong;
   int frames = 0;                              // > 0: simulate this many frames, save `screenshot`, close
   std::filesystem::path screenshot;            // with `frames`
@@ -96,6 +104,9 @@ class Viewer {
   const StabilityCheck& stability() const { return stability_; }
 
   bool paused() const { return paused_; }
+  // The panel is drawn (and takes the mouse and keys over it) only while shown; H toggles it.
+  bool panelShown() const { return panel_shown_; }
+  void setPanelShown(bool shown) { panel_shown_ = shown; }
   void setPaused(bool paused) { paused_ = paused; }
   void stepOnce() { step_once_ = true; }
   void resetCloth();
@@ -130,6 +141,8 @@ class Viewer {
   void endDrag();
   glm::vec2 toFramebuffer(glm::vec2 cursor) const;
   void updateStats();
+  bool panelTakesMouse() const;
+  bool panelTakesKeys() const;
 
   gl::WindowContext* window_;
   ViewerOptions options_;
@@ -142,6 +155,7 @@ class Viewer {
   ClothBuffers cloth_buffers_;
 
   bool paused_ = false;
+  bool panel_shown_ = true;
   bool step_once_ = false;
   bool quit_ = false;
   std::optional<std::filesystem::path> screenshot_request_;

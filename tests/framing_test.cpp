@@ -1,0 +1,149 @@
+// The default camera keeps the whole run in view: for every bundled scene, the cloth's points at frames 0,
+// 30, ..., 180 (the CPU float solver, the GPU's bits on llvmpipe) project at least 2 pixels inside
+// `render`'s 640x480 image and the viewer's 1280x800 window, through the camera that `render` and `view`
+// compute (render/framing.hpp). The cloth's triangles lie inside the hull of its points, so its pixels do
+// too. No GL: the projection is the camera's matrices.
+#include "render/framing.hpp"
+#include "cpu/cpu_solver.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace drape {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> bundledScenes() {
+  std::vector<std::string> names;
+  for (const fs::directory_entry& e : fs::directory_iterator(fs::path(DRAPE_SOURCE_DIR) / "scenes"))
+    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+constexpr int kLastFrame = 180;
+constexpr int kEvery = 30;
+constexpr float kMarginPx = 2.0f;
+
+struct Extremes {
+  glm::vec2 lo{1e9f}, hi{-1e9f};  // pixels, origin top-left
+};
+
+// Where the cloth's points fall in a `size` image through `camera`; fails if one is behind the camera or
+// clipped by depth.
+Extremes project(const Camera& camera, glm::ivec2 size, const std::vector<glm::dvec3>& x, const std::string& what) {
+  const glm::mat4 vp = camera.viewProjection(float(size.x) / float(size.y));
+  Extremes e;
+  for (const glm::dvec3& p : x) {
+    const glm::vec4 clip = vp * glm::vec4(glm::vec3(p), 1.0f);
+    EXPECT_GT(clip.w, 0.0f) << what << ": a point behind the camera";
+    const glm::vec3 ndc = glm::vec3(clip) / clip.w;
+    EXPECT_LT(std::abs(ndc.z), 1.0f) << what << ": a point clipped by depth";
+    const glm::vec2 pixel{(ndc.x * 0.5f + 0.5f) * float(size.x), (0.5f - ndc.y * 0.5f) * float(size.y)};
+    e.lo = glm::min(e.lo, pixel);
+    e.hi = glm::max(e.hi, pixel);
+  }
+  return e;
+}
+
+class DefaultCamera : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(DefaultCamera, KeepsTheClothInViewOverTheRun) {
+#ifdef __SANITIZE_ADDRESS__
+  // 180 frames of every scene take minutes under AddressSanitizer; the two cheapest still run there, and
+  // the plain build runs them all.
+  if (GetParam() != "flag" && GetParam() != "pinned2") GTEST_SKIP() << "the plain build runs this scene";
+#endif
+  const Scene scene = loadScene(fs::path(DRAPE_SOURCE_DIR) / "scenes" / (GetParam() + ".json"));
+  CpuSolver<float> solver(scene);
+  SceneExtent extent(scene, solver.topology());
+  std::map<int, std::vector<glm::dvec3>> checked;
+  const int frames = std::max(kLastFrame, lookAheadFrames(scene));
+  const int stepped = lookAhead(extent, solver, frames, [&](int frame, const std::vector<glm::dvec3>& x) {
+    if (frame % kEvery == 0 && frame <= kLastFrame) checked[frame] = x;
+  });
+  ASSERT_EQ(stepped, frames) << "the run blew up";
+  ASSERT_EQ(checked.size(), std::size_t(kLastFrame / kEvery + 1));
+  EXPECT_EQ(solver.substeps(), 0) << "the look-ahead resets the solver";
+
+  const FramingSubject subject = extent.subject();
+  for (const glm::ivec2 size : {glm::ivec2(640, 480), glm::ivec2(1280, 800)}) {
+    Camera camera;
+    camera.frame(subject, float(size.x) / float(size.y));
+    glm::vec2 lo{1e9f}, hi{-1e9f};
+    for (const auto& [frame, x] : checked) {
+      const std::string what = GetParam() + " at " + std::to_string(size.x) + "x" + std::to_string(size.y) +
+                               ", frame " + std::to_string(frame);
+      const Extremes e = project(camera, size, x, what);
+      EXPECT_GE(std::min(e.lo.x, e.lo.y), kMarginPx)
+          << what << ": the cloth reaches (" << e.lo.x << ", " << e.lo.y << ")";
+      EXPECT_LE(e.hi.x, float(size.x) - kMarginPx) << what << ": the cloth reaches x = " << e.hi.x;
+      EXPECT_LE(e.hi.y, float(size.y) - kMarginPx) << what << ": the cloth reaches y = " << e.hi.y;
+      lo = glm::min(lo, e.lo);
+      hi = glm::max(hi, e.hi);
+    }
+    // Kept in view, and not lost in it: the run spans a good part of the frame one way or the other.
+    EXPECT_GT(std::max((hi.x - lo.x) / float(size.x), (hi.y - lo.y) / float(size.y)), 0.4f) << GetParam();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Bundled, DefaultCamera, ::testing::ValuesIn(bundledScenes()),
+                         [](const auto& row) { return row.param; });
+
+// The viewer's window is wider than `render`'s image: the same camera, showing more at the sides.
+TEST(DefaultCamera, AWiderViewFramesAsFourByThree) {
+  FramingSubject subject;
+  subject.points = {{0, 0, 0}, {4, 0, 0}, {0, 1, 0}, {0, 0, 1}, {4, 1, 1}};  // wide: its width limits a square view
+  Camera render, wide, narrow;
+  render.frame(subject, 4.0f / 3.0f);
+  wide.frame(subject, 1280.0f / 800.0f);
+  narrow.frame(subject, 1.0f);
+  EXPECT_EQ(render.target(), wide.target());
+  EXPECT_EQ(render.distance(), wide.distance());
+  EXPECT_GT(narrow.distance(), render.distance()) << "a narrower view steps back to fit the width";
+}
+
+// The outline the extent keeps of a frame decides the framing exactly as all its points would.
+TEST(SceneExtent, KeepsWhatDecidesTheFraming) {
+  Scene scene;
+  scene.cloth.num_width_points = 30;
+  scene.cloth.num_height_points = 30;
+  const Topology topology = buildTopology(scene.cloth);
+  SceneExtent extent(scene, topology);
+  std::vector<glm::dvec3> bent = topology.initial_positions;
+  for (glm::dvec3& p : bent)
+    p.y -= 0.6 * std::sin(3.0 * p.x) * std::cos(2.0 * p.z);  // a wavy sheet, nothing like a box
+  extent.addCloth(bent);
+  FramingSubject all;
+  const std::array<const std::vector<glm::dvec3>*, 2> frames = {&topology.initial_positions, &bent};
+  for (const auto* frame : frames)
+    for (const glm::dvec3& p : *frame)
+      all.points.push_back(glm::vec3(p));
+  const Ground ground = extent.ground();
+  EXPECT_FALSE(ground.from_scene);
+  for (const auto* frame : frames)
+    for (const glm::dvec3& p : *frame) {
+      const glm::vec3 q(p);
+      all.points.push_back(q - glm::dot(q - ground.point, ground.normal) * ground.normal);
+      EXPECT_GT(glm::dot(q - ground.point, ground.normal), 0.0f) << "the neutral floor is below the cloth";
+    }
+  EXPECT_LT(extent.subject().points.size(), all.points.size() / 4);
+  for (float aspect : {0.6f, 1.0f, 4.0f / 3.0f, 2.0f}) {
+    Camera from_outline, from_all;
+    from_outline.frame(extent.subject(), aspect);
+    from_all.frame(all, aspect);
+    EXPECT_NEAR(from_outline.distance(), from_all.distance(), 1e-5f * from_all.distance()) << aspect;
+    EXPECT_LT(glm::distance(from_outline.target(), from_all.target()), 1e-5f) << aspect;
+  }
+}
+
+}  // namespace
+}  // namespace drape
