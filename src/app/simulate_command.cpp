@@ -8,6 +8,7 @@
 #include "app/solver_factory.hpp"
 #include "core/metrics.hpp"
 #include "core/stability.hpp"
+#include "cpu/collision_pairs.hpp"
 
 #include <fmt/core.h>
 #include <fmt/format.h>
@@ -75,6 +76,20 @@ Scene guardStability(Scene scene, bool auto_substeps) {
   return withSubsteps(scene, steps);
 }
 
+// A cloth finer than its thickness: pairs of points closer than 2 x thickness at rest are held by the springs,
+// and self-collision skips them (physics::heldAtRest). Where there are any, the result differs from a solver
+// that collides them (CS184's): say so.
+void warnAboutHeldPairs(const Scene& scene, const Topology& topology) {
+  if (!scene.sim.self_collision) return;
+  const double range = 2.0 * scene.cloth.thickness;
+  const HeldPairs held = heldPairsAtRest(topology.initial_positions, range);
+  if (held.count == 0) return;
+  fmt::print(stderr,
+             "drape: warning: {}: cloth.thickness: 2 x thickness ({:.3g} mm) is more than the rest distance of {} "
+             "point pairs (the closest {:.3g} mm apart): self-collision skips them as pairs the springs hold\n",
+             scene.path, range * 1e3, held.count, held.closest * 1e3);
+}
+
 void runSimulate(const SimulateOptions& o) {
   if (!o.out.empty()) checkOutputFile(o.out);  // before the run, not after it
   const ExportTarget export_target =
@@ -84,6 +99,7 @@ void runSimulate(const SimulateOptions& o) {
   const Scene scene = guardStability(std::move(loaded), o.auto_substeps);
   SolverFactory factory({.verbose = o.verbose});  // before the solver: it owns the solver's GL context
   auto solver = factory.make(scene, o.solver, {.threads = o.threads});
+  warnAboutHeldPairs(scene, solver->topology());
   std::optional<ClothExport> exporter;
   if (!o.export_path.empty()) exporter.emplace(export_target, scene, solver->topology(), o.frames / o.every * o.every);
   if (o.verbose) fmt::print(stderr, "{}", describePasses(*solver));

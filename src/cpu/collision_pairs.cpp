@@ -6,9 +6,11 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <limits>
 #include <new>
 #include <string>
+#include <utility>
 
 namespace drape {
 
@@ -17,6 +19,12 @@ void CollisionPairs<T>::configure(T range, T margin) {
   if (range != range_ || margin != margin_) built_ = false;
   range_ = range;
   margin_ = margin;
+}
+
+template <class T>
+void CollisionPairs<T>::setRest(std::vector<vec3> rest) {
+  rest_ = std::move(rest);
+  built_ = false;
 }
 
 template <class T>
@@ -73,7 +81,8 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
       try {
         grid_.forEachForwardCandidate(i, [&](std::uint32_t j) {
           const vec3 d = x[i] - x[j];
-          if (glm::dot(d, d) < reach2) mine.push_back({std::uint32_t(i), j});
+          if (glm::dot(d, d) < reach2 && (rest_.empty() || !physics::heldAtRest(rest_[i], rest_[j], range_)))
+            mine.push_back({std::uint32_t(i), j});
         });
       } catch (const std::bad_alloc&) {
         out_of_memory = true;
@@ -113,5 +122,24 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
 
 template class CollisionPairs<float>;
 template class CollisionPairs<double>;
+
+HeldPairs heldPairsAtRest(const std::vector<glm::dvec3>& rest, double range) {
+  HeldPairs out;
+  if (rest.size() < 2) return out;
+  HashGrid<double> grid;
+  grid.build(rest, range);
+  double closest2 = range * range;
+  for (std::size_t i = 0; i < rest.size(); ++i)
+    grid.forEachForwardCandidate(i, [&](std::uint32_t j) {
+      const glm::dvec3 d = rest[i] - rest[j];
+      const double d2 = glm::dot(d, d);
+      if (d2 < range * range) {
+        ++out.count;
+        closest2 = std::min(closest2, d2);
+      }
+    });
+  out.closest = out.count ? std::sqrt(closest2) : 0.0;
+  return out;
+}
 
 }  // namespace drape

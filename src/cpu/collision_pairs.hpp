@@ -26,6 +26,9 @@ class CollisionPairs {
 
   // range = 2 * thickness; margin >= 0 (0 rebuilds every substep).
   void configure(T range, T margin);
+  // The cloth's rest positions: a pair closer than `range` there is held by the springs
+  // (physics::heldAtRest) and never listed. Empty (the default): every pair is a candidate.
+  void setRest(std::vector<vec3> rest);
   void invalidate() { built_ = false; }
 
   // Makes the list valid for positions x (rebuilding if any point moved too far); returns whether it
@@ -56,6 +59,7 @@ class CollisionPairs {
   std::vector<std::vector<Pair>> found_;  // per thread, kept to spare the allocations
   std::vector<std::uint32_t> start_, list_, fill_;
   std::vector<vec3> anchor_;  // positions at the last build
+  std::vector<vec3> rest_;
   T range_ = 0, margin_ = 0;
   T travel_ = 0;  // safeTravel at the last build
   bool built_ = false;
@@ -95,5 +99,13 @@ void forEachOrderedPair(const CollisionPairs<T>& pairs, std::size_t i, const std
     }
   }
 }
+
+// Pairs of points closer than `range` in the rest shape `rest`: the pairs self-collision skips
+// (heldAtRest). count: each pair once; closest: the smallest such distance (0 if none).
+struct HeldPairs {
+  std::size_t count = 0;
+  double closest = 0;
+};
+HeldPairs heldPairsAtRest(const std::vector<glm::dvec3>& rest, double range);
 
 }  // namespace drape

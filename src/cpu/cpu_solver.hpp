@@ -4,6 +4,7 @@
 
 #include "core/colouring.hpp"
 #include "core/derived.hpp"
+#include "core/mesh_features.hpp"
 #include "core/solver.hpp"
 #include "core/tethers.hpp"
 #include "cpu/collision_pairs.hpp"
@@ -21,7 +22,11 @@ enum class VerletForm { Displacement, PreviousPosition };
 struct CpuSolverOptions {
   VerletForm form = VerletForm::Displacement;
   int threads = 0;  // OpenMP threads for the per-point loops; 0 = every core. Any count gives the same bytes.
-  double pair_margin = kDefaultPairMargin;  // list skin / (2*thickness); 0 rebuilds the list every substep
+  // list skin / min(2*thickness, the shortest structural spring at rest); 0 rebuilds the list every substep
+  double pair_margin = kDefaultPairMargin;
+  // Self-collision skips the pairs closer than 2*thickness at rest (physics::heldAtRest); false collides them
+  // too, as CS184 does, to measure what skipping changes.
+  bool skip_held_pairs = true;
 };
 
 template <class T>
@@ -43,9 +48,11 @@ class CpuSolver final : public Solver {
   void solveXpbd();         // XPBD: sim.iterations Gauss-Seidel sweeps of the springs as distance constraints
   void solveVbd();          // VBD: sim.iterations Gauss-Seidel sweeps of per-point Newton steps, colour by colour
   void selfCollide();       // candidate lists, Jacobi, averaged, / steps_per_frame
-  void collide();           // each sphere, then each plane
+  void collide();           // each sphere, then each plane, then each mesh's field
   void tether();            // long-range attachments to the pins (core/tethers.hpp), when the scene asks
   void limitStretch();      // Provot, sim.stretch_passes passes (Gauss-Seidel over colours, or Jacobi)
+  void collideFaces();      // the cloth's edges and triangles off the meshes' sharp edges and corners, Jacobi
+  // collide() again, last: whatever moved the points after the collisions, none ends inside a collider.
 
   void reset() override;
   void setParams(const ClothSpec& cloth, const SimParams& sim) override;
@@ -67,6 +74,7 @@ class CpuSolver final : public Solver {
   const CollisionPairs<T>& collisionPairs() const { return pairs_; }
   const Tethers& tethers() const { return tethers_; }
   const PointColouring& pointColouring() const { return point_colouring_; }
+  const FaceAdjacency& faceAdjacency() const { return faces_; }
 
  private:
   struct Stiffness {
@@ -76,6 +84,7 @@ class CpuSolver final : public Solver {
   void applyCorrections();  // x += c, and v += c so that x_prev stays put
   void limitStretchColoured();
   void limitStretchJacobi();
+  void buildFaceContacts();  // the meshes' features, their grids and the cloth's face adjacency
   // One Gauss-Seidel sweep over the enabled springs, colour after colour, each colour one parallel loop:
   // f(k, s, spring) with k the spring's slot in the colouring and s its index.
   template <class F>
@@ -90,6 +99,7 @@ class CpuSolver final : public Solver {
   VerletForm form_;
   int threads_ = 1;
   double pair_margin_ = kDefaultPairMargin;
+  double shortest_spring_ = 0;  // m, the shortest structural spring's rest length
   std::vector<vec3> x_, v_, f_, correction_;
   std::vector<T> rest_;           // per spring, in T
   std::vector<T> rest_adjacent_;  // per adjacency entry, in T
@@ -104,6 +114,23 @@ class CpuSolver final : public Solver {
   std::vector<T> lambda_;             // XPBD: per coloured spring, the multiplier summed over this substep's sweeps
   PointColouring point_colouring_;    // VBD: built the first time the scene asks for VBD
   std::vector<vec3> inertia_target_;  // VBD with iterations > 1: the prediction y, kept by the first sweep
+  // Per mesh obstacle, for collideFaces: its sharp features in T and the grid they are looked up by.
+  struct FeatureEdgeT {
+    vec3 a, b, n1, n2;
+    vec3 mid;  // (a + b) / 2 and |b - a| / 2: a sphere around it, to pass over the far ones quickly
+    T half;
+  };
+  struct FeatureCornerT {
+    vec3 p, normal;
+  };
+  struct FaceContacts {
+    std::vector<FeatureEdgeT> edges;
+    std::vector<FeatureCornerT> corners;
+    FeatureGrid grid;
+    T thickness = 0;
+  };
+  std::vector<FaceContacts> face_contacts_;  // one per mesh, in scene order; empty if no mesh has features
+  FaceAdjacency faces_;
   long long substeps_ = 0;
   std::vector<PassTiming> timings_;
 };
