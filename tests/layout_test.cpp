@@ -150,7 +150,8 @@ TEST(Layout, BindingPointsAreDistinct) {
                            kBindingGridScatter,     kBindingGridSorted,     kBindingHealth,     kBindingPick,
                            kBindingColouredSprings, kBindingPairControl,    kBindingPairAnchor, kBindingPairStart,
                            kBindingPairList,        kBindingPointMass,      kBindingXpbdLambda, kBindingColourPartners,
-                           kBindingTethers,         kBindingColouredPoints, kBindingVbdInertia};
+                           kBindingTethers,         kBindingColouredPoints, kBindingVbdInertia, kBindingRest,
+                           kBindingFaceTable,       kBindingFaceFeatures};
   EXPECT_EQ(kBindingCount, std::size(bindings)) << "kBindingCount is one more than the largest binding point";
   std::vector<bool> used(64, false);
   for (uint b : bindings) {

@@ -52,7 +52,13 @@ DRAPE_CONSTANT(uint, kBindingTethers, 24u);  // Tether per point and slot (TETHE
 // per substep the prediction y each point's inertia pulls towards.
 DRAPE_CONSTANT(uint, kBindingColouredPoints, 25u);  // uint per point: point indices grouped by colour
 DRAPE_CONSTANT(uint, kBindingVbdInertia, 26u);      // vec4 per point: xyz the prediction y (iterations > 1)
-DRAPE_CONSTANT(uint, kBindingCount, 27u);           // binding points used: one more than the largest
+// Self-collision with pairs held at rest (HELD_AT_REST): 3 floats per point, packed, the rest positions.
+DRAPE_CONSTANT(uint, kBindingRest, 27u);
+// The face contacts (collide_faces.comp): uints, the layout below (kFace*); vec4s, each mesh's grid constants
+// and features.
+DRAPE_CONSTANT(uint, kBindingFaceTable, 28u);
+DRAPE_CONSTANT(uint, kBindingFaceFeatures, 29u);
+DRAPE_CONSTANT(uint, kBindingCount, 30u);  // binding points used: one more than the largest
 
 // Work-group sizes, shared so C++ computes group counts from the same numbers.
 DRAPE_CONSTANT(uint, kLocalSize, 128u);      // per-point and per-bucket kernels
@@ -69,11 +75,32 @@ DRAPE_CONSTANT(uint, kPairDispatchCount, 4u);
 
 // The phases of a substep the one-dispatch kernel runs (glsl/sim/one_group.comp's u_phases): a frame runs them
 // all, a stage function of the solver one (GpuPlan says which).
-DRAPE_CONSTANT(uint, kPhaseIntegrate, 1u);    // forces + integrate (+ collide, where the plan fuses it there)
-DRAPE_CONSTANT(uint, kPhaseStretch, 2u);      // the stretch passes
-DRAPE_CONSTANT(uint, kPhaseSelfCollide, 4u);  // self-collision (+ collide)
-DRAPE_CONSTANT(uint, kPhaseTether, 8u);       // the tethers
-DRAPE_CONSTANT(uint, kPhaseAll, 15u);
+DRAPE_CONSTANT(uint, kPhaseIntegrate, 1u);     // forces + integrate (+ collide, where the plan fuses it there)
+DRAPE_CONSTANT(uint, kPhaseStretch, 2u);       // the stretch passes
+DRAPE_CONSTANT(uint, kPhaseSelfCollide, 4u);   // self-collision (+ collide)
+DRAPE_CONSTANT(uint, kPhaseTether, 8u);        // the tethers
+DRAPE_CONSTANT(uint, kPhaseCollideLast, 16u);  // the collisions again, after the tethers and the stretch limit
+DRAPE_CONSTANT(uint, kPhaseAll, 31u);
+
+// The face contacts' table (gpu::faceTables): a header of kFaceHeaderWords, then kFaceMeshWords per mesh with
+// a sharp feature, in scene order, then the arrays the header words point at (each a start in the table).
+DRAPE_CONSTANT(uint, kFaceMeshes, 0u);          // meshes with a sharp feature
+DRAPE_CONSTANT(uint, kFaceEdgeStart, 1u);       // per point + 1: where its edges start in point_edges
+DRAPE_CONSTANT(uint, kFacePointEdges, 2u);      // edge indices, each point's ascending
+DRAPE_CONSTANT(uint, kFaceEdges, 3u);           // 2 points an edge, the smaller first
+DRAPE_CONSTANT(uint, kFaceTriangleStart, 4u);   // per point + 1: where its triangles start in point_triangles
+DRAPE_CONSTANT(uint, kFacePointTriangles, 5u);  // triangle indices, each point's ascending
+DRAPE_CONSTANT(uint, kFaceTriangles, 6u);       // 3 points a triangle (the topology's)
+DRAPE_CONSTANT(uint, kFaceHeaderWords, 8u);
+DRAPE_CONSTANT(uint, kFaceGridEdgeStart, 0u);  // a mesh's words: per grid cell + 1, into its grid edges
+DRAPE_CONSTANT(uint, kFaceGridEdges, 1u);      // feature edge indices, each cell's ascending
+DRAPE_CONSTANT(uint, kFaceGridCornerStart, 2u);
+DRAPE_CONSTANT(uint, kFaceGridCorners, 3u);
+DRAPE_CONSTANT(uint, kFaceGridDims, 4u);        // 3 words: the grid's cells along x, y, z
+DRAPE_CONSTANT(uint, kFaceFeatureHeader, 7u);   // FaceFeatures index: (origin, 1 / cell), (thickness, 0, 0, 0)
+DRAPE_CONSTANT(uint, kFaceFeatureEdges, 8u);    // FaceFeatures index of edge 0: 4 vec4s an edge
+DRAPE_CONSTANT(uint, kFaceFeatureCorners, 9u);  // FaceFeatures index of corner 0: 2 vec4s a corner
+DRAPE_CONSTANT(uint, kFaceMeshWords, 10u);
 
 // Health flags (the blow-up check, src/core/health.hpp): raised by health.comp after a frame's last pass,
 // read back on request. The same bits as drape::Health.

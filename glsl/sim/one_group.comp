@@ -4,7 +4,8 @@
 // microseconds of work instead of 30 x 13 dispatches, each a launch and a storage barrier.
 //
 // A substep runs the general path's phases (glsl/sim/phases), in its order, the bits u_phases selects
-// (kPhase*, glsl/shared/layout.h): forces + integrate, self-collision, tethers, the stretch passes; a
+// (kPhase*, glsl/shared/layout.h): forces + integrate, self-collision, tethers, the stretch passes, the
+// collisions again (COLLIDE_LAST); a
 // work-group barrier stands where the general path has a storage barrier between dispatches. A frame ends
 // with health.comp's check of the last state (u_check_health) before the state is written back.
 #define STATE_IN_PLACE
@@ -31,6 +32,12 @@ float windTime() {
 #endif
 #if TETHER_SLOTS > 0
 #include "phases/tether.glsl"
+#endif
+#ifndef COLLIDE_LAST
+#define COLLIDE_LAST 0  // 1: the collisions again after the tethers and the stretch limit (CpuSolver's collide_last)
+#endif
+#if COLLIDE_LAST
+#include "phases/collide.glsl"
 #endif
 
 layout(local_size_x = GROUP_SIZE) in;
@@ -101,6 +108,21 @@ void tethersGroup() {
 }
 #endif
 
+#if COLLIDE_LAST
+// A point moves only itself; the barrier lets the next substep's forces see the result.
+void collideLastGroup() {
+  const uint lid = gl_LocalInvocationID.x;
+  for (uint k = 0u; k < PER_INVOCATION; ++k) {
+    uint s = lid + k * GROUP_SIZE;
+    if (!slotMovable(s, k)) continue;
+    vec3 x = loadX(s);
+    collideObjects(x, slotV[k]);
+    storeX(s, x);
+  }
+  syncGroup();
+}
+#endif
+
 // The state back to device memory, in place: the group read all of it before writing any.
 void storeGroup() {
   const uint lid = gl_LocalInvocationID.x;
@@ -128,6 +150,9 @@ void main() {
     if ((u_phases & kPhaseTether) != 0u) tethersGroup();
 #endif
     if ((u_phases & kPhaseStretch) != 0u) stretchInGroup(u_stretch_passes, u_colours);
+#if COLLIDE_LAST
+    if ((u_phases & kPhaseCollideLast) != 0u) collideLastGroup();
+#endif
   }
   storeGroup();
 }

@@ -134,6 +134,7 @@ uint scanGrid(uint i, vec3 x, ivec3 cell_i, int order, uint from, out uint prese
           GridEntry e = gridSorted[s];
           uint j = e.index;
           if (j == i || j < from || j >= best || cellOf(entryPosition(e), params.inv_pair_cell) != n) continue;
+          if (heldPair(i, j)) continue;  // as the list build leaves it out
           vec3 xj = neighbour(j).xyz;
           if (selfCollisionCorrection(x, xj, params.thickness) == vec3(0.0)) continue;
           int o = cellOrder(cell_i, orderCell(xj));

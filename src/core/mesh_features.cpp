@@ -170,4 +170,31 @@ FaceAdjacency buildFaceAdjacency(const Topology& topology) {
   return out;
 }
 
+namespace {
+
+bool againstAPlane(const Scene& scene, glm::dvec3 a, glm::dvec3 b, glm::dvec3 out) {
+  constexpr double kOnPlane = 1e-3;  // m
+  for (const PlaneSpec& p : scene.planes)
+    if (std::abs(glm::dot(a - p.point, p.normal)) < kOnPlane && std::abs(glm::dot(b - p.point, p.normal)) < kOnPlane &&
+        glm::dot(out, p.normal) < 0.0)
+      return true;
+  return false;
+}
+
+}  // namespace
+
+MeshFeatures contactFeatures(const Scene& scene, const MeshSpec& mesh) {
+  const MeshFeatures all = findFeatures(*mesh.mesh);
+  MeshFeatures kept;
+  for (const FeatureEdge& e : all.edges)
+    if (!againstAPlane(scene, e.a, e.b, e.normal_a + e.normal_b)) kept.edges.push_back(e);
+  for (const FeatureCorner& c : all.corners)
+    if (!againstAPlane(scene, c.p, c.p, c.normal)) kept.corners.push_back(c);
+  return kept;
+}
+
+double featureReach(double thickness, const FaceAdjacency& faces) {
+  return thickness + faces.longest_rest_edge;
+}
+
 }  // namespace drape

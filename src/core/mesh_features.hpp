@@ -7,6 +7,7 @@
 #pragma once
 
 #include "core/mesh_obstacle.hpp"
+#include "core/scene.hpp"
 #include "core/topology.hpp"
 
 #include <cstdint>
@@ -37,6 +38,18 @@ struct MeshFeatures {
 };
 
 MeshFeatures findFeatures(const MeshObstacle& mesh, double min_angle_degrees = kFeatureAngleDegrees);
+
+// The features of `mesh` the face contacts use: findFeatures' less those flush with one of the scene's plane
+// colliders (both ends within 1 mm of it, their outer side through it: a box's base on the floor), which the
+// cloth cannot pass on that side and where pushing it would fight the plane. Both solvers take these.
+MeshFeatures contactFeatures(const Scene& scene, const MeshSpec& mesh);
+
+// The face contacts' grid reach for a mesh of collision thickness `thickness` (m): a cloth edge or triangle
+// finds every feature within `thickness` of any of its points from the grid cell of its middle while its
+// points are within the longest side at rest of the middle (an edge stretched to twice that, a triangle's
+// corners to about 1.9 times their distance from its centroid at rest).
+struct FaceAdjacency;
+double featureReach(double thickness, const FaceAdjacency& faces);
 
 // The features near each cell of a uniform grid, for a lookup by one cell: cell c lists every feature
 // within `reach` of its box, in ascending index, so a cloth edge or triangle whose middle lies in c finds

@@ -6,31 +6,6 @@
 
 namespace drape {
 
-namespace {
-
-// A feature that lies on a plane collider, its outer side through the plane (a box's bottom edges on the
-// floor): the cloth cannot pass it on that side, and pushing cloth there would fight the plane. Left out.
-bool againstAPlane(const Scene& scene, glm::dvec3 a, glm::dvec3 b, glm::dvec3 out) {
-  constexpr double kOnPlane = 1e-3;  // m
-  for (const PlaneSpec& p : scene.planes)
-    if (std::abs(glm::dot(a - p.point, p.normal)) < kOnPlane && std::abs(glm::dot(b - p.point, p.normal)) < kOnPlane &&
-        glm::dot(out, p.normal) < 0.0)
-      return true;
-  return false;
-}
-
-// Whether two balls (centre, radius) are more than `thickness` apart, with a tenth to spare: such a cloth edge
-// or triangle cannot touch such a feature, and edgeContact or cornerContact would say no for sure. Only a
-// shortcut past them; whether a solver takes it does not change a result.
-template <class T>
-bool farApart(glm::vec<3, T> a, T ra, glm::vec<3, T> b, T rb, T thickness) {
-  const glm::vec<3, T> d = a - b;
-  const T reach = T(1.1) * (ra + rb + thickness);
-  return glm::dot(d, d) > reach * reach;
-}
-
-}  // namespace
-
 template <class T>
 void CpuSolver<T>::buildFaceContacts() {
   face_contacts_.clear();
@@ -39,19 +14,11 @@ void CpuSolver<T>::buildFaceContacts() {
   bool any = false;
   std::vector<FaceContacts> contacts;
   for (const MeshSpec& m : scene_.meshes) {
-    const MeshFeatures all = findFeatures(*m.mesh);
-    MeshFeatures kept;
-    for (const FeatureEdge& e : all.edges)
-      if (!againstAPlane(scene_, e.a, e.b, e.normal_a + e.normal_b)) kept.edges.push_back(e);
-    for (const FeatureCorner& c : all.corners)
-      if (!againstAPlane(scene_, c.p, c.p, c.normal)) kept.corners.push_back(c);
+    const MeshFeatures kept = contactFeatures(scene_, m);
     FaceContacts fc;
     const double thickness = meshThickness(scene_.cloth, m);
     fc.thickness = T(thickness);
-    // A cloth edge or triangle finds every feature within `thickness` of any of its points from the grid cell
-    // of its middle while its points are within the longest side at rest of the middle: an edge stretched to
-    // twice that, a triangle's corners to about 1.9 times their distance from its centroid at rest.
-    fc.grid = buildFeatureGrid(kept, thickness + faces_.longest_rest_edge);
+    fc.grid = buildFeatureGrid(kept, featureReach(thickness, faces_));
     for (const FeatureEdge& e : kept.edges)
       fc.edges.push_back({vec3(e.a), vec3(e.b), vec3(e.normal_a), vec3(e.normal_b), vec3(0.5 * (e.a + e.b)),
                           T(0.5 * glm::distance(e.a, e.b))});
@@ -97,7 +64,7 @@ void CpuSolver<T>::collideFaces() {
           const T half = T(0.5) * glm::distance(x_[a], x_[b]);
           for (std::uint32_t f = g.edge_start[c]; f < g.edge_start[c + 1]; ++f) {
             const FeatureEdgeT& fe = mesh.edges[g.edges[f]];
-            if (farApart(mid, half, fe.mid, fe.half, mesh.thickness)) continue;
+            if (physics::farApart(mid, half, fe.mid, fe.half, mesh.thickness)) continue;
             T s;
             vec3 move;
             if (physics::edgeContact(x_[a], x_[b], fe.a, fe.b, fe.n1, fe.n2, mesh.thickness, s, move)) {
@@ -120,7 +87,7 @@ void CpuSolver<T>::collideFaces() {
                         glm::dot(x_[p2] - centre, x_[p2] - centre)}));
           for (std::uint32_t f = g.corner_start[c]; f < g.corner_start[c + 1]; ++f) {
             const FeatureCornerT& fc = mesh.corners[g.corners[f]];
-            if (farApart(centre, radius, fc.p, T(0), mesh.thickness)) continue;
+            if (physics::farApart(centre, radius, fc.p, T(0), mesh.thickness)) continue;
             vec3 bary, move;
             if (physics::cornerContact(x_[p0], x_[p1], x_[p2], fc.p, fc.normal, mesh.thickness, bary, move)) {
               sum += physics::cornerShare(bary, corner, move);

@@ -50,6 +50,16 @@ DRAPE_PHYSICS_INLINE T meshOffset(T thickness) {
   return std::max(thickness, T(kMeshSurfaceOffset));
 }
 
+// Whether two balls (centre, radius) are more than `thickness` apart, with a tenth to spare: such a cloth edge
+// or triangle cannot touch such a feature, and edgeContact or cornerContact would say no for sure. Only a
+// shortcut past them, taken alike by both solvers.
+template <class T>
+DRAPE_PHYSICS_INLINE bool farApart(vec3<T> a, T ra, vec3<T> b, T rb, T thickness) {
+  const vec3<T> d = a - b;
+  const T reach = T(1.1) * (ra + rb + thickness);
+  return glm::dot(d, d) > reach * reach;
+}
+
 // A cloth edge p-q against a sharp convex obstacle edge a-b, whose faces have the outward unit normals n1, n2
 // (core/mesh_features.hpp). Where the two segments come closest at points inside both, c = p + s (q - p) and
 // e = a + t (b - a), and c is less than `thickness` outside both of the edge's faces, the cloth edge must

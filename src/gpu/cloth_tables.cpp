@@ -2,6 +2,9 @@
 
 #include "core/derived.hpp"
 
+#include <algorithm>
+#include <limits>
+#include <numeric>
 #include <stdexcept>
 
 namespace drape::gpu {
@@ -46,7 +49,7 @@ SimParams simParams(const Scene& scene, const std::vector<PointMass>& masses, co
   p.inv_cell_size = 1.0f / (2.0f * thickness);  // as CpuSolver<float>::selfCollide rounds it
   // As CpuSolver<float>::selfCollide and CollisionPairs<float>::build compute them.
   const float range = 2.0f * thickness;
-  const float margin = range * float(in.pair_margin);
+  const float margin = float(in.pair_margin) * std::min(range, float(in.shortest_spring));
   const float reach = range + margin;
   p.inv_pair_cell = 1.0f / reach;
   p.pair_reach = reach;
@@ -118,6 +121,46 @@ std::vector<Tether> tetherEntries(const Tethers& t) {
   for (std::size_t k = 0; k < entries.size(); ++k)
     entries[k] = {t.anchor[k], float(t.rest[k])};
   return entries;
+}
+
+double shortestStructural(const Topology& topo) {
+  double shortest = std::numeric_limits<double>::infinity();
+  for (const Spring& s : topo.springs)
+    if (s.type == SpringType::Structural) shortest = std::min(shortest, s.rest);
+  return shortest;
+}
+
+bool mayHoldPairs(const Topology& topo, double range) {
+  const double r = range * (1.0 + 1e-4);
+  const std::vector<glm::dvec3>& x = topo.initial_positions;
+  if (x.empty()) return false;
+  // Along the axis the cloth spans most, so that the band of points within r of one along it is narrow.
+  glm::dvec3 lo = x[0], hi = x[0];
+  for (const glm::dvec3& p : x) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const glm::dvec3 span = hi - lo;
+  const int axis = span.x >= span.y && span.x >= span.z ? 0 : span.y >= span.z ? 1 : 2;
+  std::vector<std::uint32_t> order(x.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return x[a][axis] < x[b][axis]; });
+  for (std::size_t k = 0; k < order.size(); ++k)
+    for (std::size_t l = k + 1; l < order.size() && x[order[l]][axis] - x[order[k]][axis] < r; ++l) {
+      const glm::dvec3 d = x[order[l]] - x[order[k]];
+      if (glm::dot(d, d) < r * r) return true;
+    }
+  return false;
+}
+
+std::vector<float> restPositions(const Topology& topo) {
+  std::vector<float> out;
+  out.reserve(3 * topo.initial_positions.size());
+  for (const glm::dvec3& p : topo.initial_positions) {
+    const glm::vec3 f(p);
+    out.insert(out.end(), {f.x, f.y, f.z});
+  }
+  return out;
 }
 
 }  // namespace drape::gpu

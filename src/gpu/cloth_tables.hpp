@@ -13,6 +13,7 @@
 #include "gpu/scene_needs.hpp"
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace drape::gpu {
@@ -24,7 +25,12 @@ struct ParamsInput {
   double pair_margin = 0;  // GpuSolverOptions::pair_margin
   HealthLimits health;
   std::uint32_t buckets = 0;  // the hash grid's, a power of two
+  // m, the shortest structural spring at rest: the lists' skin is pair_margin times it where it is shorter than
+  // the contact distance (CpuSolver::selfCollide), so that both solvers rebuild alike.
+  double shortest_spring = std::numeric_limits<double>::infinity();
 };
+// The shortest structural spring's rest length (infinity without one).
+double shortestStructural(const Topology& topo);
 // The kernels' constants; on a grid (UNIFORM_MASS) the weight every point shares, which `masses` must agree on.
 SimParams simParams(const Scene& scene, const std::vector<PointMass>& masses, const ParamsInput& in);
 
@@ -49,5 +55,12 @@ std::vector<ColourPartner> colourPartners(const Topology& topo, const SpringColo
                                           const SceneNeeds& needs);
 
 std::vector<Tether> tetherEntries(const Tethers& tethers);
+
+// Whether some pair of the cloth's rest points may be closer than `range` (m): a little over it, so that every
+// pair physics::heldAtRest holds in float is found (the kernels then apply the exact test). A sweep along x.
+bool mayHoldPairs(const Topology& topo, double range);
+
+// The rest positions as the kernels read them (kBindingRest): 3 floats a point.
+std::vector<float> restPositions(const Topology& topo);
 
 }  // namespace drape::gpu

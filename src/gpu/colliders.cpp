@@ -1,6 +1,7 @@
 #include "gpu/colliders.hpp"
 
 #include "core/mesh_obstacle.hpp"
+#include "cpu/mesh_physics.hpp"
 
 #include <stdexcept>
 
@@ -8,8 +9,10 @@ namespace drape::gpu {
 
 namespace {
 
-// Two headers per mesh after the spheres and planes already in `colliders`, then every mesh's samples.
-void appendMeshColliders(std::vector<Collider>& colliders, const std::vector<MeshSpec>& meshes) {
+// Two headers per mesh (the second: where its samples start, the offset the cloth keeps from it) after the spheres and
+// planes already in `colliders`, then every mesh's samples.
+void appendMeshColliders(std::vector<Collider>& colliders, const Scene& scene) {
+  const std::vector<MeshSpec>& meshes = scene.meshes;
   const std::size_t headers = colliders.size();
   std::size_t base = headers + 2 * meshes.size();
   for (const MeshSpec& m : meshes) {
@@ -18,7 +21,9 @@ void appendMeshColliders(std::vector<Collider>& colliders, const std::vector<Mes
     if (base >= (std::size_t(1) << 24))
       throw std::length_error("mesh obstacles: too many distance samples for the GPU");
     colliders.push_back({glm::vec4(f.origin_f, f.inv_cell_f), glm::vec4(glm::vec3(f.dims), float(m.friction))});
-    colliders.push_back({glm::vec4(float(base), 0, 0, 0), glm::vec4(0)});
+    // The offset as the CPU float solver has it: the thickness rounded to float, then its floor.
+    const float offset = physics::meshOffset(float(meshThickness(scene.cloth, m)));
+    colliders.push_back({glm::vec4(float(base), offset, 0, 0), glm::vec4(0)});
     base += (f.samples.size() + 7) / 8;
   }
   for (const MeshSpec& m : meshes) {
@@ -41,7 +46,7 @@ std::vector<Collider> colliders(const Scene& scene) {
     out.push_back({glm::vec4(glm::vec3(s.origin), float(s.radius)), glm::vec4(float(s.friction), 0, 0, 0)});
   for (const PlaneSpec& p : scene.planes)
     out.push_back({glm::vec4(glm::vec3(p.point), float(p.friction)), glm::vec4(glm::vec3(p.normal), 0)});
-  appendMeshColliders(out, scene.meshes);
+  appendMeshColliders(out, scene);
   return out;
 }
 

@@ -2,6 +2,7 @@
 
 #include "core/tethers.hpp"
 #include "gpu/colliders.hpp"
+#include "gpu/face_tables.hpp"
 
 #include <algorithm>
 #include <stdexcept>
@@ -24,11 +25,25 @@ DeviceCloth::DeviceCloth(const Scene& scene, const Topology& topo) : topo_(&topo
   colliders_ = gl::Buffer::fromVector(colliders(scene), 0);
   health_ = gl::Buffer::create(sizeof(Health), nullptr, kUpdatable);
   pick_ = gl::Buffer::create(sizeof(PickResult), nullptr, kUpdatable);
+  // Built once, as CpuSolver builds its own: the thickness they keep is the scene's at construction.
+  const FaceTables faces = faceTables(scene, topo);
+  counts_.face_meshes = faces.meshes;
+  if (faces.meshes > 0) {
+    face_table_ = gl::Buffer::fromVector(faces.table, 0);
+    face_features_ = gl::Buffer::fromVector(faces.features, 0);
+  }
+}
+
+void DeviceCloth::uploadColliders(const Scene& scene) {
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  colliders_ = gl::Buffer::fromVector(colliders(scene), 0);
 }
 
 void DeviceCloth::uploadParams(const Scene& scene, const ParamsInput& in) {
   const std::vector<PointMass> masses = pointMasses(scene, *topo_);
-  const SimParams p = simParams(scene, masses, in);
+  ParamsInput with = in;
+  with.shortest_spring = shortestStructural(*topo_);
+  const SimParams p = simParams(scene, masses, with);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // kernels still reading the old values come first
   point_mass_.upload(masses);
   params_.upload(0, sizeof p, &p);
@@ -46,8 +61,13 @@ void DeviceCloth::uploadSprings(const SpringColouring& colouring, const SceneNee
 
 // XPBD's multipliers and VBD's prediction need memory only when a substep sweeps more than once (the first
 // sweep of a substep starts them afresh and does not read them).
-void DeviceCloth::prepareFor(const SceneNeeds& needs) {
+void DeviceCloth::prepareFor(const SceneNeeds& needs, double thickness) {
   const std::size_t n = std::size_t(topo_->pointCount());
+  if (needs.contacts && thickness != held_thickness_) {
+    held_thickness_ = thickness;
+    counts_.held_pairs = mayHoldPairs(*topo_, 2.0 * thickness);
+    if (counts_.held_pairs && rest_.id() == 0) rest_ = gl::Buffer::fromVector(restPositions(*topo_), 0);
+  }
   if (needs.integrator == Integrator::Xpbd && needs.sweep_state) {
     const std::size_t bytes = std::max<std::size_t>(counts_.colour_start.back(), 1) * sizeof(float);
     if (xpbd_lambda_.id() == 0 || xpbd_lambda_.size() < bytes) xpbd_lambda_ = gl::Buffer::create(bytes, nullptr, 0);
@@ -104,6 +124,9 @@ void DeviceCloth::bind(std::uint16_t bindings) const {
       {kBindXpbdLambda, xpbd_lambda_, kBindingXpbdLambda},
       {kBindVbdInertia, vbd_inertia_, kBindingVbdInertia},
       {kBindPick, pick_, kBindingPick},
+      {kBindRest, rest_, kBindingRest},
+      {kBindFaces, face_table_, kBindingFaceTable},
+      {kBindFaces, face_features_, kBindingFaceFeatures},
   };
   for (const Entry& e : entries)
     if ((bindings & e.bit) != 0 && e.buffer.id() != 0) e.buffer.bindBase(GL_SHADER_STORAGE_BUFFER, e.point);
@@ -219,9 +242,9 @@ std::size_t DeviceCloth::bytes() const {
   std::size_t total = 0;
   for (const StateBuffers& s : state_)
     total += s.position.size() + s.displacement.size();
-  for (const gl::Buffer* b :
-       {&params_, &point_mass_, &offsets_, &neighbors_, &colliders_, &health_, &pick_, &coloured_springs_,
-        &xpbd_lambda_, &coloured_points_, &vbd_inertia_, &colour_partners_, &tethers_})
+  for (const gl::Buffer* b : {&params_, &point_mass_, &offsets_, &neighbors_, &colliders_, &health_, &pick_,
+                              &coloured_springs_, &xpbd_lambda_, &coloured_points_, &vbd_inertia_, &colour_partners_,
+                              &tethers_, &rest_, &face_table_, &face_features_})
     total += b->size();
   return total;
 }

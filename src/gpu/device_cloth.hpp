@@ -27,8 +27,11 @@ class DeviceCloth {
   void uploadParams(const Scene& scene, const ParamsInput& in);
   // The adjacency and coloured springs of the enabled spring types (again after a change of them).
   void uploadSprings(const SpringColouring& colouring, const SceneNeeds& needs);
-  // What the scene's integrator and tethers need beyond that, allocated the first time they are asked for.
-  void prepareFor(const SceneNeeds& needs);
+  // What the scene's integrator, tethers and self-collision need beyond that, allocated the first time they are
+  // asked for; whether some pair is held at rest at the cloth's thickness (checked again on every call).
+  void prepareFor(const SceneNeeds& needs, double thickness);
+  // The colliders again (the meshes' offset follows the cloth's thickness where they have none of their own).
+  void uploadColliders(const Scene& scene);
   // The ColourPartner table, where the plan's stretch limit reads it (kBindColourPartners), else released.
   void setColourPartners(bool needed, const SpringColouring& colouring, const SceneNeeds& needs);
   const ClothCounts& counts() const { return counts_; }
@@ -71,12 +74,15 @@ class DeviceCloth {
   int current_ = 0;
   int held_ = -1;
   gl::Buffer params_, point_mass_, offsets_, neighbors_, colliders_, health_, pick_;
-  gl::Buffer coloured_springs_;  // ColouredSpring, enabled springs in colour order
-  gl::Buffer xpbd_lambda_;       // float per coloured spring, XPBD with more than one sweep
-  gl::Buffer coloured_points_;   // VBD: point indices grouped by colour (colourPoints)
-  gl::Buffer vbd_inertia_;       // VBD with more than one sweep: vec4 per point, the prediction y
-  gl::Buffer colour_partners_;   // ColourPartner table
-  gl::Buffer tethers_;           // Tether per point and slot, once the scene asks for them
+  gl::Buffer coloured_springs_;            // ColouredSpring, enabled springs in colour order
+  gl::Buffer xpbd_lambda_;                 // float per coloured spring, XPBD with more than one sweep
+  gl::Buffer coloured_points_;             // VBD: point indices grouped by colour (colourPoints)
+  gl::Buffer vbd_inertia_;                 // VBD with more than one sweep: vec4 per point, the prediction y
+  gl::Buffer colour_partners_;             // ColourPartner table
+  gl::Buffer tethers_;                     // Tether per point and slot, once the scene asks for them
+  gl::Buffer rest_;                        // 3 floats a point, where self-collision has pairs held at rest
+  gl::Buffer face_table_, face_features_;  // the face contacts (face_tables.hpp), where a mesh has sharp features
+  double held_thickness_ = -1;             // the thickness counts_.held_pairs was checked at
   ClothCounts counts_;
 };
 

@@ -73,7 +73,7 @@ std::string GpuSolver::name() const {
 // its kernels compiled.
 void GpuSolver::replan(bool constructing) {
   const gpu::SceneNeeds needs = gpu::sceneNeeds(scene_);
-  cloth_->prepareFor(needs);
+  cloth_->prepareFor(needs, scene_.cloth.thickness);
   const std::uint64_t n = std::uint64_t(topo_.pointCount());
   if (needs.contacts && !lists_.allocated())
     lists_.allocate(scene_.cloth, options_.pair_margin, n, gpu::listLayout(n, options_.buckets), options_.pair_capacity,
@@ -88,7 +88,9 @@ void GpuSolver::replan(bool constructing) {
 
 void GpuSolver::setParams(const ClothSpec& cloth, const SimParams& sim) {
   const gpu::SceneNeeds before = plan_.needs;
+  const double thickness = scene_.cloth.thickness;
   applyLiveParams(scene_, cloth, sim);
+  if (scene_.cloth.thickness != thickness && !scene_.meshes.empty()) cloth_->uploadColliders(scene_);
   const gpu::SceneNeeds needs = gpu::sceneNeeds(scene_);
   gpu::checkLimits(scene_, needs, plan_.lists.buckets, device_);
   if (needs.springs != before.springs) cloth_->uploadSprings(colouring_, needs);

@@ -78,6 +78,8 @@ class GpuSolver final : public Solver {
   void solveVbd() { runStage(gpu::Stage::Vbd); }
   void collide() { runStage(gpu::Stage::Collide); }
   void tether() { runStage(gpu::Stage::Tether); }
+  void collideFaces() { runStage(gpu::Stage::Faces); }       // the face contacts (+ the collisions again)
+  void collideLast() { runStage(gpu::Stage::CollideLast); }  // the collisions again, where no face contacts run
   bool usesTethers() const { return plan_.tether_slots > 0; }
   bool collideFusedWithIntegrate() const { return plan_.needs.fusion.collide_in_integrate; }
   // Replaces the state (positions, displacements) and the substep count (wind depends on time), as

@@ -91,6 +91,11 @@ void stretchForcesTiled(const Plan& p, int, gl::Defines& d) {
   flag(d, "COLLIDE_AFTER_INTEGRATE", p.needs.fusion.collide_in_integrate);
 }
 
+void faces(const Plan& p, int, gl::Defines& d) {
+  d = sceneDefines(p.needs);
+  flag(d, "COLLIDE_AFTER_FACES", p.needs.fusion.collide_in_faces);
+}
+
 void oneGroup(const Plan& p, int, gl::Defines& d) {
   d = sceneDefines(p.needs);
   number(d, "GROUP_SIZE", p.path.group_size);
@@ -100,6 +105,7 @@ void oneGroup(const Plan& p, int, gl::Defines& d) {
   if (!p.path.grid_rests.empty()) d.emplace_back("GRID_SPRINGS", "1");
   flag(d, "COLLIDE_AFTER_INTEGRATE", p.needs.fusion.collide_in_integrate);
   flag(d, "COLLIDE_AFTER_CONTACTS", p.needs.fusion.collide_in_contacts);
+  flag(d, "COLLIDE_LAST", p.needs.fusion.collide_last);
 }
 
 // Its code depends on nothing in the scene but the slots.
@@ -127,12 +133,12 @@ constexpr std::array<KernelRow, kPassCount> kRows = {{
   {Pass::GridScanOffsets, "grid_scan_offsets", "sim/grid_scan.comp", Label::Plain, gridScan2, kNoBindings, kNoUniforms, Fixed::None, traffic::none},
   {Pass::GridScatter, "grid_scatter", "sim/grid_scatter.comp", Label::Plain, scene, kNoBindings, kNoUniforms, Fixed::None, traffic::none},
   {Pass::GridRank, "grid_rank", "sim/grid_rank.comp", Label::Plain, scene, kNoBindings, kNoUniforms, Fixed::None, traffic::none},
-  {Pass::PairsCount, "pairs_count", "sim/pairs_count.comp", Label::Plain, scene, kNoBindings, kNoUniforms, Fixed::None, traffic::none},
+  {Pass::PairsCount, "pairs_count", "sim/pairs_count.comp", Label::Plain, scene, kBindRest, kNoUniforms, Fixed::None, traffic::none},
   {Pass::PairsScan, "pairs_scan", "sim/grid_scan.comp", Label::Plain, pairsScan0, kNoBindings, kNoUniforms, Fixed::None, traffic::none},
   {Pass::PairsScanBlocks, "pairs_scan_blocks", "sim/grid_scan.comp", Label::Plain, pairsScan1, kNoBindings, kNoUniforms, Fixed::None, traffic::none},
   {Pass::PairsScanOffsets, "pairs_scan_offsets", "sim/grid_scan.comp", Label::Plain, pairsScan2, kNoBindings, kNoUniforms, Fixed::None, traffic::none},
-  {Pass::PairsFill, "pairs_fill", "sim/pairs_fill.comp", Label::Plain, scene, kNoBindings, kNoUniforms, Fixed::None, traffic::none},
-  {Pass::SelfCollide, "self_collide", "sim/self_collide.comp", Label::Contacts, contacts, kNoBindings, kNoUniforms, Fixed::None, traffic::selfCollide},
+  {Pass::PairsFill, "pairs_fill", "sim/pairs_fill.comp", Label::Plain, scene, kBindRest, kNoUniforms, Fixed::None, traffic::none},
+  {Pass::SelfCollide, "self_collide", "sim/self_collide.comp", Label::Contacts, contacts, kBindRest, kNoUniforms, Fixed::None, traffic::selfCollide},
   {Pass::LimitStretch, "limit_stretch", "sim/limit_stretch.comp", Label::Plain, scene, kNoBindings, kNoUniforms, Fixed::None, traffic::stretchJacobi},
   {Pass::LimitStretchColoured, "limit_stretch_colour", "sim/limit_stretch_coloured.comp", Label::Plain, scene, kBindColouredSprings, kUniformRange, Fixed::None, traffic::stretchColour},
   {Pass::LimitStretchTiled, "limit_stretch_tiled", "sim/limit_stretch_tiled.comp", Label::Plain, stretchTiled, kBindColourPartners, kNoUniforms, Fixed::Stretch, traffic::stretchTiled},
@@ -142,6 +148,7 @@ constexpr std::array<KernelRow, kPassCount> kRows = {{
   {Pass::VbdColoured, "vbd_colour", "sim/vbd_coloured.comp", Label::Plain, scene, kBindColouredPoints | kBindVbdInertia, kUniformRange | kUniformSweep, Fixed::None, traffic::vbdColour},
   {Pass::Collide, "collide", "sim/collide.comp", Label::Plain, scene, kNoBindings, kNoUniforms, Fixed::None, traffic::collide},
   {Pass::Tether, kTetherPassName, "sim/tether.comp", Label::Plain, tether, kBindTethers, kNoUniforms, Fixed::None, traffic::tether},
+  {Pass::CollideFaces, "collide_faces", "sim/collide_faces.comp", Label::Faces, faces, kBindFaces, kNoUniforms, Fixed::None, traffic::collideFaces},
   {Pass::Pick, "pick", "sim/pick.comp", Label::Plain, pick, kBindPick, kNoUniforms, Fixed::None, traffic::none, 2},
   {Pass::Health, "health", "sim/health.comp", Label::Plain, scene, kNoBindings, kNoUniforms, Fixed::None, traffic::none},
 }};
@@ -182,6 +189,8 @@ std::string passLabel(const Plan& plan, Pass pass) {
       return std::string(row.name) + (f.travel_in_integrate    ? "+pairs_check"
                                       : f.collide_in_integrate ? "+collide"
                                                                : "");
+    case Label::Faces:
+      return std::string(row.name) + (f.collide_in_faces ? "+collide" : "");
     case Label::Contacts:
     case Label::FusedIntegrate:
       return std::string(row.name) +
@@ -204,6 +213,7 @@ gl::Defines sceneDefines(const SceneNeeds& n) {
                    {"UNIFORM_MASS", n.grid ? "1" : "0"}};
   if (n.meshes > 0) d.emplace_back("NUM_MESHES", std::to_string(n.meshes));
   if (n.predicts) d.emplace_back("PREDICT", "1");
+  if (n.held) d.emplace_back("HELD_AT_REST", "1");
   if (n.integrator == Integrator::Xpbd) d.emplace_back("XPBD_LAMBDA", n.sweep_state ? "1" : "0");
   if (n.integrator == Integrator::Vbd) d.emplace_back("VBD_INERTIA", n.sweep_state ? "1" : "0");
   return d;

@@ -22,6 +22,8 @@ enum Binding : std::uint16_t {
   kBindXpbdLambda = 1u << 4,  // XPBD's multipliers, with more than one sweep
   kBindVbdInertia = 1u << 5,  // VBD's prediction, with more than one sweep
   kBindPick = 1u << 6,
+  kBindRest = 1u << 7,   // the rest positions, where self-collision skips the pairs held at rest
+  kBindFaces = 1u << 8,  // the face contacts' table and features
 };
 
 // Uniforms set on every dispatch (those fixed until the next plan are set once: Programs::prepare).
@@ -48,6 +50,7 @@ enum class Label : std::uint8_t {
   TiledIntegrate,  // + "+pairs_check" or "+collide"
   Contacts,        // + "+collide"
   FusedIntegrate,  // + "+collide"
+  Faces,           // + "+collide"
 };
 
 struct KernelRow {

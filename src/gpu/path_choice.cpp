@@ -36,6 +36,11 @@ std::string oneDispatchMisfit(const SceneNeeds& needs, std::uint64_t n, const De
   if (needs.predicts)
     return std::string("the ") + integratorName(needs.integrator) +
            " integrator runs on the general path only (one_group.comp has Verlet's phases)";
+  if (needs.faces)
+    return "the contacts with a mesh's sharp edges and corners run on the general path only (collide_faces.comp)";
+  if (needs.held)
+    return "self-collision skipping the pairs held at rest runs on the general path only (the in-group grid has no "
+           "rest positions)";
   const std::uint64_t need = oneGroupSharedBytes(n, oneGroupBuckets(n, device), needs.contacts);
   if (need > device.shared_bytes)
     return std::to_string(n) + " points need " + std::to_string(need) + " bytes of shared memory" +
@@ -137,10 +142,11 @@ PathChoice choosePath(const SceneNeeds& needs, const Topology& topo, const Sprin
   // wind; XPBD and VBD predict without springs.
   c.tiled_forces =
       tiled && !c.grid_rests.empty() && !needs.wind && !needs.predicts && c.tiling.forces_tile >= kMinStretchTile;
-  // Fused only where nothing runs between a stretch limit and the next forces; the forces need a ring of 2
-  // stretched points around a block, so the fused copy's ring is 2 wider.
-  c.fused_frame = c.tiled_forces && !needs.contacts && !tether_pass && needs.stretch_passes > 0 &&
-                  c.tiling.fused_tile >= kMinStretchTile;
+  // Fused only where nothing runs between a stretch limit and the next forces (neither the tethers nor the
+  // collisions again: those would need the ring's displacements); the forces need a ring of 2 stretched points
+  // around a block, so the fused copy's ring is 2 wider.
+  c.fused_frame = c.tiled_forces && !needs.contacts && !tether_pass && !needs.fusion.collide_last &&
+                  needs.stretch_passes > 0 && c.tiling.fused_tile >= kMinStretchTile;
   if (one_group) {
     c.group_size = oneGroupSize(n, device);
     c.group_buckets = oneGroupBuckets(n, device);

@@ -110,6 +110,10 @@ std::vector<Dispatch> substepOf(const Plan& p, const ClothCounts& counts) {
       addColours(out, Pass::LimitStretchColoured, Stage::Stretch, counts.colour_start, 0, true);
     }
   }
+  // The collisions have the last word (CpuSolver's collide_last): after the face contacts in their kernel, else
+  // a pass of their own.
+  if (n.faces) out.push_back(dispatchOf(Pass::CollideFaces, Stage::Faces, Extent::Points, true));
+  if (n.fusion.collide_last_pass) out.push_back(dispatchOf(Pass::Collide, Stage::CollideLast, Extent::Points, true));
   out.back().advances = 1;
   return out;
 }
@@ -144,6 +148,7 @@ void planOneGroup(Plan& p) {
   for (int pass = 0; pass < n.stretch_passes; ++pass)
     for (int c = 0; c < (n.gauss_seidel ? p.colours : 1); ++c)
       p.group_phases.push_back({kPhaseStretch, in + passLabel(p, stretch)});
+  if (n.fusion.collide_last) p.group_phases.push_back({kPhaseCollideLast, in + passLabel(p, Pass::Collide)});
 }
 
 }  // namespace
@@ -167,6 +172,7 @@ Plan makePlan(const PlanInput& in) {
   Plan p;
   p.needs = sceneNeeds(in.scene);
   p.tether_slots = p.needs.tethers ? in.counts.tether_slots : 0;
+  decideFromCloth(p.needs, p.tether_slots > 0, in.counts.face_meshes > 0, in.counts.held_pairs);
   p.path = choosePath(p.needs, in.topo, in.colouring, p.tether_slots > 0, in.path, in.device);
   p.points = in.topo.pointCount();
   p.width = in.topo.W;
@@ -207,8 +213,10 @@ std::vector<Dispatch> stageDispatches(const Plan& plan, Stage stage, bool travel
                                 : stage == Stage::SelfCollide ? kPhaseSelfCollide
                                 : stage == Stage::Tether      ? kPhaseTether
                                 : stage == Stage::Stretch     ? kPhaseStretch
+                                : stage == Stage::CollideLast ? kPhaseCollideLast
                                                               : 0;
-    if (phase == 0) return {};  // XPBD, VBD and their collide pass run on the general path only
+    if (phase == 0) return {};  // XPBD, VBD and their collide pass, the face contacts: the general path only
+    if (phase == kPhaseCollideLast && !plan.needs.fusion.collide_last) return {};
     return {oneGroup(1, phase, false)};
   }
   std::vector<Dispatch> out;

@@ -47,6 +47,7 @@ enum class Pass : std::uint8_t {
   VbdColoured,
   Collide,
   Tether,
+  CollideFaces,
   Pick,
   Health,
   Count
@@ -54,8 +55,20 @@ enum class Pass : std::uint8_t {
 inline constexpr std::size_t kPassCount = std::size_t(Pass::Count);
 
 // The solver's stage functions (forcesIntegrate(), selfCollide(), ...) run one stage of a substep; Health is
-// the frame's check.
-enum class Stage : std::uint8_t { Integrate, Xpbd, Vbd, Collide, SelfCollide, Tether, Stretch, Health };
+// the frame's check. CollideLast: the collisions again after the tethers and the stretch limit; Faces: the face
+// contacts (with the collisions again after them).
+enum class Stage : std::uint8_t {
+  Integrate,
+  Xpbd,
+  Vbd,
+  Collide,
+  SelfCollide,
+  Tether,
+  Stretch,
+  Faces,
+  CollideLast,
+  Health
+};
 
 // How many work groups a dispatch runs.
 enum class Extent : std::uint8_t {
@@ -112,6 +125,8 @@ struct ClothCounts {
   std::vector<std::uint32_t> point_colour_start;  // VBD's point colours (empty until a scene asks for VBD)
   std::uint64_t adjacency_entries = 0;            // enabled springs seen from both ends
   int tether_slots = 0;                           // anchors a point (0: no tethers built, or no pins)
+  int face_meshes = 0;                            // meshes with sharp features (gpu::faceTables)
+  bool held_pairs = false;  // some pair may be held at rest at the thickness (self-collision's HELD_AT_REST)
 };
 
 struct PlanInput {

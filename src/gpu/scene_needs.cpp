@@ -2,8 +2,11 @@
 
 namespace drape::gpu {
 
-Fusion fusionRule(bool contacts, bool colliders, bool predicts) {
+Fusion fusionRule(bool contacts, bool colliders, bool predicts, bool moved_after, bool faces) {
   Fusion f;
+  f.collide_last = colliders && moved_after;
+  f.collide_in_faces = f.collide_last && faces;
+  f.collide_last_pass = f.collide_last && !faces;
   f.collide_in_contacts = colliders && contacts;
   f.collide_in_integrate = colliders && !contacts && !predicts;
   f.collide_pass = colliders && !contacts && predicts;
@@ -34,8 +37,14 @@ SceneNeeds sceneNeeds(const Scene& scene) {
     n.springs[std::size_t(t)] = scene.cloth.springEnabled(SpringType(t));
     if (n.springs[std::size_t(t)]) n.spring_mask |= 1U << unsigned(t);
   }
-  n.fusion = fusionRule(n.contacts, n.colliders, n.predicts);
+  n.fusion = fusionRule(n.contacts, n.colliders, n.predicts, n.tethers || n.stretch_passes > 0, false);
   return n;
+}
+
+void decideFromCloth(SceneNeeds& n, bool tether_pass, bool faces, bool held) {
+  n.faces = faces && n.meshes > 0;
+  n.held = held && n.contacts;
+  n.fusion = fusionRule(n.contacts, n.colliders, n.predicts, tether_pass || n.stretch_passes > 0 || n.faces, n.faces);
 }
 
 }  // namespace drape::gpu

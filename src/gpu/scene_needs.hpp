@@ -13,16 +13,23 @@ namespace drape::gpu {
 // self-collision pass when there is one, else Verlet's integration, else (XPBD and VBD, whose sweeps move the
 // points after the prediction) a pass of their own. The travel check needs the positions the self-collision
 // pass will see: it rides on Verlet's integration, and has a pass of its own after XPBD's or VBD's sweeps.
+// Where a pass moves the points after the collisions (the tethers, the stretch limit, the face contacts), the
+// collisions run again after it (collide_last, as CpuSolver's): at the end of the face contacts' kernel when
+// there is one, else a collide pass of its own.
 struct Fusion {
   bool collide_in_integrate = false;  // forces+integrate+collide (and the one-dispatch path's integrate phase)
   bool collide_in_contacts = false;   // self_collide+collide
   bool collide_pass = false;          // collide, after the constraint sweeps
   bool travel_in_integrate = false;   // forces+integrate+pairs_check
   bool travel_pass = false;           // pairs_check, after the constraint sweeps
+  bool collide_last = false;          // the collisions again after the last pass that moves points
+  bool collide_in_faces = false;      // collide_faces+collide
+  bool collide_last_pass = false;     // collide, after the tethers and the stretch limit
 };
 
 // The fusion rule, the one place it is written.
-Fusion fusionRule(bool contacts, bool colliders, bool predicts);
+// `moved_after`: a pass moves points after the collisions; `faces`: the face contacts run.
+Fusion fusionRule(bool contacts, bool colliders, bool predicts, bool moved_after, bool faces);
 
 struct SceneNeeds {
   bool contacts = false;  // self-collision: the lists and their pass (or the one-dispatch path's in-group grid)
@@ -30,7 +37,10 @@ struct SceneNeeds {
   bool tethers = false;  // the tether pass, where the cloth has pins to tie to
   int spheres = 0, planes = 0, meshes = 0;
   bool colliders = false;  // any of the three
-  bool grid = false;       // a grid cloth (its points all weigh the same: UNIFORM_MASS)
+  // Decided by the cloth and the meshes' shapes, not the options: makePlan sets them from ClothCounts.
+  bool faces = false;  // collide_faces: some mesh has sharp convex features (core/mesh_features.hpp)
+  bool held = false;   // self-collision with pairs held at rest (physics::heldAtRest): HELD_AT_REST
+  bool grid = false;   // a grid cloth (its points all weigh the same: UNIFORM_MASS)
   Integrator integrator = Integrator::Verlet;
   bool predicts = false;     // XPBD or VBD: integrate predicts, constraint sweeps follow
   int sweeps = 1;            // constraint sweeps a substep (simulation.iterations)
@@ -43,6 +53,10 @@ struct SceneNeeds {
   Fusion fusion;
 };
 
+// From the scene's options alone: tethers count as moving points after the collisions (the plan, which knows
+// whether the cloth has pins to tie to, and whether the face contacts run, decides again: decideFromCloth).
 SceneNeeds sceneNeeds(const Scene& scene);
+// The decisions the cloth's tables make: whether the tethers run, the face contacts, the held pairs.
+void decideFromCloth(SceneNeeds& needs, bool tether_pass, bool faces, bool held);
 
 }  // namespace drape::gpu

@@ -113,6 +113,15 @@ double selfCollide(const Plan&, const Dispatch&, const TrafficCounts& c) {
   return kState + kRange + c.candidates * (sizeof(std::uint32_t) + sizeof(glm::vec4)) + kState;
 }
 
+// Own state; each of its edges' and triangles' points (about 6 edges and 6 triangles a point on a grid: 6 + 18
+// positions) with their indices and the lists (2 + 3 per edge and triangle, a word each); the feature lists of
+// the cells they fall in are not counted (empty away from a feature). Own state written.
+double collideFaces(const Plan& p, const Dispatch&, const TrafficCounts&) {
+  const double meshes = double(p.needs.meshes);
+  return kState +
+         meshes * ((6 * 2 + 6 * 3) * (sizeof(glm::vec4) + sizeof(std::uint32_t)) + 12 * sizeof(std::uint32_t)) + kState;
+}
+
 }  // namespace traffic
 
 double bytesPerPointPerSubstep(const Plan& plan, const TrafficCounts& counts) {

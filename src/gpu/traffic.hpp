@@ -37,6 +37,7 @@ double vbdColour(const Plan&, const Dispatch&, const TrafficCounts&);
 double collide(const Plan&, const Dispatch&, const TrafficCounts&);
 double tether(const Plan&, const Dispatch&, const TrafficCounts&);
 double selfCollide(const Plan&, const Dispatch&, const TrafficCounts&);
+double collideFaces(const Plan&, const Dispatch&, const TrafficCounts&);
 }  // namespace traffic
 
 // A tiled kernel's blocks of `tile` along an edge of `points`, and the points they copy along it with rings of
