@@ -258,6 +258,36 @@ TEST(GpuPlan, TheFusionRulePlacesCollisionsAndTheTravelCheckOnce) {
           }
 }
 
+// The collisions have the last word (issue 26): after the stretch limit a collide pass, or the face contacts'
+// kernel where a mesh has sharp features; neither where no pass moves the points after the collisions, nor
+// without colliders; and the face contacts only where their tables have a mesh.
+TEST(GpuPlan, TheCollisionsRunAgainAfterThePassesThatMovePointsAndOnlyThere) {
+  const auto last = [](const Planned& p) { return gpu::substepListing(p.plan).back(); };
+  const auto count = [](const Planned& p, const std::string& label) {
+    const Strings l = gpu::substepListing(p.plan);
+    return std::count(l.begin(), l.end(), label);
+  };
+  const Planned sphere(bundled("sphere.json"), GpuPath::General, llvmpipe());
+  EXPECT_EQ(last(sphere), "collide");
+  EXPECT_EQ(count(sphere, "collide_faces+collide"), 0);
+  const Planned drop(bundled("box_drop.json"), GpuPath::General, llvmpipe());
+  EXPECT_EQ(drop.counts.face_meshes, 1);
+  EXPECT_EQ(last(drop), "collide_faces+collide");
+  EXPECT_EQ(count(drop, "collide"), 0) << "the face contacts' kernel collides again";
+  const Planned pinned(bundled("pinned2.json"), GpuPath::General, llvmpipe());
+  EXPECT_EQ(count(pinned, "collide"), 0) << "no colliders";
+  Scene unlimited = bundled("sphere.json");
+  unlimited.sim.stretch_passes = 0;
+  EXPECT_EQ(count(Planned(unlimited, GpuPath::General, llvmpipe()), "collide"), 0) << "nothing moves them after";
+  Scene small = bundled("sphere.json");
+  small.sim.self_collision = false;
+  const Planned one(small, GpuPath::OneDispatch, llvmpipe());
+  ASSERT_EQ(one.plan.path.path, GpuPath::OneDispatch) << one.plan.path.one_dispatch_misfit;
+  EXPECT_EQ(last(one), "in-group collide");
+  EXPECT_FALSE(Planned(bundled("sphere.json"), GpuPath::Tiled, llvmpipe()).plan.path.fused_frame)
+      << "the ring's points would need their displacements to collide";
+}
+
 // A frame on the general path: each substep's dispatches steps_per_frame times, then the health check; every
 // enabled spring is in exactly one stretch dispatch a pass, and the wind's time moves on once a substep.
 TEST(GpuPlan, AGeneralFrameIsItsSubstepsThenTheHealthCheck) {
