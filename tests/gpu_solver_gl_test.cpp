@@ -17,6 +17,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <random>
 #include <regex>
 #include <sstream>
@@ -558,6 +559,27 @@ TEST_F(GpuSolverTest, ClothBeyondTheBufferLimitFailsBeforeAnything) {
       << "the limit must be found before any topology or buffer is made";
 }
 
+// $DRAPE_GLSL_DIR pointed elsewhere for one test, and put back as it was: tools/gpu-check runs this binary
+// whole with it naming the repository's glsl/, which the tests after this one need.
+class GlslDirFor {
+ public:
+  explicit GlslDirFor(const std::string& dir) {
+    if (const char* now = std::getenv("DRAPE_GLSL_DIR")) before_ = now;
+    setenv("DRAPE_GLSL_DIR", dir.c_str(), 1);
+  }
+  ~GlslDirFor() {
+    if (before_)
+      setenv("DRAPE_GLSL_DIR", before_->c_str(), 1);
+    else
+      unsetenv("DRAPE_GLSL_DIR");
+  }
+  GlslDirFor(const GlslDirFor&) = delete;
+  GlslDirFor& operator=(const GlslDirFor&) = delete;
+
+ private:
+  std::optional<std::string> before_;
+};
+
 TEST_F(GpuSolverTest, AKernelThatFailsToCompileNamesItsFileAndLine) {
   // A copy of glsl/ with one broken line in a simulation kernel, found through $DRAPE_GLSL_DIR.
   namespace fs = std::filesystem;
@@ -573,15 +595,16 @@ TEST_F(GpuSolverTest, AKernelThatFailsToCompileNamesItsFileAndLine) {
       ++lines;
   }
   std::ofstream(kernel, std::ios::app) << "this is not glsl;\n";
-  setenv("DRAPE_GLSL_DIR", dir.c_str(), 1);
-  try {
-    GpuSolver gpu(standardScene("pinned2.json"));
-    ADD_FAILURE() << "the broken kernel compiled";
-  } catch (const gl::ShaderError& e) {
-    EXPECT_NE(e.file().find("sim/limit_stretch_coloured.comp"), std::string::npos) << e.what();
-    EXPECT_EQ(e.line(), lines + 1) << e.what();
+  {
+    const GlslDirFor broken(dir.string());
+    try {
+      GpuSolver gpu(standardScene("pinned2.json"));
+      ADD_FAILURE() << "the broken kernel compiled";
+    } catch (const gl::ShaderError& e) {
+      EXPECT_NE(e.file().find("sim/limit_stretch_coloured.comp"), std::string::npos) << e.what();
+      EXPECT_EQ(e.line(), lines + 1) << e.what();
+    }
   }
-  unsetenv("DRAPE_GLSL_DIR");
   fs::remove_all(dir);
 }
 
