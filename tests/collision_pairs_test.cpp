@@ -134,16 +134,22 @@ TEST(CollisionPairs, MarginZeroRebuildsEverySubstep) {
   EXPECT_TRUE(pairs.update(x, 1)) << "no skin: nothing may be reused";
 }
 
-TEST(CollisionPairs, ReusesTheListUntilAPointTravelsHalfTheMargin) {
+// The list is reused while no two points can have drawn together by the margin since it was built: a
+// motion all points share costs nothing, a motion of some against the others does.
+TEST(CollisionPairs, ReusesTheListUntilTwoPointsMayHaveDrawnTogetherByTheMargin) {
   CollisionPairs<float> pairs;
   pairs.configure(0.02f, 0.01f);
   std::vector<vec3> x = {{0, 0, 0}, {0.025f, 0, 0}, {1, 0, 0}};
   ASSERT_TRUE(pairs.update(x, 1));
   EXPECT_EQ(pairs.pairCount(), 2u) << "0 and 1 are within range + margin (0.03), 2 is not";
-  x[1].x = 0.029f;  // 4 mm: under half the margin
+  for (vec3& p : x)
+    p += vec3(0.003f, 0.007f, -0.004f);  // 8.6 mm, all together: over half the margin, yet no pair moved
   EXPECT_FALSE(pairs.update(x, 1));
-  x[2].x = 1.0051f;  // 5.1 mm: over half the margin
+  x[1].x += 0.004f;  // 4 mm against the others
+  EXPECT_FALSE(pairs.update(x, 1));
+  x[2].x -= 0.0061f;  // 1 and 2 now 10.1 mm apart in their displacements: over the margin
   EXPECT_TRUE(pairs.update(x, 1));
+  EXPECT_FALSE(pairs.update(x, 1)) << "rebuilt where the points are";
   x[0].x = std::numeric_limits<float>::quiet_NaN();  // a blown-up point forces a rebuild
   EXPECT_TRUE(pairs.update(x, 1));
 }

@@ -1,9 +1,9 @@
 // Self-collision candidates kept across substeps: a neighbour list with a skin (Verlet 1967). Every
-// pair closer than range + margin when the list is built is listed; the list stays valid while no
-// point has moved margin/2 from where it was at the build, because a pair then approaches by less than
-// the margin and every pair within range is still listed. Points move ~1 mm a substep at CS184's
-// speeds, so a list of a few millimetres of skin serves several substeps instead of rebuilding the
-// hash grid and reading 27 cells every substep.
+// pair closer than range + margin when the list is built is listed; the list stays valid while the
+// points' displacements since the build all fit in a box whose diagonal is under the margin (stale()),
+// because no pair then approaches by the margin and every pair within range is still listed. Points move
+// ~1 mm a substep at CS184's speeds, mostly together, so a list of a few millimetres of skin serves
+// several substeps instead of rebuilding the hash grid and reading 27 cells every substep.
 //
 // The sum of a point's corrections must not depend on when the list was rebuilt, or on the GPU on
 // thread timing: orderedCandidates() yields the pairs in range in the order a 27-cell query of a grid
@@ -49,7 +49,7 @@ class CollisionPairs {
   static T safeTravel(T margin, T extent);
 
  private:
-  bool stale(const std::vector<vec3>& x, int threads) const;
+  bool stale(const std::vector<vec3>& x) const;
   void build(const std::vector<vec3>& x, int threads);
 
   struct Pair {
