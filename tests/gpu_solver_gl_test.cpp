@@ -71,16 +71,17 @@ TEST_F(GpuSolverTest, PassListsFollowTheScene) {
   // selfCollision: the candidate lists' build (one work group for the grid and the scan of 2500 points,
   // dispatched with zero groups while the lists are fresh), the correction with the floor fused.
   GpuSolver self(standardScene("selfCollision.json"));
-  EXPECT_EQ(self.passes(), (kListBuild + Strings{"self_collide+collide"} + colourDispatches()));
-  EXPECT_EQ(self.dispatchesPerFrame(), (8 + 12) * 30 + 1);
+  // Then the collisions again, after the stretch limit (collide_last).
+  EXPECT_EQ(self.passes(), (kListBuild + Strings{"self_collide+collide"} + colourDispatches() + Strings{"collide"}));
+  EXPECT_EQ(self.dispatchesPerFrame(), (8 + 12 + 1) * 30 + 1);
   // The averaged Jacobi stretch pass is one dispatch.
   Scene jacobi = standardScene("selfCollision.json");
   jacobi.sim.stretch_scheme = StretchScheme::Jacobi;
-  EXPECT_EQ(GpuSolver(jacobi).passes(), (kListBuild + Strings{"self_collide+collide", "limit_stretch"}));
-  // A collider without self-collision rides on the integrate kernel.
+  EXPECT_EQ(GpuSolver(jacobi).passes(), (kListBuild + Strings{"self_collide+collide", "limit_stretch", "collide"}));
+  // A collider without self-collision rides on the integrate kernel (and runs again after the stretch limit).
   Scene sphere = standardScene("sphere.json");
   sphere.sim.self_collision = false;
-  EXPECT_EQ(GpuSolver(sphere).passes(), Strings{"forces+integrate+collide"} + colourDispatches());
+  EXPECT_EQ(GpuSolver(sphere).passes(), Strings{"forces+integrate+collide"} + colourDispatches() + Strings{"collide"});
   // No stretch limit, or three passes of it.
   Scene loose = standardScene("pinned2.json");
   loose.sim.stretch_passes = 0;
@@ -460,7 +461,8 @@ TEST_F(GpuSolverTest, TheTrafficModelCountsTheCandidatesOfTheLastListBuild) {
   const GpuPairs pairs = gpu.readPairs();
   const double candidates = double(pairs.start.back()) / gpu.topology().pointCount();
   ASSERT_GT(candidates, 0.0);
-  EXPECT_DOUBLE_EQ(gpu.bytesPerPointPerSubstep() - before, candidates * (4 + 16)) << "4-byte index, vec4 gather";
+  // A difference of two sums of about 10^3: equal to its rounding.
+  EXPECT_NEAR(gpu.bytesPerPointPerSubstep() - before, candidates * (4 + 16), 1e-9) << "4-byte index, vec4 gather";
 }
 
 // Every spring at `factor` times its rest length, every point pinned so that no pass moves any.
@@ -649,7 +651,7 @@ TEST_F(GpuSolverCommand, VerboseListsThePassesOfTheScene) {
       runDrape("", "simulate " + scene_ + "selfCollision.json --solver gpu --frames 1 --verbose");
   ASSERT_EQ(self.status, 0) << self.output;
   EXPECT_NE(self.output.find("self_collide+collide"), std::string::npos) << self.output;
-  EXPECT_NE(self.output.find("20 dispatches per substep, 601 per frame"), std::string::npos) << self.output;
+  EXPECT_NE(self.output.find("21 dispatches per substep, 631 per frame"), std::string::npos) << self.output;
 }
 
 TEST_F(GpuSolverCommand, WithoutAContextTheGpuSolverExitsWith3AndTheCpuStillRuns) {
@@ -828,9 +830,11 @@ TEST_F(GpuSolverTest, EveryBundledSceneDispatchesExactlyItsPassList) {
 }
 
 // The one-dispatch path: where it applies, a frame is one dispatch of one_group.comp, the health check
-// included; step() alone is one dispatch too. The bundled scenes without self-collision all fit (50x50 and the flag).
+// included; step() alone is one dispatch too. The bundled grid scenes without self-collision or colliders fit (the
+// flag's pole has sharp edges, whose face contacts run on the general path).
 TEST_F(GpuSolverTest, TheOneDispatchPathRunsAFrameInOneDispatch) {
-  for (const char* name : {"pinned2.json", "pinned4.json", "wind.json", "flag.json"}) {
+  // (The flag's pole has sharp edges: its face contacts run on the general path.)
+  for (const char* name : {"pinned2.json", "pinned4.json", "wind.json"}) {
     SCOPED_TRACE(name);
     GpuSolver gpu(standardScene(name), {.path = GpuPath::OneDispatch});
     ASSERT_TRUE(gpu.oneDispatch()) << gpu.oneDispatchMisfit();
