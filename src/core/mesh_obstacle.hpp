@@ -1,8 +1,8 @@
 // A static triangle-mesh obstacle (scene key "meshes") and the signed distance field both solvers collide
 // with: baked once on the CPU when the scene loads, exact point-triangle distances in a band around the
 // surface and a closest-point transform beyond it, the sign by winding number, stored as floats that the CPU reference
-// and the GPU interpolate with the same float operations (src/cpu/mesh_physics.hpp, glsl/sim/phases/mesh_collide.glsl). Why a
-// field and not a triangle BVH: docs/design.md section 6.
+// and the GPU interpolate with the same float operations (src/cpu/mesh_physics.hpp, glsl/sim/phases/mesh_collide.glsl).
+// Why a field and not a triangle BVH: docs/design.md section 6.
 #pragma once
 
 #include "core/obj_reader.hpp"
