@@ -1,6 +1,8 @@
 // Contact that holds (issue 26), on the CPU: the face contacts' pure functions against hand-worked cases,
 // the features and grids they read, collisions as the last pass, the box drop at the issue's settings,
 // and self-collision skipping the pairs the springs hold.
+#include "app/commands.hpp"
+#include "app/solver_factory.hpp"
 #include "core/mesh_features.hpp"
 #include "core/metrics.hpp"
 #include "core/penetration.hpp"
@@ -333,6 +335,24 @@ TEST(HeldPairs, AFineClothListsNoPairTheSpringsHold) {
       heldPairsAtRest(buildTopology(fine_scene.cloth).initial_positions, 2 * fine_scene.cloth.thickness);
   EXPECT_GT(held.count, 100u * 100u);
   EXPECT_NEAR(held.closest, 1.0 / 99, 1e-9);
+}
+
+// `drape simulate --collide-held-pairs` (the command that shows the CS184 files' bytes unchanged): the factory
+// hands it to the CPU solvers, whose result it changes where pairs are held, and refuses it for the GPU.
+TEST(HeldPairs, TheFactoryCollidesThemWhenAsked) {
+  Scene s = cs184File("pinned2.json");
+  s.cloth.num_width_points = s.cloth.num_height_points = 12;
+  s.cloth.pinned = {{0, 0}, {11, 0}};
+  s.cloth.thickness = 0.06;  // 120 mm of contact distance, 91 mm between points
+  SolverFactory factory;
+  const std::unique_ptr<Solver> skip = factory.make(s, "cpu", {.threads = 1});
+  const std::unique_ptr<Solver> all = factory.make(s, "cpu", {.threads = 1, .collide_held_pairs = true});
+  for (int f = 0; f < 3; ++f) {
+    skip->stepFrame();
+    all->stepFrame();
+  }
+  EXPECT_NE(skip->readPositions(), all->readPositions());
+  EXPECT_THROW(factory.make(s, "gpu", {.collide_held_pairs = true}), CommandError);
 }
 
 }  // namespace
