@@ -7,12 +7,18 @@
 #include "core/solver.hpp"
 #include "core/tethers.hpp"
 #include "cpu/collision_pairs.hpp"
+#include "cpu/grid_path.hpp"
 #include "cpu/physics.hpp"
 
 #include <chrono>
+#include <exception>
+#include <memory>
+#include <string>
 #include <vector>
 
 namespace drape {
+
+inline constexpr long long kTeamMinPoints = 2048;
 
 // How Verlet keeps the previous position: the displacement v = x - x_prev (default, precise) or
 // x_prev itself (CS184's form, kept to measure the round-off it costs).
@@ -22,6 +28,13 @@ struct CpuSolverOptions {
   VerletForm form = VerletForm::Displacement;
   int threads = 0;  // OpenMP threads for the per-point loops; 0 = every core. Any count gives the same bytes.
   double pair_margin = kDefaultPairMargin;  // list skin / (2*thickness); 0 rebuilds the list every substep
+  // Float grid cloths: forces and the Gauss-Seidel stretch limit by the SIMD grid kernels (cpu/grid_path.hpp),
+  // the same bytes as the general gathers; false runs the general path (the tests compare the two).
+  bool grid_path = true;
+  GridIsa grid_isa = GridIsa::Auto;  // the grid kernels' instruction set; Auto: AVX2 where the CPU has it
+  // Fewest points for which step() runs its passes on a team of `threads` threads (one OpenMP region a
+  // substep, a barrier between passes); below, one thread. Measured: docs/results/cpu_threads.md.
+  long long team_min_points = kTeamMinPoints;
 };
 
 template <class T>
@@ -67,6 +80,9 @@ class CpuSolver final : public Solver {
   const CollisionPairs<T>& collisionPairs() const { return pairs_; }
   const Tethers& tethers() const { return tethers_; }
   const PointColouring& pointColouring() const { return point_colouring_; }
+  // The grid kernels' instruction set ("sse2", "avx2"), or "" where the general path runs.
+  std::string gridKernels() const { return grid_ ? grid_->kernels().name : ""; }
+  int teamThreads() const { return team_; }  // threads step() runs its passes on
 
  private:
   struct Stiffness {
@@ -84,11 +100,16 @@ class CpuSolver final : public Solver {
   bool needsPass(int pass) const;
   template <class F>
   void timed(int pass, F&& f);
+  void runPasses();
+  bool gridForces() const;
 
   Scene scene_;
   Topology topo_;
   VerletForm form_;
   int threads_ = 1;
+  int team_ = 1;                    // threads step() runs on (team_min_points)
+  std::unique_ptr<GridPath> grid_;  // float grid cloths, unless the options turn it off
+  std::exception_ptr failure_;      // thrown inside step()'s team, rethrown once it is over
   double pair_margin_ = kDefaultPairMargin;
   std::vector<vec3> x_, v_, f_, correction_;
   std::vector<T> rest_;           // per spring, in T
