@@ -126,6 +126,20 @@ INSTANTIATE_TEST_SUITE_P(Cases, GridPathEquality, ::testing::Values(
     [](const auto& test) { return test.param.name; });
 // clang-format on
 
+// A mesh cloth keeps its gathers; only the integration runs vectorised there (it needs no neighbours).
+TEST(GridPathMesh, AMeshClothGivesTheGeneralPathsBytes) {
+  const Scene scene = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/flag.json");
+  CpuSolver<float> general(scene, CpuSolverOptions{.threads = 1, .grid_path = false});
+  CpuSolver<float> vectorised(scene, CpuSolverOptions{.threads = 1});
+  ASSERT_EQ(vectorised.gridKernels(), "") << "a mesh has no grid";
+  for (int s = 0; s < 40; ++s) {
+    general.step();
+    vectorised.step();
+  }
+  EXPECT_TRUE(sameBytes(general.positions(), vectorised.positions()));
+  EXPECT_TRUE(sameBytes(general.displacements(), vectorised.displacements()));
+}
+
 // A substep on a team of two threads (one OpenMP region, a barrier between passes) gives one thread's bytes:
 // every pass of the selfCollision scene (self-collision, a plane), on both paths.
 TEST(GridPathTeam, TwoThreadsGiveOneThreadsBytes) {
@@ -133,7 +147,7 @@ TEST(GridPathTeam, TwoThreadsGiveOneThreadsBytes) {
   scene.sim.self_collision = true;
   for (bool grid : {true, false}) {
     CpuSolver<float> one(scene, CpuSolverOptions{.threads = 1, .grid_path = grid});
-    CpuSolver<float> two(scene, CpuSolverOptions{.threads = 2, .grid_path = grid, .team_min_points = 0});
+    CpuSolver<float> two(scene, CpuSolverOptions{.threads = 2, .grid_path = grid});
     ASSERT_EQ(two.teamThreads(), 2);
     for (int f = 0; f < 3; ++f) {
       one.stepFrame();

@@ -2,6 +2,7 @@
 
 #include "app/options.hpp"
 #include "core/stability.hpp"
+#include "cpu/cpu_solver.hpp"
 #include "gl/objects.hpp"
 
 #include <fmt/format.h>
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <thread>
 
 namespace drape {
 
@@ -43,6 +45,21 @@ std::vector<BenchPass> timeGpuPasses(SolverFactory& factory, const Scene& scene,
     solver->stepFrame();
   solver->finish();
   return passesPerFrame(*solver, frames);
+}
+
+// What the roofline needs of a CPU run: the path it took and the self-collision lists' shape.
+void recordCpuDetails(const Solver& solver, const Scene& scene, BenchRun& run) {
+  run.spheres = int(scene.spheres.size());
+  run.planes = int(scene.planes.size());
+  run.stretch_passes = scene.sim.stretch_passes;
+  if (const auto* cpu = dynamic_cast<const CpuSolver<float>*>(&solver)) {
+    run.grid_kernels = cpu->gridKernels();
+    run.team_threads = cpu->teamThreads();
+    if (cpu->substeps() > 0 && run.points > 0) {
+      run.pair_entries_per_point = double(cpu->collisionPairs().pairCount()) / double(run.points);
+      run.rebuilds_per_substep = double(cpu->collisionPairs().rebuilds()) / double(cpu->substeps());
+    }
+  }
 }
 
 }  // namespace
@@ -136,6 +153,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
   run.gpu_memory_bytes = solver->deviceMemoryBytes();
   if (!gpu) {
     if (timed_frames > 0) run.passes = passesPerFrame(*solver, timed_frames);
+    recordCpuDetails(*solver, scene, run);
     run.pass_timing = fmt::format("wall clock per pass, {} thread{}", run.threads, run.threads == 1 ? "" : "s");
   } else if (run.blew_up.empty()) {
     solver.reset();
@@ -177,6 +195,12 @@ BenchReport runBench(const BenchOptions& o, const std::function<void(const std::
   }
   // "": the scene's own integrator.
   const std::vector<std::string> integrators = o.integrators.empty() ? std::vector<std::string>{""} : o.integrators;
+  if (o.roofline) {
+    const int most = std::max(1, *std::max_element(o.threads.begin(), o.threads.end()));
+    report.peaks.push_back(measurePeak(1));
+    if (most > 1 || o.threads.front() == 0)
+      report.peaks.push_back(measurePeak(most > 1 ? most : int(std::max(1U, std::thread::hardware_concurrency()))));
+  }
   SolverFactory factory({.skip_unavailable = true});
   std::size_t total = 0;
   for (const std::string& solver : o.solvers)
@@ -245,6 +269,16 @@ nlohmann::json benchJson(const BenchReport& r) {
   else
     j["gl"] = nullptr;
   j["peak_gbs"] = r.peak_gbs > 0 ? nlohmann::json(r.peak_gbs) : nlohmann::json(nullptr);
+  j["cpu_peaks"] = nlohmann::json::array();  // --roofline's probes
+  for (const MachinePeak& p : r.peaks)
+    j["cpu_peaks"].push_back({{"isa", p.isa},
+                              {"threads", p.threads},
+                              {"memory_gbs", p.dram_gbs},
+                              {"l2_gbs", p.cache_gbs},
+                              {"addmul_gflops", p.addmul_gflops},
+                              {"divsqrt_gops", p.divsqrt_gops},
+                              {"barrier_us", p.barrier_us},
+                              {"barrier_best_us", p.barrier_best_us}});
   j["settings"] = {
       {"scenes", r.options.scenes},
       {"sizes", r.options.sizes},
@@ -286,6 +320,11 @@ nlohmann::json benchJson(const BenchReport& r) {
     o["peak_share"] = run.peak_share > 0 ? nlohmann::json(run.peak_share) : nlohmann::json(nullptr);
     o["gpu_memory_bytes"] = run.gpu_memory_bytes >= 0 ? nlohmann::json(run.gpu_memory_bytes) : nlohmann::json(nullptr);
     o["pass_timing"] = run.pass_timing;
+    if (!isGpuSolver(run.solver))
+      o["cpu"] = {{"grid_kernels", run.grid_kernels},
+                  {"team_threads", run.team_threads},
+                  {"pair_entries_per_point", run.pair_entries_per_point},
+                  {"rebuilds_per_substep", run.rebuilds_per_substep}};
     o["passes"] = nlohmann::json::array();
     for (const BenchPass& p : run.passes)
       o["passes"].push_back(

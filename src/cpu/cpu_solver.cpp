@@ -8,6 +8,8 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <type_traits>
 
 namespace drape {
@@ -34,9 +36,12 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
     rest_adjacent_.push_back(T(nb.rest));
   colouring_ = colourSprings(topo_);
   const std::size_t n = std::size_t(topo_.pointCount());
-  team_ = threads_ > 1 && (long long)n >= options.team_min_points ? threads_ : 1;
+  team_ = threads_ > 1 && (options.threads > 0 || (long long)n >= options.team_min_points) ? threads_ : 1;
   if constexpr (std::is_same_v<T, float>)
-    if (options.grid_path && topo_.W > 0) grid_ = std::make_unique<GridPath>(topo_, rest_, options.grid_isa);
+    if (options.grid_path) {
+      kernels_ = &drape::gridKernels(options.grid_isa);
+      if (topo_.W > 0) grid_ = std::make_unique<GridPath>(topo_, rest_, options.grid_isa);
+    }
   f_.resize(n);
   correction_.resize(n);
   resetTimings();
@@ -62,8 +67,18 @@ void CpuSolver<T>::refreshDerived() {
     inv_mass_[i] = T(1) / mass_[i];
     drag_area_[i] = T(derived::dragArea(scene_.sim.wind.drag, c, topo_, i));
   }
-  if constexpr (std::is_same_v<T, float>)
+  if constexpr (std::is_same_v<T, float>) {
     if (grid_) grid_->setMasses(mass_);
+    if (kernels_) {
+      const float pin = std::bit_cast<float>(~std::uint32_t(0));
+      inv_mass3_.resize(3 * n);
+      pinned3_.resize(3 * n);
+      for (std::size_t e = 0; e < 3 * n; ++e) {
+        inv_mass3_[e] = inv_mass_[e / 3];
+        pinned3_[e] = topo_.pinned[e / 3] ? pin : 0.0f;
+      }
+    }
+  }
   dt_ = T(scene_.sim.dt());
   keep_ = T(1.0 - c.damping / 100.0);
   // A disabled spring type exerts no force: stiffness 0 is never used, the gather skips the type.
@@ -213,6 +228,14 @@ template <class T>
 void CpuSolver<T>::integrate() {
   const T dt2 = dt_ * dt_;
   const long long n = (long long)x_.size();
+  if constexpr (std::is_same_v<T, float>)
+    if (kernels_ && form_ == VerletForm::Displacement) {
+      teamRange(0, n, [&](long long lo, long long hi) {
+        kernels_->integrate(&x_.data()->x, &v_.data()->x, &f_.data()->x, inv_mass3_.data(), pinned3_.data(), dt2, keep_,
+                            3 * lo, 3 * hi);
+      });
+      return;
+    }
   parallelFor(0, n, threads_, [&](long long p) {
     const std::size_t i = std::size_t(p);
     if (topo_.pinned[i]) {

@@ -18,7 +18,10 @@
 
 namespace drape {
 
-inline constexpr long long kTeamMinPoints = 2048;
+// A barrier costs 0.2 us when both threads have a core and milliseconds when the other engineers' load has
+// descheduled one (docs/results/cpu_speed.md): unasked, a cloth gets a team only where its loops are long
+// enough to pay for that, the size from which loops forked a team of their own before (kParallelItems).
+inline constexpr long long kTeamMinPoints = 32768;
 
 // How Verlet keeps the previous position: the displacement v = x - x_prev (default, precise) or
 // x_prev itself (CS184's form, kept to measure the round-off it costs).
@@ -32,8 +35,9 @@ struct CpuSolverOptions {
   // the same bytes as the general gathers; false runs the general path (the tests compare the two).
   bool grid_path = true;
   GridIsa grid_isa = GridIsa::Auto;  // the grid kernels' instruction set; Auto: AVX2 where the CPU has it
-  // Fewest points for which step() runs its passes on a team of `threads` threads (one OpenMP region a
-  // substep, a barrier between passes); below, one thread. Measured: docs/results/cpu_threads.md.
+  // With threads = 0 (every core), the fewest points for which step() runs its passes on a team (one OpenMP
+  // region a substep, a barrier between passes); below, one thread. A thread count asked for (threads > 0)
+  // gets its team at any size. Measured: docs/results/cpu_speed.md.
   long long team_min_points = kTeamMinPoints;
 };
 
@@ -107,9 +111,11 @@ class CpuSolver final : public Solver {
   Topology topo_;
   VerletForm form_;
   int threads_ = 1;
-  int team_ = 1;                    // threads step() runs on (team_min_points)
-  std::unique_ptr<GridPath> grid_;  // float grid cloths, unless the options turn it off
-  std::exception_ptr failure_;      // thrown inside step()'s team, rethrown once it is over
+  int team_ = 1;                            // threads step() runs on (team_min_points)
+  std::unique_ptr<GridPath> grid_;          // float grid cloths, unless the options turn it off
+  const GridKernels* kernels_ = nullptr;    // float: the SIMD integrate (any cloth)
+  std::vector<float> inv_mass3_, pinned3_;  // float: per coordinate, its point's 1/m and pin mask
+  std::exception_ptr failure_;              // thrown inside step()'s team, rethrown once it is over
   double pair_margin_ = kDefaultPairMargin;
   std::vector<vec3> x_, v_, f_, correction_;
   std::vector<T> rest_;           // per spring, in T

@@ -60,6 +60,11 @@ struct GridKernels {
   void (*forces)(const GridForceArgs&, int y0, int y1);
   // Provot's stretch limit over the springs of colour 2 * direction + parity (core/colouring.hpp).
   void (*stretchColour)(const GridStretchArgs&, int direction, int parity, int y0, int y1);
+  // Verlet in displacement form (physics::integrateVerlet, then x += v) over vec3 arrays seen as floats,
+  // [first, last) in floats: per float its point's inverse mass and pin mask (all bits set: pinned, which
+  // keeps x and sets v to +0). Not grid-specific: it needs no neighbours.
+  void (*integrate)(float* x, float* v, const float* f, const float* inv_mass3, const float* pinned3, float dt2,
+                    float keep, long long first, long long last);
   // Probes of this machine's peak with these instructions (cpu/machine_peak.hpp); each returns a value that
   // depends on all its work, so that none of it can be left out. Independent chains, so throughput counts:
   // 6 multiplies and 6 adds per lane and rep (no fused multiply-add: the build forbids it)

@@ -261,6 +261,27 @@ struct Kernels {
     }
   }
 
+  static void integrate(float* x, float* v, const float* f, const float* inv_mass3, const float* pinned3, float dt2,
+                        float keep, long long first, long long last) {
+    const F dt2v = V::set1(dt2), keepv = V::set1(keep), zero = V::set1(0.0f);
+    long long e = first;
+    for (; e + kW <= last; e += kW) {
+      const F pinned = V::load(pinned3 + e), xe = V::load(x + e);
+      // keep * v + (f * (1/m)) * dt^2, as integrateVerlet computes each coordinate
+      const F ve = V::add(V::mul(keepv, V::load(v + e)), V::mul(V::mul(V::load(f + e), V::load(inv_mass3 + e)), dt2v));
+      V::store(v + e, V::select(pinned, zero, ve));
+      V::store(x + e, V::select(pinned, xe, V::add(xe, ve)));
+    }
+    for (; e < last; ++e) {
+      if (pinned3[e] != pinned3[e]) {  // all bits set is a NaN
+        v[e] = 0.0f;
+        continue;
+      }
+      v[e] = keep * v[e] + f[e] * inv_mass3[e] * dt2;
+      x[e] += v[e];
+    }
+  }
+
   static float sum(F v) {
     float lanes[kW];
     V::store(lanes, v);
@@ -317,7 +338,7 @@ struct Kernels {
   }
 
   static constexpr GridKernels table(const char* name) {
-    return {name, kW, &toSoa, &fromSoa, &forces, &stretchColour, &probeAddMul, &probeDivSqrt, &probeTriad};
+    return {name, kW, &toSoa, &fromSoa, &forces, &stretchColour, &integrate, &probeAddMul, &probeDivSqrt, &probeTriad};
   }
 };
 

@@ -56,6 +56,23 @@ MachinePeak measurePeak(int threads) {
   volatile float keep = sink[0];
   (void)keep;
   peak.divsqrt_gops = 8.0 * k.width * double(div_reps) * threads / s * 1e-9;
+  if (threads > 1) {
+    // What a pass boundary costs a team (CpuSolver::step): all threads pass a barrier, over and over.
+    constexpr int kBarriers = 2000;
+    std::vector<double> tries;
+    for (int t = 0; t < 5; ++t) {
+      const auto start = std::chrono::steady_clock::now();
+#pragma omp parallel num_threads(threads)
+      for (int b = 0; b < kBarriers; ++b) {
+#pragma omp barrier
+      }
+      tries.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count() /
+                      kBarriers);
+    }
+    std::sort(tries.begin(), tries.end());
+    peak.barrier_us = tries[tries.size() / 2];
+    peak.barrier_best_us = tries.front();
+  }
   return peak;
 }
 
