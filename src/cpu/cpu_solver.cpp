@@ -313,7 +313,12 @@ void CpuSolver<T>::selfCollide() {
     const std::size_t i = std::size_t(p);
     vec3 sum(0);
     int count = 0;
-    if (!topo_.pinned[i]) {
+    bool candidates = !topo_.pinned[i];
+    // Most points have no pair in range: the vectorised test says so without the ordered sweep.
+    if constexpr (std::is_same_v<T, float>)
+      if (candidates && kernels_)
+        candidates = kernels_->anyInRange(&x_.data()->x, pairs_.begin(i), pairs_.end(i), i, thickness);
+    if (candidates) {
       forEachOrderedPair(pairs_, i, x_, thickness, inv_range, [&](vec3 c) {
         sum += c;
         ++count;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 namespace drape {
 
@@ -65,6 +66,11 @@ struct GridKernels {
   // keeps x and sets v to +0). Not grid-specific: it needs no neighbours.
   void (*integrate)(float* x, float* v, const float* f, const float* inv_mass3, const float* pinned3, float dt2,
                     float keep, long long first, long long last);
+  // Whether any candidate j in [begin, end) of point i is within self-collision range of it, by the test of
+  // physics::selfCollisionCorrection (NaN counts as in range, as there): false means the point's sum is
+  // empty. x is the vec3 array seen as floats. Not grid-specific.
+  bool (*anyInRange)(const float* x, const std::uint32_t* begin, const std::uint32_t* end, std::size_t i,
+                     float thickness);
   // Probes of this machine's peak with these instructions (cpu/machine_peak.hpp); each returns a value that
   // depends on all its work, so that none of it can be left out. Independent chains, so throughput counts:
   // 6 multiplies and 6 adds per lane and rep (no fused multiply-add: the build forbids it)

@@ -282,6 +282,22 @@ struct Kernels {
     }
   }
 
+  static bool anyInRange(const float* x, const std::uint32_t* begin, const std::uint32_t* end, std::size_t i,
+                         float thickness) {
+    const float range = 2.0f * thickness;  // selfCollisionCorrection's range * range, in its order
+    const F range2 = V::set1(range * range), zero = V::set1(0.0f);
+    const F xi = V::set1(x[3 * i]), yi = V::set1(x[3 * i + 1]), zi = V::set1(x[3 * i + 2]);
+    for (const std::uint32_t* p = begin; p < end; p += kW) {
+      F gx, gy, gz, live;
+      V::gatherVec3(x, p, int(end - p < kW ? end - p : kW), gx, gy, gz, live);
+      const F dx = V::sub(xi, gx), dy = V::sub(yi, gy), dz = V::sub(zi, gz);
+      const F dist2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
+      // Not (dist2 >= range^2 or dist2 <= 0): a NaN distance is a term there too.
+      if (V::any(V::andNot(V::bitOr(V::ge(dist2, range2), V::le(dist2, zero)), live))) return true;
+    }
+    return false;
+  }
+
   static float sum(F v) {
     float lanes[kW];
     V::store(lanes, v);
@@ -338,7 +354,8 @@ struct Kernels {
   }
 
   static constexpr GridKernels table(const char* name) {
-    return {name, kW, &toSoa, &fromSoa, &forces, &stretchColour, &integrate, &probeAddMul, &probeDivSqrt, &probeTriad};
+    return {name,       kW,          &toSoa,       &fromSoa,      &forces,    &stretchColour,
+            &integrate, &anyInRange, &probeAddMul, &probeDivSqrt, &probeTriad};
   }
 };
 

@@ -11,6 +11,9 @@
 
 #include <immintrin.h>
 
+#include <cstdint>
+#include <cstring>
+
 namespace drape::simd {
 namespace {
 
@@ -33,7 +36,26 @@ struct Sse2 {
   static F eq(F a, F b) { return _mm_cmpeq_ps(a, b); }
   static F andNot(F m, F a) { return _mm_andnot_ps(m, a); }  // ~m & a
   static F bitAnd(F a, F b) { return _mm_and_ps(a, b); }
+  static F bitOr(F a, F b) { return _mm_or_ps(a, b); }
+  static F ge(F a, F b) { return _mm_cmpge_ps(a, b); }  // false where either is NaN
+  static bool any(F m) { return _mm_movemask_ps(m) != 0; }
   static F select(F m, F a, F b) { return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b)); }  // m ? a : b
+  // The vec3s x[idx[l]] of the first `count` lanes (count <= kWidth), and those lanes' mask. No gather
+  // instruction before AVX2: loaded one by one.
+  static void gatherVec3(const float* x, const std::uint32_t* idx, int count, F& gx, F& gy, F& gz, F& live) {
+    float a[4] = {}, b[4] = {}, c[4] = {}, m[4] = {};
+    const std::uint32_t all = ~std::uint32_t(0);
+    for (int l = 0; l < count; ++l) {
+      a[l] = x[3 * std::size_t(idx[l])];
+      b[l] = x[3 * std::size_t(idx[l]) + 1];
+      c[l] = x[3 * std::size_t(idx[l]) + 2];
+      std::memcpy(&m[l], &all, sizeof(float));
+    }
+    gx = load(a);
+    gy = load(b);
+    gz = load(c);
+    live = load(m);
+  }
   // Two vectors of consecutive points, lo = p0..p3 and hi = p4..p7, split into even and odd points (in an
   // order of their own, undone by interleave), or into pairs (p0 p1, p4 p5) and (p2 p3, p6 p7).
   static F evens(F lo, F hi) { return _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)); }
@@ -108,7 +130,20 @@ struct Avx2 {
   static F eq(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_EQ_OQ); }
   static F andNot(F m, F a) { return _mm256_andnot_ps(m, a); }
   static F bitAnd(F a, F b) { return _mm256_and_ps(a, b); }
+  static F bitOr(F a, F b) { return _mm256_or_ps(a, b); }
+  static F ge(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
+  static bool any(F m) { return _mm256_movemask_ps(m) != 0; }
   static F select(F m, F a, F b) { return _mm256_blendv_ps(b, a, m); }
+  // Masked loads and gathers: nothing is read for the lanes past `count`.
+  static void gatherVec3(const float* x, const std::uint32_t* idx, int count, F& gx, F& gy, F& gz, F& live) {
+    const __m256i mask = _mm256_cmpgt_epi32(_mm256_set1_epi32(count), _mm256_set_epi32(7, 6, 5, 4, 3, 2, 1, 0));
+    const __m256i j = _mm256_maskload_epi32(reinterpret_cast<const int*>(idx), mask);
+    const __m256i j3 = _mm256_add_epi32(_mm256_add_epi32(j, j), j);
+    live = _mm256_castsi256_ps(mask);
+    gx = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), x, j3, live, 4);
+    gy = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), x + 1, j3, live, 4);
+    gz = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), x + 2, j3, live, 4);
+  }
   static F evens(F lo, F hi) { return _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)); }
   static F odds(F lo, F hi) { return _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1)); }
   static void interleave(F e, F o, F& lo, F& hi) {
