@@ -169,7 +169,7 @@ TEST(GridPathTeam, TwoThreadsGiveOneThreadsBytes) {
   scene.sim.self_collision = true;
   for (bool grid : {true, false}) {
     CpuSolver<float> one(scene, CpuSolverOptions{.threads = 1, .grid_path = grid});
-    CpuSolver<float> two(scene, CpuSolverOptions{.threads = 2, .grid_path = grid});
+    CpuSolver<float> two(scene, CpuSolverOptions{.threads = 2, .grid_path = grid, .team_min_points = 0});
     ASSERT_EQ(two.teamThreads(), 2);
     for (int f = 0; f < 3; ++f) {
       one.stepFrame();

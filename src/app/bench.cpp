@@ -1,8 +1,8 @@
 #include "app/bench.hpp"
 
 #include "app/options.hpp"
+#include "app/roofline.hpp"
 #include "core/stability.hpp"
-#include "cpu/cpu_solver.hpp"
 #include "gl/objects.hpp"
 
 #include <fmt/format.h>
@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <ctime>
 #include <filesystem>
 #include <thread>
 
@@ -19,6 +20,13 @@ namespace drape {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// CPU time of the whole process so far (every thread), in milliseconds.
+double processCpuMs() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
 
 double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -45,21 +53,6 @@ std::vector<BenchPass> timeGpuPasses(SolverFactory& factory, const Scene& scene,
     solver->stepFrame();
   solver->finish();
   return passesPerFrame(*solver, frames);
-}
-
-// What the roofline needs of a CPU run: the path it took and the self-collision lists' shape.
-void recordCpuDetails(const Solver& solver, const Scene& scene, BenchRun& run) {
-  run.spheres = int(scene.spheres.size());
-  run.planes = int(scene.planes.size());
-  run.stretch_passes = scene.sim.stretch_passes;
-  if (const auto* cpu = dynamic_cast<const CpuSolver<float>*>(&solver)) {
-    run.grid_kernels = cpu->gridKernels();
-    run.team_threads = cpu->teamThreads();
-    if (cpu->substeps() > 0 && run.points > 0) {
-      run.pair_entries_per_point = double(cpu->collisionPairs().pairCount()) / double(run.points);
-      run.rebuilds_per_substep = double(cpu->collisionPairs().rebuilds()) / double(cpu->substeps());
-    }
-  }
 }
 
 }  // namespace
@@ -116,8 +109,10 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
   solver->resetTimings();
   int timed_frames = 0;
   long long waits = 0, fence_waits = 0;
+  double wall_ms = 0, cpu_ms = 0;  // over every timed frame: the process's CPU time against the wall's
   for (int r = 0; r < o.repeats && run.blew_up.empty(); ++r) {
     double ms = 0;
+    const double cpu_start = processCpuMs();
     const gl::SyncCounts before = gl::syncCounts();
     for (int f = 0; f < frames; ++f) {
       const auto start = Clock::now();
@@ -134,6 +129,8 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
     fence_waits += after.fence_waits - before.fence_waits;
     if (gpu) sane();
     if (!run.blew_up.empty()) break;
+    cpu_ms += processCpuMs() - cpu_start;
+    wall_ms += ms;
     run.repeat_ms.push_back(ms / frames);
     timed_frames += frames;
   }
@@ -153,6 +150,7 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
   run.gpu_memory_bytes = solver->deviceMemoryBytes();
   if (!gpu) {
     if (timed_frames > 0) run.passes = passesPerFrame(*solver, timed_frames);
+    if (wall_ms > 0) run.cpu_share = cpu_ms / wall_ms;
     recordCpuDetails(*solver, scene, run);
     run.pass_timing = fmt::format("wall clock per pass, {} thread{}", run.threads, run.threads == 1 ? "" : "s");
   } else if (run.blew_up.empty()) {
@@ -269,16 +267,7 @@ nlohmann::json benchJson(const BenchReport& r) {
   else
     j["gl"] = nullptr;
   j["peak_gbs"] = r.peak_gbs > 0 ? nlohmann::json(r.peak_gbs) : nlohmann::json(nullptr);
-  j["cpu_peaks"] = nlohmann::json::array();  // --roofline's probes
-  for (const MachinePeak& p : r.peaks)
-    j["cpu_peaks"].push_back({{"isa", p.isa},
-                              {"threads", p.threads},
-                              {"memory_gbs", p.dram_gbs},
-                              {"l2_gbs", p.cache_gbs},
-                              {"addmul_gflops", p.addmul_gflops},
-                              {"divsqrt_gops", p.divsqrt_gops},
-                              {"barrier_us", p.barrier_us},
-                              {"barrier_best_us", p.barrier_best_us}});
+  j["cpu_peaks"] = peaksJson(r.peaks);  // --roofline's probes
   j["settings"] = {
       {"scenes", r.options.scenes},
       {"sizes", r.options.sizes},
@@ -324,7 +313,8 @@ nlohmann::json benchJson(const BenchReport& r) {
       o["cpu"] = {{"grid_kernels", run.grid_kernels},
                   {"team_threads", run.team_threads},
                   {"pair_entries_per_point", run.pair_entries_per_point},
-                  {"rebuilds_per_substep", run.rebuilds_per_substep}};
+                  {"rebuilds_per_substep", run.rebuilds_per_substep},
+                  {"cpu_share", run.cpu_share}};
     o["passes"] = nlohmann::json::array();
     for (const BenchPass& p : run.passes)
       o["passes"].push_back(

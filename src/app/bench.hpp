@@ -73,6 +73,9 @@ struct BenchRun {
   int team_threads = 0;
   double pair_entries_per_point = 0;
   double rebuilds_per_substep = 0;
+  // CPU solvers: the process's CPU time over the timed frames' wall time (all threads; below the thread
+  // count where other work on the machine took the cores). 0 where not measured.
+  double cpu_share = 0;
   // What the roofline's work model needs of the scene.
   int spheres = 0, planes = 0, stretch_passes = 1;
 };

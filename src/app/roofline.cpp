@@ -1,4 +1,5 @@
 #include "app/roofline.hpp"
+#include "cpu/cpu_solver.hpp"
 
 #include <fmt/format.h>
 
@@ -25,6 +26,35 @@ const MachinePeak* peakFor(const BenchReport& r, const BenchRun& run) {
 }
 
 }  // namespace
+
+// What the roofline needs of a CPU run: the path it took and the self-collision lists' shape.
+void recordCpuDetails(const Solver& solver, const Scene& scene, BenchRun& run) {
+  run.spheres = int(scene.spheres.size());
+  run.planes = int(scene.planes.size());
+  run.stretch_passes = scene.sim.stretch_passes;
+  if (const auto* cpu = dynamic_cast<const CpuSolver<float>*>(&solver)) {
+    run.grid_kernels = cpu->gridKernels();
+    run.team_threads = cpu->teamThreads();
+    if (cpu->substeps() > 0 && run.points > 0) {
+      run.pair_entries_per_point = double(cpu->collisionPairs().pairCount()) / double(run.points);
+      run.rebuilds_per_substep = double(cpu->collisionPairs().rebuilds()) / double(cpu->substeps());
+    }
+  }
+}
+
+nlohmann::json peaksJson(const std::vector<MachinePeak>& peaks) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const MachinePeak& p : peaks)
+    out.push_back({{"isa", p.isa},
+                   {"threads", p.threads},
+                   {"memory_gbs", p.dram_gbs},
+                   {"l2_gbs", p.cache_gbs},
+                   {"addmul_gflops", p.addmul_gflops},
+                   {"divsqrt_gops", p.divsqrt_gops},
+                   {"barrier_us", p.barrier_us},
+                   {"barrier_best_us", p.barrier_best_us}});
+  return out;
+}
 
 std::optional<PassWork> passWork(const BenchRun& run, const std::string& pass) {
   if (run.integrator != "verlet" || run.solver != "cpu") return std::nullopt;
@@ -82,7 +112,10 @@ std::string rooflineMarkdown(const BenchReport& r) {
       "holds), the least time a point the ceilings allow (the binding ceiling in brackets: memory or L2 "
       "bandwidth by where the cloth's state fits, add+mul or div+sqrt throughput), the measured time, and "
       "their ratio: the share of the roofline the pass reaches. Self-collision: list entries a point and "
-      "rebuilds a substep at the end of the run; a rebuild's work is not in the model.\n\n";
+      "rebuilds a substep at the end of the run; a rebuild's work is not in the model. A one-thread run's "
+      "pass times are wall clock times the run's CPU share (its CPU time over its wall time, in brackets after "
+      "the solver): the time it had a core, where other work on the machine took it now and then. The probes "
+      "of one thread count CPU time too; a team's are wall clock.\n\n";
   md +=
       "| scene | N×N | solver | pass | add+mul | div+sqrt | bytes | least ns/point | measured ns/point | share |\n"
       "|---|---|---|---|---|---|---|---|---|---|\n";
@@ -94,10 +127,14 @@ std::string rooflineMarkdown(const BenchReport& r) {
     const std::string scene = std::filesystem::path(run.scene).stem().string();
     std::string solver = fmt::format("{} ×{}", run.solver, run.threads);
     if (!run.grid_kernels.empty()) solver += " " + run.grid_kernels;
+    // One thread: its wall time less the time it waited for a core (spread over the passes as evenly as the
+    // scheduler's ticks fall). A team's threads also wait for each other, which is the passes' own cost.
+    const double on_core = run.team_threads <= 1 && run.cpu_share > 0 && run.cpu_share < 1 ? run.cpu_share : 1;
+    if (on_core < 1) solver += fmt::format(" ({:.0f}% on a core)", 100 * on_core);
     for (const BenchPass& pass : run.passes) {
       const std::optional<PassWork> w = passWork(run, pass.name);
       if (!w || pass.calls_per_frame <= 0) continue;
-      const double measured = pass.ms_per_frame * 1e6 / (pass.calls_per_frame * double(run.points));
+      const double measured = on_core * pass.ms_per_frame * 1e6 / (pass.calls_per_frame * double(run.points));
       const std::pair<double, const char*> bounds[] = {{w->bytes / gbs, in_cache ? "L2" : "memory"},
                                                        {w->addmul / peak->addmul_gflops, "add+mul"},
                                                        {w->divsqrt / peak->divsqrt_gops, "div+sqrt"}};

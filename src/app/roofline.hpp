@@ -6,6 +6,8 @@
 
 #include "app/bench.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <optional>
 #include <string>
 
@@ -18,6 +20,11 @@ struct PassWork {
   double divsqrt = 0;  // divisions and square roots
   double bytes = 0;
 };
+
+// What the roofline needs of a CPU run (bench's benchOne calls it): the path it took and the self-collision
+// lists' shape at the end of the run.
+void recordCpuDetails(const Solver& solver, const Scene& scene, BenchRun& run);
+nlohmann::json peaksJson(const std::vector<MachinePeak>& peaks);
 
 // The work of `pass` in `run` (a CPU float run of the Verlet integrator), or nothing for a pass the model
 // does not cover (the implicit sweeps, tethers, the mesh path).

@@ -36,11 +36,11 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
     rest_adjacent_.push_back(T(nb.rest));
   colouring_ = colourSprings(topo_);
   const std::size_t n = std::size_t(topo_.pointCount());
-  team_ = threads_ > 1 && (options.threads > 0 || (long long)n >= options.team_min_points) ? threads_ : 1;
+  team_ = threads_ > 1 && (long long)n >= options.team_min_points ? threads_ : 1;
   if constexpr (std::is_same_v<T, float>)
     if (options.grid_path) {
       kernels_ = &drape::gridKernels(options.grid_isa);
-      if (topo_.W > 0) grid_ = std::make_unique<GridPath>(topo_, rest_, options.grid_isa);
+      if (topo_.W > 0) grid_.emplace(topo_, rest_, options.grid_isa);
     }
   f_.resize(n);
   correction_.resize(n);

@@ -12,15 +12,16 @@
 
 #include <chrono>
 #include <exception>
-#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace drape {
 
-// A barrier costs 0.2 us when both threads have a core and milliseconds when the other engineers' load has
-// descheduled one (docs/results/cpu_speed.md): unasked, a cloth gets a team only where its loops are long
-// enough to pay for that, the size from which loops forked a team of their own before (kParallelItems).
+// A barrier costs well under a microsecond when both threads have a core and up to a time slice when other
+// load on the machine has descheduled one (docs/results/cpu_speed.md): a cloth gets a team only where its
+// loops are long enough to pay for that, the size from which loops forked a team of their own before
+// (kParallelItems). On this shared 2-core machine, busy, a team on a 50x50 cloth measured 12x slower.
 inline constexpr long long kTeamMinPoints = 32768;
 
 // How Verlet keeps the previous position: the displacement v = x - x_prev (default, precise) or
@@ -35,9 +36,9 @@ struct CpuSolverOptions {
   // the same bytes as the general gathers; false runs the general path (the tests compare the two).
   bool grid_path = true;
   GridIsa grid_isa = GridIsa::Auto;  // the grid kernels' instruction set; Auto: AVX2 where the CPU has it
-  // With threads = 0 (every core), the fewest points for which step() runs its passes on a team (one OpenMP
-  // region a substep, a barrier between passes); below, one thread. A thread count asked for (threads > 0)
-  // gets its team at any size. Measured: docs/results/cpu_speed.md.
+  // The fewest points for which step() runs its passes on a team of `threads` (one OpenMP region a substep,
+  // a barrier between passes); below, one thread. Tests set 0 to run a small cloth on a team. Measured:
+  // docs/results/cpu_speed.md.
   long long team_min_points = kTeamMinPoints;
 };
 
@@ -112,7 +113,7 @@ class CpuSolver final : public Solver {
   VerletForm form_;
   int threads_ = 1;
   int team_ = 1;                            // threads step() runs on (team_min_points)
-  std::unique_ptr<GridPath> grid_;          // float grid cloths, unless the options turn it off
+  std::optional<GridPath> grid_;            // float grid cloths, unless the options turn it off (copyable)
   const GridKernels* kernels_ = nullptr;    // float: the SIMD integrate (any cloth)
   std::vector<float> inv_mass3_, pinned3_;  // float: per coordinate, its point's 1/m and pin mask
   std::exception_ptr failure_;              // thrown inside step()'s team, rethrown once it is over

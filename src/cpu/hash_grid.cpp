@@ -27,7 +27,8 @@ void HashGrid<T>::build(const std::vector<vec3>& points, T cell_size) {
   const std::uint32_t buckets = dense_ ? std::uint32_t(box_cells) : std::uint32_t(derived::hashBucketCount(n));
   mask_ = buckets - 1;
   box_min_ = lo;
-  box_size_ = hi - lo + glm::ivec3(1);
+  // Only a dense box is small enough for int sides: a blown-up cloth's spans 2^31 cells, which overflows.
+  box_size_ = dense_ ? hi - lo + glm::ivec3(1) : glm::ivec3(0);
   start_.assign(std::size_t(buckets) + 1, 0);
   sorted_.resize(n);
   std::vector<std::uint32_t>& bucket = bucket_;
