@@ -170,6 +170,31 @@ TEST(HashGridCells, NonFiniteAndHugeCoordinatesStayInsideInt) {
   EXPECT_EQ(HashGrid<float>::cellOf({3e38f, -3e38f, 0.0f}, 50.0f), glm::ivec3(1 << 30, -(1 << 30), 0));
 }
 
+// A point with more terms than forEachOrderedPair holds (a cloth crushed into a ball) is summed by its sweep
+// per cell order: the same bytes as the grid query.
+TEST(CollisionPairs, PointsWithManyTermsSumInTheGridOrderToo) {
+  const float thickness = 0.01f, range = 2.0f * thickness;
+  std::vector<vec3> x;
+  for (int k = 0; k < 60;
+       ++k)  // 60 points spread over a few cells of edge `range`, straddling cell borders, all in range
+    x.emplace_back(0.51f + 0.004f * float(k % 4), 0.295f + 0.003f * float(k / 4 % 4), 0.695f + 0.002f * float(k / 16));
+  CollisionPairs<float> pairs;
+  pairs.configure(range, range * float(kDefaultPairMargin));
+  pairs.update(x, 1);
+  HashGrid<float> grid;
+  grid.build(x, range);
+  int many = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    int terms = 0;
+    forEachOrderedPair(pairs, i, x, thickness, 1.0f / range, [&](vec3) { ++terms; });
+    many += terms > 24;
+    EXPECT_TRUE(
+        sameBits(gridQueryCorrection(grid, x, i, thickness, 30.0f), listCorrection(pairs, x, i, thickness, 30.0f)))
+        << "point " << i;
+  }
+  EXPECT_EQ(many, 60) << "every point must have more terms than are held";
+}
+
 // Threads share the per-point loops; each point's arithmetic is the same whoever runs it.
 TEST(CpuSolverThreads, OneAndTwoThreadsComputeTheSameBytes) {
   for (const char* name : {"selfCollision.json", "sphere.json", "wind.json"}) {

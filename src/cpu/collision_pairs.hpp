@@ -75,20 +75,42 @@ inline int cellOrder(glm::ivec3 cell_i, glm::ivec3 cell_j) {
 }
 
 // Calls f(c) with the correction of every pair {i, j} in range, in cellOrder and then ascending j: the
-// order of a 27-cell query of a grid of cell size 2*thickness, as the sum had before the lists. Two
-// sweeps over the short candidate list: one marks the cell orders present, the next visits them.
-// Cells are computed only for pairs in range, which most points have none of.
+// order of a 27-cell query of a grid of cell size 2*thickness, as the sum had before the lists. One sweep
+// over the short candidate list computes each term once and inserts it by its cell order (stably, so one
+// order's terms stay in list order, ascending j); cells are computed only for pairs in range, which most
+// points have none of. A point with more terms than are held (a deep fold) sweeps once per order present.
 template <class T, class F>
 void forEachOrderedPair(const CollisionPairs<T>& pairs, std::size_t i, const std::vector<glm::vec<3, T>>& x,
                         T thickness, T inv_range, F&& f) {
   using vec3 = glm::vec<3, T>;
+  constexpr int kHeld = 24;  // the folded selfCollision scene has at most 5 terms a point
+  struct Term {
+    int order;
+    vec3 c;
+  };
+  Term held[kHeld];
+  int count = 0;
   std::uint32_t present = 0;
   glm::ivec3 cell_i{};
   for (const std::uint32_t* j = pairs.begin(i); j != pairs.end(i); ++j) {
-    if (physics::selfCollisionCorrection(x[i], x[*j], thickness) == vec3(0)) continue;
+    const vec3 c = physics::selfCollisionCorrection(x[i], x[*j], thickness);
+    if (c == vec3(0)) continue;
     if (present == 0) cell_i = HashGrid<T>::cellOf(x[i], inv_range);
     const int order = cellOrder(cell_i, HashGrid<T>::cellOf(x[*j], inv_range));
-    if (order >= 0) present |= 1u << order;
+    if (order < 0) continue;
+    present |= 1u << order;
+    if (count < kHeld) {
+      int k = count;
+      for (; k > 0 && held[k - 1].order > order; --k)
+        held[k] = held[k - 1];
+      held[k] = {order, c};
+    }
+    ++count;
+  }
+  if (count <= kHeld) {
+    for (int k = 0; k < count; ++k)
+      f(held[k].c);
+    return;
   }
   while (present != 0) {
     const int order = std::countr_zero(present);

@@ -8,12 +8,22 @@
 #include "core/solver.hpp"
 #include "core/tethers.hpp"
 #include "cpu/collision_pairs.hpp"
+#include "cpu/grid_path.hpp"
 #include "cpu/physics.hpp"
 
 #include <chrono>
+#include <exception>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace drape {
+
+// A barrier costs well under a microsecond when both threads have a core and up to a time slice when other
+// load on the machine has descheduled one (docs/results/cpu_speed.md): a cloth gets a team only where its
+// loops are long enough to pay for that, the size from which loops forked a team of their own before
+// (kParallelItems). On this shared 2-core machine, busy, a team on a 50x50 cloth measured 12x slower.
+inline constexpr long long kTeamMinPoints = 32768;
 
 // How Verlet keeps the previous position: the displacement v = x - x_prev (default, precise) or
 // x_prev itself (CS184's form, kept to measure the round-off it costs).
@@ -27,6 +37,14 @@ struct CpuSolverOptions {
   // Self-collision skips the pairs closer than 2*thickness at rest (physics::heldAtRest); false collides them
   // too, as CS184 does, to measure what skipping changes.
   bool skip_held_pairs = true;
+  // Float grid cloths: forces and the Gauss-Seidel stretch limit by the SIMD grid kernels (cpu/grid_path.hpp),
+  // the same bytes as the general gathers; false runs the general path (the tests compare the two).
+  bool grid_path = true;
+  GridIsa grid_isa = GridIsa::Auto;  // the grid kernels' instruction set; Auto: AVX2 where the CPU has it
+  // The fewest points for which step() runs its passes on a team of `threads` (one OpenMP region a substep,
+  // a barrier between passes); below, one thread. Tests set 0 to run a small cloth on a team. Measured:
+  // docs/results/cpu_speed.md.
+  long long team_min_points = kTeamMinPoints;
 };
 
 template <class T>
@@ -75,6 +93,9 @@ class CpuSolver final : public Solver {
   const Tethers& tethers() const { return tethers_; }
   const PointColouring& pointColouring() const { return point_colouring_; }
   const FaceAdjacency& faceAdjacency() const { return faces_; }
+  // The grid kernels' instruction set ("sse2", "avx2"), or "" where the general path runs.
+  std::string gridKernels() const { return grid_ ? grid_->kernels().name : ""; }
+  int teamThreads() const { return team_; }  // threads step() runs its passes on
 
  private:
   struct Stiffness {
@@ -93,11 +114,18 @@ class CpuSolver final : public Solver {
   bool needsPass(int pass) const;
   template <class F>
   void timed(int pass, F&& f);
+  void runPasses();
+  bool gridForces() const;
 
   Scene scene_;
   Topology topo_;
   VerletForm form_;
   int threads_ = 1;
+  int team_ = 1;                            // threads step() runs on (team_min_points)
+  std::optional<GridPath> grid_;            // float grid cloths, unless the options turn it off (copyable)
+  const GridKernels* kernels_ = nullptr;    // float: the SIMD integrate (any cloth)
+  std::vector<float> inv_mass3_, pinned3_;  // float: per coordinate, its point's 1/m and pin mask
+  std::exception_ptr failure_;              // thrown inside step()'s team, rethrown once it is over
   double pair_margin_ = kDefaultPairMargin;
   double shortest_spring_ = 0;  // m, the shortest structural spring's rest length
   std::vector<vec3> x_, v_, f_, correction_;
