@@ -180,6 +180,48 @@ TEST(Cli, SummaryReportsTheColliders) {
   EXPECT_NE(r.out.find("cpu64"), std::string::npos) << r.out;
 }
 
+// `penetration` reads what `simulate --export` wrote: a cloth square 2 cm under the top of a 1 m box is 20 mm
+// inside from frame 0 (the export of the state before any step); a file that is not this cloth is refused.
+TEST(Cli, PenetrationMeasuresExportedFrames) {
+  const fs::path dir = tempDir() / "penetration";
+  fs::create_directories(dir);
+  std::ofstream(dir / "box.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n"
+                                    "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+  std::ofstream(dir / "square.obj") << "v 0.4 0.98 0.4\nv 0.6 0.98 0.4\nv 0.6 0.98 0.6\nv 0.4 0.98 0.6\nf 1 4 3 2\n";
+  const fs::path scene_file = writeScene("penetration/scene.json", R"({"cloth": {"mesh": "square.obj",
+      "thickness": 0.005}, "meshes": [{"obj": "box.obj"}]})");
+  Result r = run("simulate " + scene_file.string() + " --frames 0 --export " + (dir / "cloth.obj").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = run("penetration " + scene_file.string() + " " + (dir / "cloth_0000.obj").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("contact      from frame 0"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("vertex       deepest 20.000 mm (frame 0,"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(": 20.000 mm, 4 points inside"), std::string::npos) << r.out;
+  r = run("penetration " + scene_file.string() + " " + (dir / "box.obj").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("box.obj: 8 vertices, but the cloth of"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  r = run("penetration " + scene("pinned2.json") + " " + (dir / "cloth_0000.obj").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("no sphere or mesh obstacle"), std::string::npos) << r.err;
+}
+
+// A cloth finer than its thickness: simulate names the scene and the pairs self-collision skips; CS184's
+// 50 x 50 file gets no such line.
+TEST(Cli, SimulateWarnsWherePairsAreHeldAtRest) {
+  const fs::path fine = writeScene("fine.json", R"({"cloth": {"width": 1, "height": 1, "num_width_points": 80,
+      "num_height_points": 80, "thickness": 0.0095, "orientation": 0, "pinned": [[0, 0], [79, 0]]}})");
+  Result r = run("simulate " + fine.string() + " --frames 1");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("fine.json: cloth.thickness: 2 x thickness (19 mm) is more than the rest distance of"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("self-collision skips them"), std::string::npos) << r.err;
+  r = run("simulate " + scene("selfCollision.json") + " --frames 1");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err.find("self-collision skips"), std::string::npos) << r.err;
+}
+
 // The files come before the summary: a summary that cannot be written (stdout on a full disk) is an error
 // that costs nothing already computed.
 TEST(Cli, TheOutputIsWrittenBeforeTheSummary) {
@@ -471,7 +513,7 @@ bool hasLongNumber(const std::string& text) {
 }
 
 TEST(ExitStatus, HelpIsStatusZeroAndShowsNoDoubleMaximum) {
-  for (const char* command : {"", "simulate", "view", "render", "bench", "accuracy", "stability"}) {
+  for (const char* command : {"", "simulate", "view", "render", "bench", "accuracy", "stability", "penetration"}) {
     const Result r = run(std::string(command) + " --help");
     EXPECT_EQ(r.status, 0) << command << ": " << r.err;
     EXPECT_FALSE(hasLongNumber(r.out)) << command << " --help:\n" << r.out;

@@ -134,16 +134,22 @@ TEST(CollisionPairs, MarginZeroRebuildsEverySubstep) {
   EXPECT_TRUE(pairs.update(x, 1)) << "no skin: nothing may be reused";
 }
 
-TEST(CollisionPairs, ReusesTheListUntilAPointTravelsHalfTheMargin) {
+// The list is reused while no two points can have drawn together by the margin since it was built: a
+// motion all points share costs nothing, a motion of some against the others does.
+TEST(CollisionPairs, ReusesTheListUntilTwoPointsMayHaveDrawnTogetherByTheMargin) {
   CollisionPairs<float> pairs;
   pairs.configure(0.02f, 0.01f);
   std::vector<vec3> x = {{0, 0, 0}, {0.025f, 0, 0}, {1, 0, 0}};
   ASSERT_TRUE(pairs.update(x, 1));
   EXPECT_EQ(pairs.pairCount(), 2u) << "0 and 1 are within range + margin (0.03), 2 is not";
-  x[1].x = 0.029f;  // 4 mm: under half the margin
+  for (vec3& p : x)
+    p += vec3(0.003f, 0.007f, -0.004f);  // 8.6 mm, all together: over half the margin, yet no pair moved
   EXPECT_FALSE(pairs.update(x, 1));
-  x[2].x = 1.0051f;  // 5.1 mm: over half the margin
+  x[1].x += 0.004f;  // 4 mm against the others
+  EXPECT_FALSE(pairs.update(x, 1));
+  x[2].x -= 0.0061f;  // 1 and 2 now 10.1 mm apart in their displacements: over the margin
   EXPECT_TRUE(pairs.update(x, 1));
+  EXPECT_FALSE(pairs.update(x, 1)) << "rebuilt where the points are";
   x[0].x = std::numeric_limits<float>::quiet_NaN();  // a blown-up point forces a rebuild
   EXPECT_TRUE(pairs.update(x, 1));
 }
@@ -162,6 +168,31 @@ TEST(HashGridCells, NonFiniteAndHugeCoordinatesStayInsideInt) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   EXPECT_EQ(HashGrid<float>::cellOf({nan, inf, -inf}, 50.0f), glm::ivec3(0, 1 << 30, -(1 << 30)));
   EXPECT_EQ(HashGrid<float>::cellOf({3e38f, -3e38f, 0.0f}, 50.0f), glm::ivec3(1 << 30, -(1 << 30), 0));
+}
+
+// A point with more terms than forEachOrderedPair holds (a cloth crushed into a ball) is summed by its sweep
+// per cell order: the same bytes as the grid query.
+TEST(CollisionPairs, PointsWithManyTermsSumInTheGridOrderToo) {
+  const float thickness = 0.01f, range = 2.0f * thickness;
+  std::vector<vec3> x;
+  for (int k = 0; k < 60;
+       ++k)  // 60 points spread over a few cells of edge `range`, straddling cell borders, all in range
+    x.emplace_back(0.51f + 0.004f * float(k % 4), 0.295f + 0.003f * float(k / 4 % 4), 0.695f + 0.002f * float(k / 16));
+  CollisionPairs<float> pairs;
+  pairs.configure(range, range * float(kDefaultPairMargin));
+  pairs.update(x, 1);
+  HashGrid<float> grid;
+  grid.build(x, range);
+  int many = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    int terms = 0;
+    forEachOrderedPair(pairs, i, x, thickness, 1.0f / range, [&](vec3) { ++terms; });
+    many += terms > 24;
+    EXPECT_TRUE(
+        sameBits(gridQueryCorrection(grid, x, i, thickness, 30.0f), listCorrection(pairs, x, i, thickness, 30.0f)))
+        << "point " << i;
+  }
+  EXPECT_EQ(many, 60) << "every point must have more terms than are held";
 }
 
 // Threads share the per-point loops; each point's arithmetic is the same whoever runs it.

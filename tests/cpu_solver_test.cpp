@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 
 namespace drape {
@@ -227,8 +228,18 @@ TEST(CpuSolver, PassesLeftOutWhenTheSceneDoesNotNeedThem) {
   CpuSolver<float> pinned2(standardScene("pinned2.json"));
   CpuSolver<float> self(standardScene("selfCollision.json"));
   EXPECT_EQ(pinned2.passes(), (std::vector<std::string>{"forces", "integrate", "limit_stretch"}));
-  EXPECT_EQ(self.passes(),
-            (std::vector<std::string>{"forces", "integrate", "self_collide", "collide", "limit_stretch"}));
+  // The collisions again after the stretch limit (collide_last); no mesh, so no face contacts.
+  EXPECT_EQ(self.passes(), (std::vector<std::string>{"forces", "integrate", "self_collide", "collide", "limit_stretch",
+                                                     "collide_last"}));
+  // A mesh with sharp edges: its face contacts too; without a pass after the collisions, no second one.
+  Scene drop = loadScene(std::filesystem::path(DRAPE_SOURCE_DIR) / "scenes" / "box_drop.json");
+  EXPECT_EQ(CpuSolver<float>(drop).passes(),
+            (std::vector<std::string>{"forces", "integrate", "self_collide", "collide", "limit_stretch",
+                                      "collide_faces", "collide_last"}));
+  drop.sim.stretch_passes = 0;
+  drop.meshes.clear();
+  EXPECT_EQ(CpuSolver<float>(drop).passes(),
+            (std::vector<std::string>{"forces", "integrate", "self_collide", "collide"}));
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "cpu/collision_pairs.hpp"
 #include "cpu/hash_grid.hpp"
 #include "gl_fixture.hpp"
+#include "gpu/cloth_tables.hpp"
 #include "gpu/gpu_solver.hpp"
 #include "gpu_test_support.hpp"
 
@@ -110,7 +111,11 @@ TEST_P(GpuGridTest, MatchesTheCpuGridAndBruteForce) {
   // Cells and buckets as on the CPU, and a counting sort: start[] the prefix sums of the bucket
   // sizes, each bucket holding its own points in ascending order. The cell edge is the lists' reach.
   const float range = 2.0f * float(kThickness);
-  const float cell = range + range * float(kDefaultPairMargin);
+  // The lists' skin as the CPU solver's: a share of the contact distance, or of the spacing on a cloth finer
+  // than it (large_cloud's 80 x 80 grid).
+  const Topology topo = buildTopology(scene.cloth);
+  const float skin = float(kDefaultPairMargin) * std::min(range, float(gpu::shortestStructural(topo)));
+  const float cell = range + skin;
   std::vector<glm::vec3> points(cloud.begin(), cloud.end());
   std::vector<std::uint32_t> size(buckets, 0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -137,10 +142,12 @@ TEST_P(GpuGridTest, MatchesTheCpuGridAndBruteForce) {
   EXPECT_EQ(queryGpuGrid(grid, points, range), expected);
   EXPECT_EQ(queryGpuGrid(grid, points, cell), bruteForce(points, cell));
 
-  // The lists: the CPU's, entry for entry (the pairs within reach, ascending), as far as the buffer
-  // holds them.
+  // The lists: the CPU's, entry for entry (the pairs within reach and not held at rest, ascending), as far as
+  // the buffer holds them.
   CollisionPairs<float> cpu_lists;
-  cpu_lists.configure(range, range * float(kDefaultPairMargin));
+  cpu_lists.configure(range, skin);
+  // Without the pairs held at rest (closer than 2 x thickness in the cloth's rest shape), as CpuSolver's.
+  cpu_lists.setRest(std::vector<glm::vec3>(topo.initial_positions.begin(), topo.initial_positions.end()));
   cpu_lists.update(points, 1);
   ASSERT_EQ(lists.start.size(), n + 1);
   EXPECT_EQ(lists.builds, 1u);

@@ -71,10 +71,11 @@ TEST_P(GpuVariantTest, SceneYieldsItsDefinesAndOnlyItsFeaturesCode) {
   EXPECT_EQ(gpu.defines(), expected);
 
   // The compiled program: the wind's time uniform exists only with wind.
-  const gl::Program integrate = gl::compileCompute("sim/forces_integrate.comp", gpu.defines());
+  const gl::Program integrate =
+      gl::compileCompute("sim/forces_integrate.comp", gpu.kernelDefines(gpu::Pass::ForcesIntegrate));
   EXPECT_EQ(integrate.hasUniform("u_time"), c.wind);
 
-  const std::string text = compiledText("forces_integrate.comp", gpu.defines());
+  const std::string text = compiledText("forces_integrate.comp", gpu.kernelDefines(gpu::Pass::ForcesIntegrate));
   if (text.empty()) GTEST_SKIP() << "glslangValidator not found (" << DRAPE_GLSLANG << "): only the defines checked";
   ASSERT_NE(text.find("void main()"), std::string::npos) << text.substr(0, 2000);
   // The integrate kernel counts points into the hash grid only when self-collision follows, reads the
@@ -97,7 +98,7 @@ TEST_P(GpuVariantTest, SceneYieldsItsDefinesAndOnlyItsFeaturesCode) {
     EXPECT_EQ(occurrences(text, "p < " + std::to_string(c.planes) + ";"), 1) << "plane loop";
   }
   if (c.self_collision) {
-    const std::string self = compiledText("self_collide.comp", gpu.defines());
+    const std::string self = compiledText("self_collide.comp", gpu.kernelDefines(gpu::Pass::SelfCollide));
     EXPECT_EQ(occurrences(self, "collideObjects("), 1 + (colliders ? 1 : 0));
   }
 }

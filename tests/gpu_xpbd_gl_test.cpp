@@ -241,7 +241,8 @@ TEST_F(GpuXpbdDeterminism, RepeatedRunsAreBitIdentical) {
 class GpuXpbdPlan : public GlTest {};
 
 // What a substep dispatches with XPBD: the prediction, one dispatch per colour and sweep, then the
-// collisions as a pass of their own (no self-collision) or the lists' travel check before self-collision.
+// collisions as a pass of their own (no self-collision) or the lists' travel check before self-collision,
+// and the collisions again after the stretch limit.
 // A live switch between the integrators replans and recompiles.
 TEST_F(GpuXpbdPlan, PassesFollowTheIntegratorAndSweeps) {
   const auto count = [](const std::vector<std::string>& passes, const char* name) {
@@ -252,14 +253,15 @@ TEST_F(GpuXpbdPlan, PassesFollowTheIntegratorAndSweeps) {
   ASSERT_FALSE(p.empty());
   EXPECT_EQ(p.front(), "forces+predict");
   EXPECT_EQ(count(p, "xpbd_colour"), 3 * 12);
-  EXPECT_EQ(count(p, "collide"), 1);
+  EXPECT_EQ(count(p, "collide"), 2);  // after the sweeps, and again after the stretch limit
+  EXPECT_EQ(p.back(), "collide");
   EXPECT_EQ(count(p, "pairs_check"), 0);
   EXPECT_EQ(plane.dispatchesPerFrame(), int(p.size()) * plane.scene().sim.steps_per_frame + 1);
 
   GpuSolver sphere(xpbdScene("sphere.json", 1, true));
   const std::vector<std::string> s = sphere.passes();
   EXPECT_EQ(count(s, "xpbd_colour"), 12);
-  EXPECT_EQ(count(s, "collide"), 0);  // fused into self_collide
+  EXPECT_EQ(count(s, "collide"), 1);  // fused into self_collide, then again after the stretch limit
   EXPECT_EQ(count(s, "pairs_check"), 1);
   EXPECT_EQ(count(s, "self_collide+collide"), 1);
 
@@ -281,7 +283,7 @@ TEST_F(GpuXpbdPlan, PassesFollowTheIntegratorAndSweeps) {
 }
 
 // With VBD: the prediction, one dispatch per point colour and sweep (each over that colour's points),
-// then the collisions as for XPBD; switched live from XPBD, which drops the spring-colour dispatches.
+// then the collisions as for XPBD (twice); switched live from XPBD, which drops the spring-colour dispatches.
 TEST_F(GpuXpbdPlan, VbdDispatchesOncePerPointColourAndSweep) {
   const auto count = [](const std::vector<std::string>& passes, const char* name) {
     return std::count(passes.begin(), passes.end(), std::string(name));
@@ -293,7 +295,7 @@ TEST_F(GpuXpbdPlan, VbdDispatchesOncePerPointColourAndSweep) {
   EXPECT_EQ(p.front(), "forces+predict");
   EXPECT_EQ(count(p, "vbd_colour"), 3 * colours);
   EXPECT_EQ(count(p, "xpbd_colour"), 0);
-  EXPECT_EQ(count(p, "collide"), 1);
+  EXPECT_EQ(count(p, "collide"), 2);
   EXPECT_EQ(plane.dispatchesPerFrame(), int(p.size()) * plane.scene().sim.steps_per_frame + 1);
 
   GpuSolver sphere(xpbdScene("sphere.json", 1, true));

@@ -144,14 +144,14 @@ TEST(Layout, PerPointArraysHaveTheStridesTheKernelsAssume) {
 }
 
 TEST(Layout, BindingPointsAreDistinct) {
-  const uint bindings[] = {
-      kBindingParams,    kBindingPosIn,          kBindingDispIn,           kBindingPosOut,      kBindingDispOut,
-      kBindingOffsets,   kBindingNeighbors,      kBindingColliders,        kBindingGridPoints,  kBindingGridCounts,
-      kBindingGridStart, kBindingGridBlocks,     kBindingGridScatter,      kBindingGridSorted,  kBindingHealth,
-      kBindingNormals,   kBindingTangents,       kBindingVertexTriOffsets, kBindingVertexTris,  kBindingTriangles,
-      kBindingUvs,       kBindingPick,           kBindingColouredSprings,  kBindingPairControl, kBindingPairAnchor,
-      kBindingPairStart, kBindingPairList,       kBindingPointMass,        kBindingXpbdLambda,  kBindingColourPartners,
-      kBindingTethers,   kBindingColouredPoints, kBindingVbdInertia};
+  const uint bindings[] = {kBindingParams,          kBindingPosIn,          kBindingDispIn,     kBindingPosOut,
+                           kBindingDispOut,         kBindingOffsets,        kBindingNeighbors,  kBindingColliders,
+                           kBindingGridPoints,      kBindingGridCounts,     kBindingGridStart,  kBindingGridBlocks,
+                           kBindingGridScatter,     kBindingGridSorted,     kBindingHealth,     kBindingPick,
+                           kBindingColouredSprings, kBindingPairControl,    kBindingPairAnchor, kBindingPairStart,
+                           kBindingPairList,        kBindingPointMass,      kBindingXpbdLambda, kBindingColourPartners,
+                           kBindingTethers,         kBindingColouredPoints, kBindingVbdInertia, kBindingRest,
+                           kBindingFaceTable,       kBindingFaceFeatures};
   EXPECT_EQ(kBindingCount, std::size(bindings)) << "kBindingCount is one more than the largest binding point";
   std::vector<bool> used(64, false);
   for (uint b : bindings) {

@@ -94,7 +94,8 @@ TEST(VbdColouring, NoSpringJoinsTwoPointsOfAColour) {
 
 TEST(VbdSolver, PassesListThePointSweepOnlyForVbd) {
   EXPECT_EQ(CpuSolver<float>(vbdScene("sphere.json")).passes(),
-            (std::vector<std::string>{"forces", "integrate", "vbd_solve", "self_collide", "collide", "limit_stretch"}));
+            (std::vector<std::string>{"forces", "integrate", "vbd_solve", "self_collide", "collide", "limit_stretch",
+                                      "collide_last"}));
   Scene scene = vbdScene("pinned2.json");
   EXPECT_TRUE(checkStability(scene).ok) << "no explicit bound for VBD";
 }

@@ -1,7 +1,7 @@
 // Writes the bundled OBJ meshes of scenes/meshes/ (no third-party models): obstacles that are closed and
-// wound outward (a table with rounded edges, a torus, a mannequin of capsules) and the flag cloth (a quad
-// grid with UVs). Deterministic: the same build writes the same bytes, so the committed files can be
-// regenerated and compared.
+// wound outward (a table with rounded edges, a torus, a mannequin of capsules, a sharp box) and two cloths
+// (quad grids with UVs: the flag, and the square dropped on the box). Deterministic: the same build writes the same
+// bytes, so the committed files can be regenerated and compared.
 //
 //   make_meshes [OUT_DIR]   (default: the source tree's scenes/meshes/)
 #include <glm/glm.hpp>
@@ -153,6 +153,36 @@ Mesh capsule(glm::dvec3 a, glm::dvec3 b, double r, int around, int along) {
   });
 }
 
+// A box with sharp edges: half extents `half`, its base centred at `base`, turned by `turn` radians about
+// the vertical, as 6 quads.
+Mesh box(glm::dvec3 base, glm::dvec3 half, double turn) {
+  Mesh m;
+  const double c = std::cos(turn), s = std::sin(turn);
+  for (int k = 0; k < 8; ++k) {
+    const glm::dvec3 p(k & 1 ? half.x : -half.x, k & 2 ? 2.0 * half.y : 0.0, k & 4 ? half.z : -half.z);
+    m.positions.push_back(base + glm::dvec3(c * p.x + s * p.z, p.y, -s * p.x + c * p.z));
+  }
+  m.faces = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  return m;
+}
+
+// A square cloth of n x n vertices, `size` metres a side, centred above the origin at `height`, as quads
+// with UVs.
+Mesh squareCloth(int n, double size, double height) {
+  Mesh m;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      m.positions.push_back({size * (double(i) / (n - 1) - 0.5), height, size * (double(j) / (n - 1) - 0.5)});
+      m.uvs.push_back({double(i) / (n - 1), double(j) / (n - 1)});
+    }
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      const auto a = std::uint32_t(j * n + i), w = std::uint32_t(n);
+      m.faces.push_back({a, a + w, a + w + 1, a + 1});
+    }
+  return m;
+}
+
 Mesh torus(glm::dvec3 centre, double major, double minor, int around, int along) {
   return closedSurface(around, along, false, [&](double u, double v) {
     const double phi = 2.0 * glm::pi<double>() * u, theta = -2.0 * glm::pi<double>() * v;
@@ -243,5 +273,13 @@ int main(int argc, char** argv) {
   write(out / "flag.obj", flag, "flag: 1.5 m x 1 m, 30 x 20 quads, pole edge at x = 0, from y = 1 to 2");
   write(out / "pole.obj", outward(capsule({-0.03, 0.0, 0}, {-0.03, 2.05, 0}, 0.02, 16, 24)),
         "flag pole: a capsule of radius 2 cm beside the flag's edge");
+
+  // The box drop (scenes/box_drop.json, tools/box-drop): a 30 cm x 15 cm x 30 cm box on the floor, turned by
+  // 15 degrees so that its edges cross the cloth's rows obliquely, and a 60 cm cloth of 21 x 21 points (3 cm
+  // apart) 1 m above its top.
+  write(out / "box.obj", outward(box({0.01, 0.0, -0.005}, {0.15, 0.075, 0.15}, glm::radians(15.0))),
+        "box: 30 cm x 15 cm x 30 cm, sharp edges, on the floor, turned 15 degrees about the vertical");
+  write(out / "drop_cloth.obj", squareCloth(21, 0.6, 1.15),
+        "drop cloth: 60 cm x 60 cm, 20 x 20 quads (3 cm), 1 m above the box's top");
   return 0;
 }

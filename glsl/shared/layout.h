@@ -19,46 +19,46 @@ using uint = std::uint32_t;
 
 // Shader storage binding points. Ping-pong passes read the *In buffers and write the *Out ones; the
 // solver binds the two copies of the state to these points alternately.
-DRAPE_CONSTANT(uint, kBindingParams, 0u);             // SimParams
-DRAPE_CONSTANT(uint, kBindingPosIn, 1u);              // vec4 per point: xyz position (m), w pin flag
-DRAPE_CONSTANT(uint, kBindingDispIn, 2u);             // 3 floats per point, packed: displacement x - x_prev (m)
-DRAPE_CONSTANT(uint, kBindingPosOut, 3u);             // the other copy of positions, written by ping-pong passes
-DRAPE_CONSTANT(uint, kBindingDispOut, 4u);            // the other copy of displacements
-DRAPE_CONSTANT(uint, kBindingOffsets, 5u);            // uint per point + 1: CSR offsets into neighbours
-DRAPE_CONSTANT(uint, kBindingNeighbors, 6u);          // Neighbor per adjacency entry
-DRAPE_CONSTANT(uint, kBindingColliders, 7u);          // Collider: NUM_SPHERES spheres, then NUM_PLANES planes
-DRAPE_CONSTANT(uint, kBindingGridPoints, 8u);         // GridPoint per point
-DRAPE_CONSTANT(uint, kBindingGridCounts, 9u);         // uint per bucket: points counted into it (atomics); the
-                                                      // lists' per-point candidate counts reuse it
-DRAPE_CONSTANT(uint, kBindingGridStart, 10u);         // uint per bucket + 1: exclusive prefix sum of counts
-DRAPE_CONSTANT(uint, kBindingGridBlocks, 11u);        // uint per scan block: block totals, then their prefix
-DRAPE_CONSTANT(uint, kBindingGridScatter, 12u);       // uint per point: indices by bucket, in atomic order
-DRAPE_CONSTANT(uint, kBindingGridSorted, 13u);        // GridEntry per point: by bucket, ascending index within
-DRAPE_CONSTANT(uint, kBindingHealth, 14u);            // Health
-DRAPE_CONSTANT(uint, kBindingNormals, 15u);           // vec4 per point: unit normal, w = 0
-DRAPE_CONSTANT(uint, kBindingTangents, 16u);          // vec4 per point: unit tangent along +u, w = bitangent sign
-DRAPE_CONSTANT(uint, kBindingVertexTriOffsets, 17u);  // uint per point + 1: CSR offsets into vertexTris
-DRAPE_CONSTANT(uint, kBindingVertexTris, 18u);        // uint per (vertex, triangle): triangle index
-DRAPE_CONSTANT(uint, kBindingTriangles, 19u);         // uint, 3 per triangle
-DRAPE_CONSTANT(uint, kBindingUvs, 20u);               // vec2 per point: texture coordinates
-DRAPE_CONSTANT(uint, kBindingPick, 21u);              // PickResult
-DRAPE_CONSTANT(uint, kBindingColouredSprings, 22u);   // ColouredSpring, grouped by colour (Gauss-Seidel stretch)
-DRAPE_CONSTANT(uint, kBindingPairControl, 23u);       // PairControl: the self-collision lists' bookkeeping
-DRAPE_CONSTANT(uint, kBindingPairAnchor, 24u);        // vec4 per point: position at the last list build
-DRAPE_CONSTANT(uint, kBindingPairStart, 25u);         // uint per point + 1: where each point's list starts
-DRAPE_CONSTANT(uint, kBindingPairList, 26u);          // uint per candidate: each point's candidates, ascending
+DRAPE_CONSTANT(uint, kBindingParams, 0u);            // SimParams
+DRAPE_CONSTANT(uint, kBindingPosIn, 1u);             // vec4 per point: xyz position (m), w pin flag
+DRAPE_CONSTANT(uint, kBindingDispIn, 2u);            // 3 floats per point, packed: displacement x - x_prev (m)
+DRAPE_CONSTANT(uint, kBindingPosOut, 3u);            // the other copy of positions, written by ping-pong passes
+DRAPE_CONSTANT(uint, kBindingDispOut, 4u);           // the other copy of displacements
+DRAPE_CONSTANT(uint, kBindingOffsets, 5u);           // uint per point + 1: CSR offsets into neighbours
+DRAPE_CONSTANT(uint, kBindingNeighbors, 6u);         // Neighbor per adjacency entry
+DRAPE_CONSTANT(uint, kBindingColliders, 7u);         // Collider: NUM_SPHERES spheres, then NUM_PLANES planes
+DRAPE_CONSTANT(uint, kBindingGridPoints, 8u);        // GridPoint per point
+DRAPE_CONSTANT(uint, kBindingGridCounts, 9u);        // uint per bucket: points counted into it (atomics); the
+                                                     // lists' per-point candidate counts reuse it
+DRAPE_CONSTANT(uint, kBindingGridStart, 10u);        // uint per bucket + 1: exclusive prefix sum of counts
+DRAPE_CONSTANT(uint, kBindingGridBlocks, 11u);       // uint per scan block: block totals, then their prefix
+DRAPE_CONSTANT(uint, kBindingGridScatter, 12u);      // uint per point: indices by bucket, in atomic order
+DRAPE_CONSTANT(uint, kBindingGridSorted, 13u);       // GridEntry per point: by bucket, ascending index within
+DRAPE_CONSTANT(uint, kBindingHealth, 14u);           // Health
+DRAPE_CONSTANT(uint, kBindingPick, 15u);             // PickResult
+DRAPE_CONSTANT(uint, kBindingColouredSprings, 16u);  // ColouredSpring, grouped by colour (Gauss-Seidel stretch)
+DRAPE_CONSTANT(uint, kBindingPairControl, 17u);      // PairControl: the self-collision lists' bookkeeping
+DRAPE_CONSTANT(uint, kBindingPairAnchor, 18u);       // vec4 per point: position at the last list build
+DRAPE_CONSTANT(uint, kBindingPairStart, 19u);        // uint per point + 1: where each point's list starts
+DRAPE_CONSTANT(uint, kBindingPairList, 20u);         // uint per candidate: each point's candidates, ascending
 // Per-point quantities that a mesh cloth does not share between its points (a grid's are all alike).
-DRAPE_CONSTANT(uint, kBindingPointMass, 27u);   // PointMass per point
-DRAPE_CONSTANT(uint, kBindingXpbdLambda, 28u);  // float per coloured spring: XPBD multipliers (iterations > 1)
+DRAPE_CONSTANT(uint, kBindingPointMass, 21u);   // PointMass per point
+DRAPE_CONSTANT(uint, kBindingXpbdLambda, 22u);  // float per coloured spring: XPBD multipliers (iterations > 1)
 // The one-dispatch path (glsl/sim/one_group.comp): per spring colour and point, the point's spring of
 // that colour, if any (ColourPartner, colour-major).
-DRAPE_CONSTANT(uint, kBindingColourPartners, 29u);
-DRAPE_CONSTANT(uint, kBindingTethers, 30u);  // Tether per point and slot (TETHER_SLOTS a point), point-major
+DRAPE_CONSTANT(uint, kBindingColourPartners, 23u);
+DRAPE_CONSTANT(uint, kBindingTethers, 24u);  // Tether per point and slot (TETHER_SLOTS a point), point-major
 // Vertex Block Descent: the points grouped by colour (core/colouring.hpp), and with more than one sweep
 // per substep the prediction y each point's inertia pulls towards.
-DRAPE_CONSTANT(uint, kBindingColouredPoints, 31u);  // uint per point: point indices grouped by colour
-DRAPE_CONSTANT(uint, kBindingVbdInertia, 32u);      // vec4 per point: xyz the prediction y (iterations > 1)
-DRAPE_CONSTANT(uint, kBindingCount, 33u);           // binding points used: one more than the largest
+DRAPE_CONSTANT(uint, kBindingColouredPoints, 25u);  // uint per point: point indices grouped by colour
+DRAPE_CONSTANT(uint, kBindingVbdInertia, 26u);      // vec4 per point: xyz the prediction y (iterations > 1)
+// Self-collision with pairs held at rest (HELD_AT_REST): 3 floats per point, packed, the rest positions.
+DRAPE_CONSTANT(uint, kBindingRest, 27u);
+// The face contacts (collide_faces.comp): uints, the layout below (kFace*); vec4s, each mesh's grid constants
+// and features.
+DRAPE_CONSTANT(uint, kBindingFaceTable, 28u);
+DRAPE_CONSTANT(uint, kBindingFaceFeatures, 29u);
+DRAPE_CONSTANT(uint, kBindingCount, 30u);  // binding points used: one more than the largest
 
 // Work-group sizes, shared so C++ computes group counts from the same numbers.
 DRAPE_CONSTANT(uint, kLocalSize, 128u);      // per-point and per-bucket kernels
@@ -72,6 +72,35 @@ DRAPE_CONSTANT(uint, kPairDispatchOne, 1u);          // one work group
 DRAPE_CONSTANT(uint, kPairDispatchGridBlocks, 2u);   // one work group per kScanBlock buckets
 DRAPE_CONSTANT(uint, kPairDispatchPointBlocks, 3u);  // one work group per kScanBlock points
 DRAPE_CONSTANT(uint, kPairDispatchCount, 4u);
+
+// The phases of a substep the one-dispatch kernel runs (glsl/sim/one_group.comp's u_phases): a frame runs them
+// all, a stage function of the solver one (GpuPlan says which).
+DRAPE_CONSTANT(uint, kPhaseIntegrate, 1u);     // forces + integrate (+ collide, where the plan fuses it there)
+DRAPE_CONSTANT(uint, kPhaseStretch, 2u);       // the stretch passes
+DRAPE_CONSTANT(uint, kPhaseSelfCollide, 4u);   // self-collision (+ collide)
+DRAPE_CONSTANT(uint, kPhaseTether, 8u);        // the tethers
+DRAPE_CONSTANT(uint, kPhaseCollideLast, 16u);  // the collisions again, after the tethers and the stretch limit
+DRAPE_CONSTANT(uint, kPhaseAll, 31u);
+
+// The face contacts' table (gpu::faceTables): a header of kFaceHeaderWords, then kFaceMeshWords per mesh with
+// a sharp feature, in scene order, then the arrays the header words point at (each a start in the table).
+DRAPE_CONSTANT(uint, kFaceMeshes, 0u);          // meshes with a sharp feature
+DRAPE_CONSTANT(uint, kFaceEdgeStart, 1u);       // per point + 1: where its edges start in point_edges
+DRAPE_CONSTANT(uint, kFacePointEdges, 2u);      // edge indices, each point's ascending
+DRAPE_CONSTANT(uint, kFaceEdges, 3u);           // 2 points an edge, the smaller first
+DRAPE_CONSTANT(uint, kFaceTriangleStart, 4u);   // per point + 1: where its triangles start in point_triangles
+DRAPE_CONSTANT(uint, kFacePointTriangles, 5u);  // triangle indices, each point's ascending
+DRAPE_CONSTANT(uint, kFaceTriangles, 6u);       // 3 points a triangle (the topology's)
+DRAPE_CONSTANT(uint, kFaceHeaderWords, 8u);
+DRAPE_CONSTANT(uint, kFaceGridEdgeStart, 0u);  // a mesh's words: per grid cell + 1, into its grid edges
+DRAPE_CONSTANT(uint, kFaceGridEdges, 1u);      // feature edge indices, each cell's ascending
+DRAPE_CONSTANT(uint, kFaceGridCornerStart, 2u);
+DRAPE_CONSTANT(uint, kFaceGridCorners, 3u);
+DRAPE_CONSTANT(uint, kFaceGridDims, 4u);        // 3 words: the grid's cells along x, y, z
+DRAPE_CONSTANT(uint, kFaceFeatureHeader, 7u);   // FaceFeatures index: (origin, 1 / cell), (thickness, 0, 0, 0)
+DRAPE_CONSTANT(uint, kFaceFeatureEdges, 8u);    // FaceFeatures index of edge 0: 4 vec4s an edge
+DRAPE_CONSTANT(uint, kFaceFeatureCorners, 9u);  // FaceFeatures index of corner 0: 2 vec4s a corner
+DRAPE_CONSTANT(uint, kFaceMeshWords, 10u);
 
 // Health flags (the blow-up check, src/core/health.hpp): raised by health.comp after a frame's last pass,
 // read back on request. The same bits as drape::Health.

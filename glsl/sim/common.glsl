@@ -6,7 +6,7 @@
 
 #include "shared/layout.h"
 
-// Scene variant, set per scene by the GPU solver (src/gpu/gpu_solver.cpp). The defaults only let the
+// Scene variant, set per scene by the GPU solver (sceneDefines, src/gpu/kernels.cpp). The defaults only let the
 // build-time check compile every kernel without the solver's #defines.
 #ifndef NUM_SPHERES
 #define NUM_SPHERES 0

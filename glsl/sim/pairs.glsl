@@ -14,6 +14,7 @@
 
 #include "grid.glsl"
 #include "pair_travel.glsl"
+#include "rest.glsl"
 
 layout(std430, binding = kBindingPairStart) buffer PairStartBuffer {
   uint pairStart[];
@@ -23,10 +24,10 @@ layout(std430, binding = kBindingPairList) buffer PairListBuffer {
 };
 
 #ifndef PAIR_NO_ANCHOR
-// The candidates of point i, the points within pair_reach of its anchor, in grid order (27 cells in
-// z, y, x order, ascending within a cell), read from the grid's cell-ordered copies: a bucket is one
-// contiguous range, and a copy's cell is worked out again from its anchor as the count did. Counts them; with `write`,
-// also stores them from pairList[first] on, as far as the buffer's capacity allows.
+// The candidates of point i, the points within pair_reach of its anchor and not held at rest, in grid order (27 cells
+// in z, y, x order, ascending within a cell), read from the grid's cell-ordered copies: a bucket is one contiguous
+// range, and a copy's cell is worked out again from its anchor as the count did. Counts them; with `write`, also stores
+// them from pairList[first] on, as far as the buffer's capacity allows.
 uint gatherCandidates(uint i, bool write, uint first) {
   vec3 a = pairAnchor[i].xyz;
   ivec3 cell = cellOf(a, params.inv_pair_cell);  // gridCell(i), without the read
@@ -43,7 +44,7 @@ uint gatherCandidates(uint i, bool write, uint first) {
           vec3 aj = entryPosition(e);
           if (j == i || cellOf(aj, params.inv_pair_cell) != n) continue;  // a bucket can hold other cells' points
           precise vec3 d = a - aj;
-          if (dot3(d, d) >= params.pair_reach2) continue;
+          if (dot3(d, d) >= params.pair_reach2 || heldPair(i, j)) continue;
           if (write && first + found < pairState.capacity) pairList[first + found] = j;
           ++found;
         }

@@ -1,17 +1,9 @@
 // First pass of a list build: each point's position becomes its anchor and is counted into the hash
 // grid (grid.glsl); the largest coordinate sets the build's safe travel (CollisionPairs::safeTravel).
-// Needs no springs, colliders or health flags (common.glsl: a storage block fewer each).
-#define SIM_NO_SPRINGS
-#define SIM_NO_COLLIDERS
-#define SIM_NO_HEALTH
-#include "common.glsl"
+#include "lists_each_point.glsl"
 #include "pairs.glsl"
 
-layout(local_size_x = kLocalSize) in;
-
-void main() {
-  uint i = globalIndex();
-  if (i >= params.point_count) return;
+void eachIndex(uint i) {
   vec3 x = posIn[i].xyz;
   pairAnchor[i] = vec4(x, 1.0);
   countIntoGrid(i, x);

@@ -109,8 +109,8 @@ float stretchShare(bool pinned_i, bool pinned_j) {
 }
 
 // limit_stretch_coloured.comp's move of a free end i of spring (a, b), a < b, seen from that end alone:
-// exactly what the per-spring kernel gives it, so a kernel that works per point (one_group.comp,
-// limit_stretch_tiled.comp) matches it bit for bit. With equal shares end b takes -ca, which IEEE
+// exactly what the per-spring kernel gives it, so the kernels that work per point (phases/stretch_in_group.glsl:
+// the one-dispatch and tiled paths) match it bit for bit. With equal shares end b takes -ca, which IEEE
 // negation makes exact; `i_is_b` says which end i is.
 vec3 stretchOneEnd(vec3 xi, vec3 xj, bool i_is_b, bool pinned_j, float rest, float limit) {
   float share_i = stretchShare(false, pinned_j);
@@ -241,5 +241,91 @@ vec3 gridNormal(vec3 left, vec3 right, vec3 down, vec3 up) {
   precise vec3 n = cross3(right - left, up - down);
   precise float len = length3(n);
   precise vec3 r = len > 0.0 ? n / len : vec3(0.0);
+  return r;
+}
+
+// Self-collision skips a pair the springs hold: closer than the contact distance at rest.
+bool heldAtRest(vec3 rest_i, vec3 rest_j, float range) {
+  precise vec3 d = rest_i - rest_j;
+  precise float d2 = dot3(d, d);
+  precise float r2 = range * range;
+  return d2 < r2;
+}
+
+// The face contacts with a mesh's sharp features (src/cpu/mesh_physics.hpp, which says what each does).
+bool farApart(vec3 a, float ra, vec3 b, float rb, float thickness) {
+  precise vec3 d = a - b;
+  precise float reach = 1.1 * (ra + rb + thickness);
+  precise float d2 = dot3(d, d);
+  precise float reach2 = reach * reach;
+  return d2 > reach2;
+}
+
+bool edgeContact(vec3 p, vec3 q, vec3 a, vec3 b, vec3 n1, vec3 n2, float thickness, out float s, out vec3 move) {
+  s = 0.0;
+  move = vec3(0.0);
+  precise vec3 d1 = q - p, d2 = b - a, r = p - a;
+  precise float aa = dot3(d1, d1), bb = dot3(d1, d2), ee = dot3(d2, d2);
+  precise float cc = dot3(d1, r), ff = dot3(d2, r);
+  precise vec3 normal = cross3(d1, d2);
+  precise float normal2 = dot3(normal, normal);
+  precise float parallel = 1e-6 * aa * ee;
+  if (!(normal2 > parallel)) return false;
+  precise float denom = aa * ee - bb * bb;
+  precise float sc = (bb * ff - cc * ee) / denom;
+  precise float t = (aa * ff - bb * cc) / denom;
+  s = sc;
+  if (!(sc > 0.0 && sc < 1.0 && t > 0.0 && t < 1.0)) return false;
+  precise vec3 gap = (p + sc * d1) - (a + t * d2);
+  if (max(dot3(gap, n1), dot3(gap, n2)) >= thickness) return false;
+  precise vec3 m = normal / sqrt(normal2);
+  precise vec3 out_dir = n1 + n2;
+  precise float along = dot3(m, out_dir);
+  precise float across = 0.01 * dot3(out_dir, out_dir);
+  if (along * along < across) return false;
+  if (along < 0.0) m = -m;
+  precise float sep = dot3(gap, m);
+  precise float deep = -0.5 * sqrt(aa);
+  if (sep >= thickness || sep < deep) return false;
+  precise vec3 r_move = (thickness - sep) * m;
+  move = r_move;
+  return true;
+}
+
+bool cornerContact(vec3 p0, vec3 p1, vec3 p2, vec3 v, vec3 nv, float thickness, out vec3 bary, out vec3 move) {
+  bary = vec3(0.0);
+  move = vec3(0.0);
+  precise vec3 normal = cross3(p1 - p0, p2 - p0);
+  precise float normal2 = dot3(normal, normal);
+  if (!(normal2 > 0.0)) return false;
+  precise vec3 n = normal / sqrt(normal2);
+  precise float along = dot3(n, nv);
+  if (along * along < 0.01) return false;
+  if (along < 0.0) n = -n;
+  precise float sep = dot3(p0 - v, n);
+  precise float longest2 = max(max(dot3(p1 - p0, p1 - p0), dot3(p2 - p1, p2 - p1)), dot3(p0 - p2, p0 - p2));
+  precise float sep4 = sep * sep * 4.0;
+  if (sep >= thickness || sep4 > longest2) return false;
+  precise vec3 at = v + sep * n;
+  precise float b0 = dot3(cross3(p1 - at, p2 - at), normal) / normal2;
+  precise float b1 = dot3(cross3(p2 - at, p0 - at), normal) / normal2;
+  precise float b2 = 1.0 - b0 - b1;
+  if (!(b0 > 0.0 && b1 > 0.0 && b2 > 0.0)) return false;
+  bary = vec3(b0, b1, b2);
+  precise vec3 r_move = (thickness - sep) * n;
+  move = r_move;
+  return true;
+}
+
+vec3 edgeShare(float s, bool second, vec3 move) {
+  precise float w = second ? s : 1.0 - s;
+  precise float sum2 = (1.0 - s) * (1.0 - s) + s * s;
+  precise vec3 r = (w / sum2) * move;
+  return r;
+}
+
+vec3 cornerShare(vec3 bary, int corner, vec3 move) {
+  precise float b2 = dot3(bary, bary);
+  precise vec3 r = (bary[corner] / b2) * move;
   return r;
 }

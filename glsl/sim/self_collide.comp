@@ -1,6 +1,7 @@
-// Self-collision (docs/design.md section 2, step 3), then the point's sphere and plane collisions, which
-// only need its own corrected state. Mirrors CpuSolver::selfCollide (and collide). Jacobi: every point
-// reads the positions from before the pass (*In) and writes *Out, so no invocation sees another's result.
+// Self-collision over the candidate lists (docs/design.md section 2, step 3), then the point's collisions
+// where the plan fused them here (phases/contacts.glsl). Mirrors CpuSolver::selfCollide (and collide).
+// Jacobi: every point reads the positions from before the pass (*In) and writes *Out, so no invocation sees
+// another's result.
 //
 // The candidates come from the point's list (pairs.glsl); the terms are summed in the order of a 27-cell
 // query of a grid of cell edge 2 * thickness, ascending index within a cell (forEachOrderedPair in
@@ -9,12 +10,10 @@
 #define SIM_NO_SPRINGS
 #define SIM_NO_HEALTH
 #define PAIR_NO_ANCHOR
-#include "common.glsl"
-#include "physics.glsl"
-#include "collide.glsl"
+#include "storage/device.glsl"
+#include "storage/each_point.glsl"
+#include "phases/contacts.glsl"
 #include "pairs.glsl"
-
-layout(local_size_x = kLocalSize) in;
 
 ivec3 orderCell(vec3 p) {
   return cellOf(p, params.inv_cell_size);
@@ -44,7 +43,7 @@ bool sumListedHeld(uint i, vec3 x, inout vec3 sum, inout int count) {
   }
   int held = 0;
   for (uint s = first; s < last; ++s) {
-    vec3 xj = posIn[pairList[s]].xyz;
+    vec3 xj = neighbour(pairList[s]).xyz;
     vec3 c = selfCollisionCorrection(x, xj, params.thickness);
     if (c == vec3(0.0)) continue;
     int order = cellOrder(cell_i, orderCell(xj));
@@ -85,7 +84,7 @@ void sumListedByOrder(uint i, vec3 x, inout vec3 sum, inout int count) {
   precise vec3 in_list_order = sum;
   int found = 0;
   for (uint s = first; s < last; ++s) {
-    vec3 xj = posIn[pairList[s]].xyz;
+    vec3 xj = neighbour(pairList[s]).xyz;
     vec3 c = selfCollisionCorrection(x, xj, params.thickness);
     if (c == vec3(0.0)) continue;
     int order = cellOrder(cell_i, orderCell(xj));
@@ -103,7 +102,7 @@ void sumListedByOrder(uint i, vec3 x, inout vec3 sum, inout int count) {
     int order = findLSB(present);
     present &= present - 1u;
     for (uint s = first; s < last; ++s) {
-      vec3 xj = posIn[pairList[s]].xyz;
+      vec3 xj = neighbour(pairList[s]).xyz;
       vec3 c = selfCollisionCorrection(x, xj, params.thickness);
       if (c != vec3(0.0) && cellOrder(cell_i, orderCell(xj)) == order) {
         acc += c;
@@ -116,7 +115,7 @@ void sumListedByOrder(uint i, vec3 x, inout vec3 sum, inout int count) {
 
 // A point whose list did not fit the buffer is served from the 27 grid cells around its anchor, which
 // hold every candidate of its list: the same terms in the same order, found by repeated scans. Slow,
-// but only until the host grows the buffer (GpuSolver::readHealth).
+// but only until the host grows the buffer (PairLists::grow, at the next health read).
 //
 // With `order` < 0: the mask of cell orders that have a nonzero term, and no index. Otherwise: the
 // smallest candidate index >= `from` whose term is nonzero and whose cell order is `order`, or
@@ -135,7 +134,8 @@ uint scanGrid(uint i, vec3 x, ivec3 cell_i, int order, uint from, out uint prese
           GridEntry e = gridSorted[s];
           uint j = e.index;
           if (j == i || j < from || j >= best || cellOf(entryPosition(e), params.inv_pair_cell) != n) continue;
-          vec3 xj = posIn[j].xyz;
+          if (heldPair(i, j)) continue;  // as the list build leaves it out
+          vec3 xj = neighbour(j).xyz;
           if (selfCollisionCorrection(x, xj, params.thickness) == vec3(0.0)) continue;
           int o = cellOrder(cell_i, orderCell(xj));
           if (order < 0) {
@@ -160,20 +160,14 @@ void sumFromGrid(uint i, vec3 x, inout vec3 sum, inout int count) {
     present &= present - 1u;
     for (uint j = scanGrid(i, x, cell_i, order, 0u, unused); j != 0xffffffffu;
          j = scanGrid(i, x, cell_i, order, j + 1u, unused)) {
-      acc += selfCollisionCorrection(x, posIn[j].xyz, params.thickness);
+      acc += selfCollisionCorrection(x, neighbour(j).xyz, params.thickness);
       ++count;
     }
   }
   sum = acc;
 }
 
-void main() {
-  uint i = globalIndex();
-  if (i >= params.point_count) return;
-  vec4 position = posIn[i];
-  precise vec3 x = position.xyz;
-  precise vec3 v = loadDisp(i);
-  float pin = position.w;
+void eachPoint(uint i, vec3 x, vec3 v, float pin) {
   precise vec3 sum = vec3(0.0);
   int count = 0;
   if (pin == 0.0) {
@@ -186,12 +180,6 @@ void main() {
       sumFromGrid(i, x, sum, count);
     }
   }
-  precise vec3 correction = count > 0 ? sum / (float(count) * params.steps_per_frame) : vec3(0.0);
-  x += correction;
-  v += correction;  // x_prev stays where it was
-#if COLLIDERS
-  if (pin == 0.0) collideObjects(x, v);
-#endif
-  posOut[i] = vec4(x, pin);
-  storeDisp(i, v);
+  applyContact(contactCorrection(sum, count), pin, x, v);
+  storePoint(i, x, v, pin);
 }

@@ -1,29 +1,25 @@
-// Vertex Block Descent (Chen et al. 2024) on the springs, Gauss-Seidel over the point colouring,
-// mirroring CpuSolver::solveVbd: one dispatch per colour and sweep, one invocation per point of the
-// colour, which gathers its springs' forces and Hessians into its 3x3 block and moves itself in place by
-// the Newton step. Points of a colour share no spring, so no invocation reads a point another one writes,
-// and the barrier between dispatches gives the next colour the moved points. Needs neither the colliders
-// nor the health flags (storage blocks: common.glsl).
+// Vertex Block Descent (phases/vbd.glsl) on the springs, Gauss-Seidel over the point colouring, mirroring
+// CpuSolver::solveVbd: one dispatch per colour and sweep, one invocation per point of the colour, which moves
+// itself in place by the Newton step of its block. Points of a colour share no spring, so no invocation
+// reads a point another one writes, and the barrier between dispatches gives the next colour the moved
+// points. Needs neither the colliders nor the health flags (storage blocks: common.glsl).
 #define STATE_IN_PLACE
 #define SIM_NO_COLLIDERS
 #define SIM_NO_HEALTH
-#include "common.glsl"
-#include "physics.glsl"
+#include "storage/device.glsl"
+#include "storage/each_in_colour.glsl"
+#include "phases/vbd.glsl"
+#if !UNIFORM_MASS
+#include "point_mass.glsl"
+#endif
 
 #ifndef VBD_INERTIA
 #define VBD_INERTIA 0
 #endif
 
-layout(local_size_x = kLocalSize) in;
-
 layout(std430, binding = kBindingColouredPoints) readonly buffer ColouredPointsBuffer {
   uint colouredPoints[];
 };
-#if !UNIFORM_MASS
-layout(std430, binding = kBindingPointMass) readonly buffer PointMassBuffer {
-  PointMass pointMass[];
-};
-#endif
 #if VBD_INERTIA
 // Only with more than one sweep per substep: in the first a point is still at its prediction y (only its
 // own invocation moves it), so the inertia's gradient is 0 and y is kept here for the later sweeps.
@@ -33,13 +29,8 @@ layout(std430, binding = kBindingVbdInertia) buffer InertiaBuffer {
 uniform uint u_sweep;  // 0: the substep's first sweep
 #endif
 
-uniform uint u_first;  // the colour's first point
-uniform uint u_count;  // points in the colour
-
-void main() {
-  uint k = globalIndex();
-  if (k >= u_count) return;
-  uint i = colouredPoints[u_first + k];
+void eachInColour(uint index) {
+  uint i = colouredPoints[index];
   vec4 position = posIn[i];
   if (isPinned(position)) return;
 #if UNIFORM_MASS
@@ -49,24 +40,15 @@ void main() {
 #endif
   precise vec3 x = position.xyz;
   precise float inertia = 1.0 / (w * params.dt2);  // m / dt^2
-  vec3 f = vec3(0.0);
-  vec3 h_diag = vec3(inertia);
-  vec3 h_off = vec3(0.0);
+  vec3 pull = vec3(0.0);
 #if VBD_INERTIA
   if (u_sweep > 0u) {
-    precise vec3 pull = (-inertia) * (x - inertiaTarget[i].xyz);
-    f = pull;
+    precise vec3 p = (-inertia) * (x - inertiaTarget[i].xyz);
+    pull = p;
   } else {
     inertiaTarget[i] = vec4(x, 0.0);
   }
 #endif
-  // Ascending spring index, the CPU's order, so the sums round alike; disabled types are not in the
-  // GPU's adjacency.
-  for (uint e = offsets[i]; e < offsets[i + 1u]; ++e) {
-    Neighbor nb = neighbors[e];
-    vbdAddSpring(x, posIn[neighborIndex(nb)].xyz, nb.rest, params.stiffness[neighborType(nb)], f, h_diag, h_off);
-  }
-  precise vec3 dx = vbdStep(f, h_diag, h_off);
-  posIn[i] = vec4(x + dx, position.w);
-  storeDispInPlace(i, loadDisp(i) + dx);  // x_prev stays: v = x - x_prev is the solved displacement
+  // x_prev stays: v = x - x_prev is the solved displacement.
+  movePointInPlace(i, position, vbdStepOf(i, x, inertia, pull));
 }

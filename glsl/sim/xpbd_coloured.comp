@@ -1,26 +1,23 @@
-// XPBD distance constraints (Macklin et al. 2016, with the Small Steps of 2019), Gauss-Seidel over the
-// spring colouring, mirroring CpuSolver::solveXpbd: one dispatch per colour and sweep, one invocation per
-// spring of the colour, moving both of its ends in place. Springs of a colour share no point, so no two
-// invocations write the same point, and the barrier between dispatches gives the next colour the moved
-// points. Needs neither the adjacency, the colliders nor the health flags (storage blocks: common.glsl).
+// XPBD distance constraints (phases/xpbd.glsl), Gauss-Seidel over the spring colouring, mirroring
+// CpuSolver::solveXpbd: one dispatch per colour and sweep, one invocation per spring of the colour, moving
+// both of its ends in place. Springs of a colour share no point, so no two invocations write the same point,
+// and the barrier between dispatches gives the next colour the moved points. Needs neither the adjacency,
+// the colliders nor the health flags (storage blocks: common.glsl).
 #define STATE_IN_PLACE
 #define SIM_NO_SPRINGS
 #define SIM_NO_COLLIDERS
 #define SIM_NO_HEALTH
-#include "common.glsl"
-#include "physics.glsl"
+#include "storage/device.glsl"
+#include "storage/each_in_colour.glsl"
+#include "point_mass.glsl"
+#include "phases/xpbd.glsl"
 
 #ifndef XPBD_LAMBDA
 #define XPBD_LAMBDA 0
 #endif
 
-layout(local_size_x = kLocalSize) in;
-
 layout(std430, binding = kBindingColouredSprings) readonly buffer ColouredSpringsBuffer {
   ColouredSpring colouredSprings[];
-};
-layout(std430, binding = kBindingPointMass) readonly buffer PointMassBuffer {
-  PointMass pointMass[];
 };
 #if XPBD_LAMBDA
 // Only with more than one sweep per substep: a single sweep starts every multiplier at 0 and never reads it.
@@ -30,15 +27,9 @@ layout(std430, binding = kBindingXpbdLambda) buffer LambdaBuffer {
 uniform uint u_sweep;  // 0: the substep's first sweep, which starts every multiplier at 0
 #endif
 
-uniform uint u_first;  // the colour's first spring
-uniform uint u_count;  // springs in the colour
-
-void main() {
-  uint k = globalIndex();
-  if (k >= u_count) return;
-  uint index = u_first + k;
+void eachInColour(uint index) {
   ColouredSpring s = colouredSprings[index];
-  vec4 pa = posIn[s.a], pb = posIn[s.b];
+  vec4 pa = neighbour(s.a), pb = neighbour(s.b);
   bool pinned_a = isPinned(pa), pinned_b = isPinned(pb);
   if (pinned_a && pinned_b) return;
   float wa = pinned_a ? 0.0 : pointMass[s.a].weight.w;
@@ -47,23 +38,12 @@ void main() {
 #if XPBD_LAMBDA
   if (u_sweep > 0u) lambda = lambdas[index];
 #endif
-  precise vec3 xa = pa.xyz;
-  precise vec3 xb = pb.xyz;
-  precise float w_sum = wa + wb;
-  vec3 p;
-  precise float dlambda = xpbdDistanceCorrection(xa, xb, s.rest, w_sum, params.alpha_tilde[s.type], lambda, p);
+  vec3 ca, cb;
+  float next = xpbdSpring(pa.xyz, pb.xyz, wa, wb, s.rest, s.type, lambda, ca, cb);
 #if XPBD_LAMBDA
-  precise float next = lambda + dlambda;
   lambdas[index] = next;
 #endif
-  if (!pinned_a) {
-    precise vec3 ca = (-wa) * p;
-    posIn[s.a] = vec4(xa + ca, pa.w);
-    storeDispInPlace(s.a, loadDisp(s.a) + ca);  // x_prev stays: v = x - x_prev is the constrained displacement
-  }
-  if (!pinned_b) {
-    precise vec3 cb = wb * p;
-    posIn[s.b] = vec4(xb + cb, pb.w);
-    storeDispInPlace(s.b, loadDisp(s.b) + cb);
-  }
+  // x_prev stays: v = x - x_prev is the constrained displacement.
+  if (!pinned_a) movePointInPlace(s.a, pa, ca);
+  if (!pinned_b) movePointInPlace(s.b, pb, cb);
 }

@@ -371,6 +371,35 @@ std::string solverLabel(const AccuracyReport& r, const std::string& solver) {
 
 }  // namespace
 
+ConvergenceOrder convergenceOrder(const AccuracyReport& report, const std::string& solver, int stretch_passes) {
+  double resolution = 0;
+  for (const ReferenceCheck& c : report.references)
+    if (c.stretch_passes == stretch_passes)
+      for (const ErrorSample& s : c.samples)
+        resolution = std::max(resolution, s.rms_error);
+  ConvergenceOrder out;
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (int steps : report.options.steps) {
+    const AccuracyRun* run = findRun(report, solver, steps, stretch_passes);
+    if (!run || !run->skipped.empty() || !run->unstable.empty() || run->samples.empty()) continue;
+    double error = 0;
+    for (const ErrorSample& s : run->samples)
+      error = std::max(error, s.rms_error);
+    if (!(error >= kResolvedFactor * resolution) || !(error > 0)) continue;
+    const double x = std::log(double(steps)), y = std::log(error);
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+    if (out.runs == 0) out.smallest_steps = steps;
+    out.largest_steps = steps;
+    ++out.runs;
+  }
+  const double n = out.runs;
+  out.order = out.runs >= 3 ? -(n * sxy - sx * sy) / (n * sxx - sx * sx) : std::nan("");
+  return out;
+}
+
 std::string accuracyMarkdown(const AccuracyReport& r) {
   const AccuracyOptions& o = r.options;
   std::string md =
@@ -441,6 +470,27 @@ std::string accuracyMarkdown(const AccuracyReport& r) {
         md += "\n";
       }
     }
+  md += fmt::format(
+      "\nOrder of convergence: the slope of log(RMS error) against log(substeps), fitted over the stable runs whose "
+      "error is at least {:g} times the reference's own (the runs used in brackets). It measures the integrator only "
+      "with the stretch limit off (0 passes): with it on, the limit's corrections set much of the error.\n\n| "
+      "stretch passes |",
+      kResolvedFactor);
+  for (const std::string& solver : o.solvers)
+    md += " " + solverLabel(r, solver) + " |";
+  md += "\n|---|";
+  for (std::size_t i = 0; i < o.solvers.size(); ++i)
+    md += "---|";
+  md += "\n";
+  for (int passes : o.stretch_passes) {
+    md += fmt::format("| {} |", passes);
+    for (const std::string& solver : o.solvers) {
+      const ConvergenceOrder c = convergenceOrder(r, solver, passes);
+      md += c.runs >= 3 ? fmt::format(" {:.2f} ({} runs, {}–{}) |", c.order, c.runs, c.smallest_steps, c.largest_steps)
+                        : fmt::format(" – ({} run{}) |", c.runs, c.runs == 1 ? "" : "s");
+    }
+    md += "\n";
+  }
   return md;
 }
 

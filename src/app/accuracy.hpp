@@ -77,6 +77,19 @@ struct AccuracyReport {
 AccuracyReport runAccuracy(const AccuracyOptions& options, const std::function<void(const std::string&)>& progress = {},
                            const std::function<void(const AccuracyReport&)>& finished = {});
 
+// The order of convergence of one solver at one stretch-pass count: the error falling as substeps^-order,
+// fitted by least squares to log(error) against log(substeps) over its stable runs whose error (the largest
+// over the sample times) is at least kResolvedFactor times the reference's own (reference against check):
+// below that the reference cannot tell the error apart. Meaningful with the stretch limit off (passes 0),
+// where nothing but the integrator sets the error.
+struct ConvergenceOrder {
+  double order = 0;  // -slope; NaN when fewer than 3 runs qualify
+  int runs = 0;      // how many were fitted
+  int smallest_steps = 0, largest_steps = 0;
+};
+inline constexpr double kResolvedFactor = 4.0;
+ConvergenceOrder convergenceOrder(const AccuracyReport& report, const std::string& solver, int stretch_passes);
+
 std::string accuracyCsv(const AccuracyReport& report);
 std::string referenceCsv(const AccuracyReport& report);
 std::string accuracyMarkdown(const AccuracyReport& report);

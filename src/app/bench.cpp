@@ -1,6 +1,7 @@
 #include "app/bench.hpp"
 
 #include "app/options.hpp"
+#include "app/roofline.hpp"
 #include "core/stability.hpp"
 #include "gl/objects.hpp"
 
@@ -10,13 +11,22 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <ctime>
 #include <filesystem>
+#include <thread>
 
 namespace drape {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// CPU time of the whole process so far (every thread), in milliseconds.
+double processCpuMs() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
 
 double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -99,8 +109,10 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
   solver->resetTimings();
   int timed_frames = 0;
   long long waits = 0, fence_waits = 0;
+  double wall_ms = 0, cpu_ms = 0;  // over every timed frame: the process's CPU time against the wall's
   for (int r = 0; r < o.repeats && run.blew_up.empty(); ++r) {
     double ms = 0;
+    const double cpu_start = processCpuMs();
     const gl::SyncCounts before = gl::syncCounts();
     for (int f = 0; f < frames; ++f) {
       const auto start = Clock::now();
@@ -117,6 +129,8 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
     fence_waits += after.fence_waits - before.fence_waits;
     if (gpu) sane();
     if (!run.blew_up.empty()) break;
+    cpu_ms += processCpuMs() - cpu_start;
+    wall_ms += ms;
     run.repeat_ms.push_back(ms / frames);
     timed_frames += frames;
   }
@@ -136,6 +150,8 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
   run.gpu_memory_bytes = solver->deviceMemoryBytes();
   if (!gpu) {
     if (timed_frames > 0) run.passes = passesPerFrame(*solver, timed_frames);
+    if (wall_ms > 0) run.cpu_share = cpu_ms / wall_ms;
+    recordCpuDetails(*solver, scene, run);
     run.pass_timing = fmt::format("wall clock per pass, {} thread{}", run.threads, run.threads == 1 ? "" : "s");
   } else if (run.blew_up.empty()) {
     solver.reset();
@@ -177,6 +193,12 @@ BenchReport runBench(const BenchOptions& o, const std::function<void(const std::
   }
   // "": the scene's own integrator.
   const std::vector<std::string> integrators = o.integrators.empty() ? std::vector<std::string>{""} : o.integrators;
+  if (o.roofline) {
+    const int most = std::max(1, *std::max_element(o.threads.begin(), o.threads.end()));
+    report.peaks.push_back(measurePeak(1));
+    if (most > 1 || o.threads.front() == 0)
+      report.peaks.push_back(measurePeak(most > 1 ? most : int(std::max(1U, std::thread::hardware_concurrency()))));
+  }
   SolverFactory factory({.skip_unavailable = true});
   std::size_t total = 0;
   for (const std::string& solver : o.solvers)
@@ -245,6 +267,7 @@ nlohmann::json benchJson(const BenchReport& r) {
   else
     j["gl"] = nullptr;
   j["peak_gbs"] = r.peak_gbs > 0 ? nlohmann::json(r.peak_gbs) : nlohmann::json(nullptr);
+  j["cpu_peaks"] = peaksJson(r.peaks);  // --roofline's probes
   j["settings"] = {
       {"scenes", r.options.scenes},
       {"sizes", r.options.sizes},
@@ -286,6 +309,12 @@ nlohmann::json benchJson(const BenchReport& r) {
     o["peak_share"] = run.peak_share > 0 ? nlohmann::json(run.peak_share) : nlohmann::json(nullptr);
     o["gpu_memory_bytes"] = run.gpu_memory_bytes >= 0 ? nlohmann::json(run.gpu_memory_bytes) : nlohmann::json(nullptr);
     o["pass_timing"] = run.pass_timing;
+    if (!isGpuSolver(run.solver))
+      o["cpu"] = {{"grid_kernels", run.grid_kernels},
+                  {"team_threads", run.team_threads},
+                  {"pair_entries_per_point", run.pair_entries_per_point},
+                  {"rebuilds_per_substep", run.rebuilds_per_substep},
+                  {"cpu_share", run.cpu_share}};
     o["passes"] = nlohmann::json::array();
     for (const BenchPass& p : run.passes)
       o["passes"].push_back(

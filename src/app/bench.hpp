@@ -3,6 +3,7 @@
 #pragma once
 
 #include "app/measure.hpp"
+#include "cpu/machine_peak.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -25,6 +26,7 @@ struct BenchOptions {
   double peak_gbs = 0;             // the device's peak memory bandwidth; 0: from knownPeakGbs(renderer), if listed
   // Each of "verlet", "xpbd", "vbd" in turn replaces every scene's simulation.integrator, a run each; empty: as given.
   std::vector<std::string> integrators;
+  bool roofline = false;  // probe this machine's peak first; the markdown adds each CPU pass's share of it
 };
 
 struct BenchPass {
@@ -65,15 +67,27 @@ struct BenchRun {
   double stability_limit = 0;       // the guard's limit for the scene's damping
   double stability_number = 0;      // dt sqrt(k_sum/m) of the resampled scene
   bool inside_bound = true;         // stability_number < the guard's limit (core/stability.hpp)
+  // CPU float solvers: the grid kernels' instruction set ("" on the general path), the threads a substep's
+  // team had, and the self-collision lists at the end of the run: entries a point, rebuilds a substep.
+  std::string grid_kernels;
+  int team_threads = 0;
+  double pair_entries_per_point = 0;
+  double rebuilds_per_substep = 0;
+  // CPU solvers: the process's CPU time over the timed frames' wall time (all threads; below the thread
+  // count where other work on the machine took the cores). 0 where not measured.
+  double cpu_share = 0;
+  // What the roofline's work model needs of the scene.
+  int spheres = 0, planes = 0, stretch_passes = 1;
 };
 
 struct BenchReport {
   std::string started_at;
   double wall_s = 0;
-  MachineInfo machine;       // load_average as the run started
-  std::string load_at_end;   // load average as it ended
-  std::optional<GlInfo> gl;  // when a GPU solver ran
-  double peak_gbs = 0;       // what peak_share is a share of: --peak-gbs, else knownPeakGbs(gl->renderer)
+  MachineInfo machine;             // load_average as the run started
+  std::string load_at_end;         // load average as it ended
+  std::optional<GlInfo> gl;        // when a GPU solver ran
+  double peak_gbs = 0;             // what peak_share is a share of: --peak-gbs, else knownPeakGbs(gl->renderer)
+  std::vector<MachinePeak> peaks;  // --roofline: measured with 1 thread, then with the most threads asked for
   BenchOptions options;
   std::vector<BenchRun> runs;
 };

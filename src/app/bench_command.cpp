@@ -4,6 +4,7 @@
 #include "app/commands.hpp"
 #include "app/options.hpp"
 #include "app/output.hpp"
+#include "app/roofline.hpp"
 #include "core/data_dir.hpp"
 #include "core/input_file.hpp"
 #include "gl/context.hpp"
@@ -35,6 +36,7 @@ struct BenchCommandOptions {
   std::string markdown;
   std::string baseline;
   std::vector<std::string> integrators;  // empty: each scene's
+  bool roofline = false;
 };
 
 // Far beyond any bench --json (a few hundred KB for the largest sweep).
@@ -86,6 +88,7 @@ void runBenchCommand(const BenchCommandOptions& c) {
   o.budget_s = c.budget_s;
   o.peak_gbs = c.peak_gbs;
   o.integrators = c.integrators;
+  o.roofline = c.roofline;
   // Output paths are checked before the runs, which may take minutes, not after them.
   if (!c.json.empty()) checkOutputFile(c.json);
   if (!c.markdown.empty()) checkOutputFile(c.markdown);
@@ -100,7 +103,9 @@ void runBenchCommand(const BenchCommandOptions& c) {
   if (!c.markdown.empty())
     writeFileAtomically(c.markdown,
                         benchMarkdown(report) +
-                            (c.baseline.empty() ? "" : "\n" + benchComparisonMarkdown(report, baseline, c.baseline)));
+                            (c.baseline.empty() ? "" : "\n" + benchComparisonMarkdown(report, baseline, c.baseline)) +
+                            (c.roofline ? "\n" + rooflineMarkdown(report) : ""));
+  if (c.roofline && c.markdown.empty()) fmt::print(stderr, "{}", rooflineMarkdown(report));
   if (c.json.empty()) fmt::print("{}", json);
   fmt::print(stderr, "bench: {} runs in {:.1f} s\n", report.runs.size(), report.wall_s);
 }
@@ -133,6 +138,9 @@ void addBenchCommand(CLI::App& app) {
       cmd, "--integrator", c->integrators,
       "Comma-separated integrators (verlet, xpbd, vbd), a run each; default: the scene's simulation.integrator")
       ->check(CLI::IsMember(integratorNames()));
+  cmd->add_flag("--roofline", c->roofline,
+                "Probe this machine's peak (memory and L2 bandwidth, vector arithmetic, a barrier) first; the markdown "
+                "adds each CPU pass's work a point and its share of the least time the peak allows");
   cmd->add_option("--json", c->json, "Write the results as JSON here (default: stdout)");
   cmd->add_option("--markdown", c->markdown, "Write a markdown table of the results here");
   cmd->add_option(

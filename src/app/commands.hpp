@@ -37,5 +37,6 @@ void addRenderCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addAccuracyCommand(CLI::App& app);
 void addStabilityCommand(CLI::App& app);
+void addPenetrationCommand(CLI::App& app);
 
 }  // namespace drape

@@ -96,6 +96,7 @@ int main(int argc, char** argv) {
   drape::addBenchCommand(app);
   drape::addAccuracyCommand(app);
   drape::addStabilityCommand(app);
+  drape::addPenetrationCommand(app);
   // After the subcommands, which would otherwise inherit it.
   app.footer(
       "drape -f SCENE [view options] opens the viewer on SCENE, as CS184's `clothsim -f SCENE` does "

@@ -8,6 +8,7 @@
 #include "app/solver_factory.hpp"
 #include "core/metrics.hpp"
 #include "core/stability.hpp"
+#include "cpu/collision_pairs.hpp"
 
 #include <fmt/core.h>
 #include <fmt/format.h>
@@ -35,6 +36,7 @@ struct SimulateOptions {
   std::string export_format;
   int every = 1;
   std::string integrator;  // empty: the scene's
+  bool collide_held_pairs = false;
 };
 
 void printSummary(const Scene& scene, Solver& solver, int frames, double wall_ms) {
@@ -75,6 +77,20 @@ Scene guardStability(Scene scene, bool auto_substeps) {
   return withSubsteps(scene, steps);
 }
 
+// A cloth finer than its thickness: pairs of points closer than 2 x thickness at rest are held by the springs,
+// and self-collision skips them (physics::heldAtRest). Where there are any, the result differs from a solver
+// that collides them (CS184's): say so.
+void warnAboutHeldPairs(const Scene& scene, const Topology& topology) {
+  if (!scene.sim.self_collision) return;
+  const double range = 2.0 * scene.cloth.thickness;
+  const HeldPairs held = heldPairsAtRest(topology.initial_positions, range);
+  if (held.count == 0) return;
+  fmt::print(stderr,
+             "drape: warning: {}: cloth.thickness: 2 x thickness ({:.3g} mm) is more than the rest distance of {} "
+             "point pairs (the closest {:.3g} mm apart): self-collision skips them as pairs the springs hold\n",
+             scene.path, range * 1e3, held.count, held.closest * 1e3);
+}
+
 void runSimulate(const SimulateOptions& o) {
   if (!o.out.empty()) checkOutputFile(o.out);  // before the run, not after it
   const ExportTarget export_target =
@@ -83,7 +99,8 @@ void runSimulate(const SimulateOptions& o) {
   applyIntegrator(loaded, o.integrator);
   const Scene scene = guardStability(std::move(loaded), o.auto_substeps);
   SolverFactory factory({.verbose = o.verbose});  // before the solver: it owns the solver's GL context
-  auto solver = factory.make(scene, o.solver, {.threads = o.threads});
+  auto solver = factory.make(scene, o.solver, {.threads = o.threads, .collide_held_pairs = o.collide_held_pairs});
+  if (!o.collide_held_pairs) warnAboutHeldPairs(scene, solver->topology());
   std::optional<ClothExport> exporter;
   if (!o.export_path.empty()) exporter.emplace(export_target, scene, solver->topology(), o.frames / o.every * o.every);
   if (o.verbose) fmt::print(stderr, "{}", describePasses(*solver));
@@ -152,6 +169,9 @@ void addSimulateCommand(CLI::App& app) {
       ->check(CLI::Range(1, 1000000));
   cmd->add_flag("--auto-substeps", opts->auto_substeps,
                 "Raise the substeps per frame to stay inside the explicit-integration bound");
+  cmd->add_flag("--collide-held-pairs", opts->collide_held_pairs,
+                "Self-collision also between the points closer than 2 x thickness at rest, which it skips as held by "
+                "the springs: CS184's rule, to measure what skipping changes (cpu, cpu64)");
   cmd->callback([opts] { runSimulate(*opts); });
 }
 

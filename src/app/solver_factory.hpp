@@ -60,6 +60,9 @@ struct SolverFactoryOptions {
 struct SolverRequest {
   bool pass_timing = false;  // GPU: time every pass (timer queries, or glFinish around each where none work)
   int threads = 0;           // CPU solvers' OpenMP threads (0 = every core; the bytes do not depend on it)
+  // CPU solvers: self-collision also between the pairs the springs hold (closer than 2 x thickness at rest),
+  // as CS184 does, to measure what skipping them changes (CpuSolverOptions::skip_held_pairs false).
+  bool collide_held_pairs = false;
 };
 
 // Makes solvers by name. It must outlive the solvers it made: it owns their GL context.

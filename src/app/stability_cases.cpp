@@ -205,7 +205,8 @@ StabilityResult runStabilityCase(const StabilityCase& c, int steps, bool guard, 
       r.what = why;
       break;
     }
-    r.max_strain = std::max(r.max_strain, maxStrain(topo, run.scene.cloth, x));
+    r.end_strain = maxStrain(topo, run.scene.cloth, x);
+    r.max_strain = std::max(r.max_strain, r.end_strain);
     r.ke_end = kineticEnergy(solver.readDisplacements(), mass, dt);
     r.ke_max = std::max(r.ke_max, r.ke_end);
     if (f == c.frames) r.energy_end = energy(x, r.ke_end);
@@ -230,7 +231,8 @@ std::string describe(const StabilityResult& r) {
                                  isImplicit(r.integrator) ? std::string(integratorName(r.integrator)) + " " : "",
                                  r.steps_per_frame, r.guarded ? " (guard)" : "");
   if (r.stable)
-    line += fmt::format("stable, max strain {:.3g}, KE end/max {:.2g}, energy {}", r.max_strain,
+    line += fmt::format("stable, {}, max strain {:.3g}, end {:.3g}, KE end/max {:.2g}, energy {}",
+                        keepsShape(r) ? "keeps its shape" : "OUT OF SHAPE", r.max_strain, r.end_strain,
                         r.ke_max > 0 ? r.ke_end / r.ke_max : 0.0, trend(r));
   else
     line += fmt::format("UNSTABLE at frame {}: {}", r.first_bad_frame, r.what);
@@ -291,18 +293,19 @@ StabilityReport runStability(const std::vector<StabilityCase>& cases, const std:
 
 std::string stabilityCsv(const StabilityReport& report) {
   std::string csv =
-      "case,integrator,steps_asked,guard,steps_per_frame,stability_number,stability_limit,inside_bound,stable,first_"
-      "bad_frame,"
+      "case,integrator,steps_asked,guard,steps_per_frame,stability_number,stability_limit,inside_bound,stable,keeps_"
+      "shape,first_bad_frame,"
       "frames_run,"
-      "max_strain,ke_max_j,ke_end_j,energy_start_j,energy_end_j,energy_change_rel,wall_s,what\n";
+      "max_strain,end_strain,ke_max_j,ke_end_j,energy_start_j,energy_end_j,energy_change_rel,wall_s,what\n";
   for (const StabilityResult& r : report.results) {
     const double change = r.stable ? (r.energy_end - r.energy_start) / r.energy_scale : NAN;
-    csv += fmt::format("{},{},{},{},{},{:.6g},{:.6g},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.9g},{},{},{:.3f},\"{}\"\n",
-                       r.case_name, integratorName(r.integrator), r.steps_asked, r.guarded ? 1 : 0, r.steps_per_frame,
-                       r.stability_number, r.stability_limit, r.inside_bound ? 1 : 0, r.stable ? 1 : 0,
-                       r.first_bad_frame, r.frames_run, r.max_strain, r.ke_max, r.ke_end, r.energy_start,
-                       r.stable ? fmt::format("{:.9g}", r.energy_end) : "",
-                       r.stable ? fmt::format("{:.4g}", change) : "", r.wall_s, r.what);
+    csv += fmt::format(
+        "{},{},{},{},{},{:.6g},{:.6g},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.9g},{},{},{:.3f},\"{}\"\n",
+        r.case_name, integratorName(r.integrator), r.steps_asked, r.guarded ? 1 : 0, r.steps_per_frame,
+        r.stability_number, r.stability_limit, r.inside_bound ? 1 : 0, r.stable ? 1 : 0, keepsShape(r) ? 1 : 0,
+        r.first_bad_frame, r.frames_run, r.max_strain, r.end_strain, r.ke_max, r.ke_end, r.energy_start,
+        r.stable ? fmt::format("{:.9g}", r.energy_end) : "", r.stable ? fmt::format("{:.4g}", change) : "", r.wall_s,
+        r.what);
   }
   return csv;
 }
@@ -317,6 +320,30 @@ const StabilityResult* findResult(const StabilityReport& report, const std::stri
 
 namespace {
 
+std::string shapeCell(const StabilityResult& r) {
+  return keepsShape(r) ? "yes" : r.stable ? "**no**" : "–";
+}
+
+// The largest ks among the ks cases whose result passes `good`, and the smaller ones that do not (the sweep is
+// not necessarily monotonic: the stretch limit and collisions are not covered by the bound).
+template <class Pick, class Good>
+std::string largestKs(const std::vector<StabilityCase>& cases, Pick pick, Good good) {
+  double best = 0;
+  for (const StabilityCase& c : cases)
+    if (const StabilityResult* r = pick(c); r && good(*r)) best = std::max(best, c.scene.cloth.ks);
+  std::vector<std::string> failing_below;
+  for (const StabilityCase& c : cases)
+    if (const StabilityResult* r = pick(c); r && !good(*r) && c.scene.cloth.ks < best)
+      failing_below.push_back(fmt::format("{:g}", c.scene.cloth.ks));
+  std::string cell = best > 0 ? fmt::format("{:g}", best) : "none";
+  if (!failing_below.empty()) cell += fmt::format(" (but not {})", fmt::join(failing_below, ", "));
+  return cell;
+}
+
+bool isStable(const StabilityResult& r) {
+  return r.stable;
+}
+
 std::string markdownRow(const StabilityResult& r, const StabilityResult* guarded) {
   std::string guard = "inside bound";
   if (guarded)
@@ -326,10 +353,11 @@ std::string markdownRow(const StabilityResult& r, const StabilityResult* guarded
     guard = "no count inside the bound";
   const std::string bad = r.stable ? "–" : std::to_string(r.first_bad_frame);
   const std::string strain = r.stable ? fmt::format("{:.3g}", r.max_strain) : "–";
+  const std::string end = r.stable ? fmt::format("{:.3g}", r.end_strain) : "–";
   const std::string ke = r.stable && r.ke_max > 0 ? fmt::format("{:.2g}", r.ke_end / r.ke_max) : "–";
-  return fmt::format("| {} | {} | {:.3g} / {:.3g} | {} | {} | {} | {} | {} | {} |\n", r.case_name, r.steps_per_frame,
-                     r.stability_number, r.stability_limit, r.stable ? "yes" : "**no**", bad, strain, ke, trend(r),
-                     guard);
+  return fmt::format("| {} | {} | {:.3g} / {:.3g} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.case_name,
+                     r.steps_per_frame, r.stability_number, r.stability_limit, r.stable ? "yes" : "**no**",
+                     shapeCell(r), bad, strain, end, ke, trend(r), guard);
 }
 
 // An implicit integrator's runs: the same cases (and ks 1e8, 1e9) without any guard, with what each cost.
@@ -340,31 +368,28 @@ std::string implicitMarkdown(const StabilityReport& report, const std::vector<St
       fmt::format("\n{} (simulation.integrator {}, {}), the same cases without the guard, and ks 1e8 and 1e9:\n\n",
                   xpbd ? "XPBD" : "VBD", integratorName(integrator),
                   xpbd ? "1 sweep of the springs" : "1 sweep of per-point Newton steps");
-  md += "| case | substeps | stable | first bad frame | max strain | KE end / max | energy | run s |\n";
-  md += "|---|---|---|---|---|---|---|---|\n";
+  md +=
+      "| case | substeps | stable | keeps shape | first bad frame | max strain | end strain | KE end / max | energy | "
+      "run s |\n";
+  md += "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const StabilityResult& r : report.results) {
     if (r.integrator != integrator) continue;
-    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.1f} |\n", r.case_name, r.steps_per_frame,
-                      r.stable ? "yes" : "**no**", r.stable ? "–" : std::to_string(r.first_bad_frame),
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1f} |\n", r.case_name, r.steps_per_frame,
+                      r.stable ? "yes" : "**no**", shapeCell(r), r.stable ? "–" : std::to_string(r.first_bad_frame),
                       r.stable ? fmt::format("{:.3g}", r.max_strain) : "–",
+                      r.stable ? fmt::format("{:.3g}", r.end_strain) : "–",
                       r.stable && r.ke_max > 0 ? fmt::format("{:.2g}", r.ke_end / r.ke_max) : "–", trend(r), r.wall_s);
   }
-  md += fmt::format("\nLargest stable ks (N/m, of 1e2..1e9) with {} per substep count:\n\n", xpbd ? "XPBD" : "VBD");
-  md += "| substeps | largest stable ks |\n|---|---|\n";
+  md += fmt::format(
+      "\nLargest ks (N/m, of 1e2..1e9) with {} that runs stable, and that keeps its shape (max strain <= {:g}%), per "
+      "substep count:\n\n",
+      xpbd ? "XPBD" : "VBD", 100 * kShapeStrain);
+  md += "| substeps | stable | keeps its shape |\n|---|---|---|\n";
   for (int s : report.implicit_steps) {
-    double best = 0;
-    std::vector<std::string> unstable_below;
-    for (const StabilityCase& c : cases)
-      if (const StabilityResult* r = findResult(report, c.name, s, false, integrator);
-          r && (c.sweeps_ks || c.implicit_only) && r->stable)
-        best = std::max(best, c.scene.cloth.ks);
-    for (const StabilityCase& c : cases)
-      if (const StabilityResult* r = findResult(report, c.name, s, false, integrator);
-          r && (c.sweeps_ks || c.implicit_only) && !r->stable && c.scene.cloth.ks < best)
-        unstable_below.push_back(fmt::format("{:g}", c.scene.cloth.ks));
-    std::string cell = best > 0 ? fmt::format("{:g}", best) : "none";
-    if (!unstable_below.empty()) cell += fmt::format(" (but {} unstable)", fmt::join(unstable_below, ", "));
-    md += fmt::format("| {} | {} |\n", s, cell);
+    auto pick = [&](const StabilityCase& c) {
+      return c.sweeps_ks || c.implicit_only ? findResult(report, c.name, s, false, integrator) : nullptr;
+    };
+    md += fmt::format("| {} | {} | {} |\n", s, largestKs(cases, pick, isStable), largestKs(cases, pick, keepsShape));
   }
   return md;
 }
@@ -376,45 +401,44 @@ std::string stabilityMarkdown(const StabilityReport& report, const std::vector<S
       "CPU float solver, 1 m cloth of 50 x 50 points (10 x 10 for the soak), 90 frames/s, 180 frames (2 s) per case "
       "unless stated; {:.0f} s in all ({} runs at a time, {} solver thread{} each). Unstable: a non-finite coordinate, "
       "a spring beyond 11x its rest length, or a "
-      "point more than 100 cloth sizes from its start. Guard: dt*sqrt(k_sum/m) < sqrt(1 + keep), keep = 1 - "
+      "point more than 100 cloth sizes from its start. Keeps its shape: stable, and no spring ever stretched more "
+      "than {:g}%. Max strain: the largest in any frame; end strain: at the last frame. Guard: dt*sqrt(k_sum/m) < "
+      "sqrt(1 + keep), keep = 1 - "
       "damping/100 "
       "(sqrt(2) = {:.4g} undamped, 1 at 100 % damping); with the guard the substeps "
       "are raised to the smallest count inside it, with damping and friction rescaled to the same loss per second (as "
       "`drape simulate --auto-substeps` does). Energy: kinetic + gravitational + spring, change from start to end "
       "relative to the largest of them.\n\n",
-      report.wall_s, report.jobs, report.threads_per_run, report.threads_per_run == 1 ? "" : "s", kStabilityLimit);
-  md += "| case | substeps | dt·sqrt(k/m) / limit | stable | first bad frame | max strain | KE end / max | energy |";
-  md += " with guard |\n|---|---|---|---|---|---|---|---|---|\n";
+      report.wall_s, report.jobs, report.threads_per_run, report.threads_per_run == 1 ? "" : "s", 100 * kShapeStrain,
+      kStabilityLimit);
+  md +=
+      "| case | substeps | dt·sqrt(k/m) / limit | stable | keeps shape | first bad frame | max strain | end strain | "
+      "KE "
+      "end / max |";
+  md += " energy | with guard |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const StabilityResult& r : report.results)
     if (!r.guarded && r.integrator == Integrator::Verlet)
       md += markdownRow(r, findResult(report, r.case_name, r.steps_asked, true));
 
-  // Largest ks of the sweep that is stable, and whether a smaller one was not (the sweep is not
-  // necessarily monotonic: the stretch limit and collisions are not covered by the bound).
-  md += "\nLargest stable ks (N/m, of 1e2..1e7) per substep count:\n\n";
-  md += "| substeps | without guard | with guard |\n|---|---|---|\n";
+  md += fmt::format(
+      "\nLargest ks (N/m, of 1e2..1e7) that runs stable, and that keeps its shape (max strain <= {:g}%), per substep "
+      "count:\n\n",
+      100 * kShapeStrain);
+  md +=
+      "| substeps | stable | keeps its shape | stable, with guard | keeps its shape, with guard |\n"
+      "|---|---|---|---|---|\n";
   for (int s : report.steps) {
     // With the guard, a case's guarded run where the guard ran it, else its plain run.
-    auto pick = [&](const StabilityCase& c, bool guard) {
-      const StabilityResult* g = guard ? findResult(report, c.name, s, true) : nullptr;
-      return g ? g : findResult(report, c.name, s, false);
+    auto pick = [&](bool guard) {
+      return [&report, s, guard](const StabilityCase& c) -> const StabilityResult* {
+        if (!c.sweeps_ks) return nullptr;
+        const StabilityResult* g = guard ? findResult(report, c.name, s, true) : nullptr;
+        return g ? g : findResult(report, c.name, s, false);
+      };
     };
-    std::string cells[2];
-    for (bool guard : {false, true}) {
-      double best = 0;
-      for (const StabilityCase& c : cases)
-        if (const StabilityResult* r = c.sweeps_ks ? pick(c, guard) : nullptr; r && r->stable)
-          best = std::max(best, c.scene.cloth.ks);
-      std::vector<std::string> unstable_below;
-      for (const StabilityCase& c : cases)
-        if (const StabilityResult* r = c.sweeps_ks ? pick(c, guard) : nullptr;
-            r && !r->stable && c.scene.cloth.ks < best)
-          unstable_below.push_back(fmt::format("{:g}", c.scene.cloth.ks));
-      std::string& cell = cells[guard ? 1 : 0];
-      cell = best > 0 ? fmt::format("{:g}", best) : "none";
-      if (!unstable_below.empty()) cell += fmt::format(" (but {} unstable)", fmt::join(unstable_below, ", "));
-    }
-    md += fmt::format("| {} | {} | {} |\n", s, cells[0], cells[1]);
+    md += fmt::format("| {} | {} | {} | {} | {} |\n", s, largestKs(cases, pick(false), isStable),
+                      largestKs(cases, pick(false), keepsShape), largestKs(cases, pick(true), isStable),
+                      largestKs(cases, pick(true), keepsShape));
   }
   for (Integrator integrator : report.implicit)
     md += implicitMarkdown(report, cases, integrator);

@@ -38,11 +38,14 @@ std::vector<const StabilityResult*> rowRuns(const StabilityReport& report, const
   return runs;
 }
 
-std::string largestStableKs(const std::vector<StabilityCase>& cases, const std::vector<const StabilityResult*>& runs) {
+// The largest ks of the sweep whose run is `good` (stable, or keeps its shape).
+template <class Good>
+std::string largestKs(const std::vector<StabilityCase>& cases, const std::vector<const StabilityResult*>& runs,
+                      Good good) {
   double best = 0;
   for (const StabilityResult* r : runs)
     for (const StabilityCase& c : cases)
-      if (c.name == r->case_name && (c.sweeps_ks || c.implicit_only) && r->stable)
+      if (c.name == r->case_name && (c.sweeps_ks || c.implicit_only) && good(*r))
         best = std::max(best, c.scene.cloth.ks);
   if (best <= 0) return "none";
   // The sweep's stiffnesses are powers of ten: 1e6, not 1e+06.
@@ -62,7 +65,8 @@ std::string stabilitySummary(const StabilityReport& report, const std::vector<St
     for (int s : report.implicit_steps)
       rows.push_back({integrator, s, false});
   std::string table =
-      "| integrator | substeps | stable | largest stable ks | unstable (frame) |\n|---|---|---|---|---|\n";
+      "| integrator | substeps | keeps its shape | stable | largest ks keeping its shape | largest stable ks | "
+      "unstable (frame) |\n|---|---|---|---|---|---|---|\n";
   for (const Row& row : rows) {
     const std::vector<const StabilityResult*> runs = rowRuns(report, cases, row);
     if (runs.empty()) continue;
@@ -70,12 +74,16 @@ std::string stabilitySummary(const StabilityReport& report, const std::vector<St
     for (const StabilityResult* r : runs)
       if (!r->stable) unstable.push_back(fmt::format("{} ({})", r->case_name, r->first_bad_frame));
     const std::size_t stable = runs.size() - unstable.size();
+    const auto shaped =
+        std::count_if(runs.begin(), runs.end(), [](const StabilityResult* r) { return keepsShape(*r); });
     std::string shown = unstable.empty() ? "–" : "";
     for (std::size_t k = 0; k < unstable.size() && k < 3; ++k)
       shown += (k ? ", " : "") + unstable[k];
     if (unstable.size() > 3) shown += fmt::format(", {} more", unstable.size() - 3);
-    table += fmt::format("| {} | {}{} | {} of {} | {} | {} |\n", integratorName(row.integrator), row.steps,
-                         row.guard ? " (guard)" : "", stable, runs.size(), largestStableKs(cases, runs), shown);
+    table += fmt::format("| {} | {}{} | {} of {} | {} of {} | {} | {} | {} |\n", integratorName(row.integrator),
+                         row.steps, row.guard ? " (guard)" : "", shaped, runs.size(), stable, runs.size(),
+                         largestKs(cases, runs, keepsShape),
+                         largestKs(cases, runs, [](const StabilityResult& r) { return r.stable; }), shown);
   }
   return table;
 }

@@ -15,8 +15,9 @@ namespace drape {
 // guarded run counts the substeps the guard will choose.
 double stabilityRunCost(const StabilityCase& c, int steps, bool guard);
 
-// One row per integrator and substep count (Verlet's guarded runs a row of their own): stable runs of all,
-// the largest stable ks of the sweep, and the first unstable runs with their frames.
+// One row per integrator and substep count (Verlet's guarded runs a row of their own): the runs that keep
+// their shape (stable, no spring past kShapeStrain) and the stable ones, of all; the largest ks of the sweep
+// that keeps its shape and that runs stable; and the first unstable runs with their frames.
 std::string stabilitySummary(const StabilityReport& report, const std::vector<StabilityCase>& cases);
 
 }  // namespace drape

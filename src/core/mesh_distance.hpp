@@ -5,10 +5,11 @@
 //  - a point within the field's band of exact samples (|value| < band) takes the field's value
 //    (fieldDistance, the trilinear value the solvers collide with); one such point makes the answer
 //    theirs, since every other point is farther than the band;
-//  - a point deeper inside than the band takes the field's value too (-band: "at least this deep");
-//  - only when no point is within the band are exact distances needed: the triangles are sorted into a
-//    grid of buckets, and each point is searched outward from its bucket, skipping any point and any
-//    bucket that cannot beat the closest distance found so far.
+//  - a point deeper inside takes the field's value too: beyond the band a closest-point transform, with the
+//    true sign and near the exact depth (its error: docs/design.md, section 2);
+//  - only when no point is within the band are exact distances needed: each point is searched outward from
+//    its bucket of triangles (MeshQuery, core/mesh_query.hpp), skipping any point and any bucket that cannot
+//    beat the closest distance found so far.
 #pragma once
 
 #include "core/mesh_obstacle.hpp"

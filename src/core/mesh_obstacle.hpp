@@ -1,8 +1,8 @@
 // A static triangle-mesh obstacle (scene key "meshes") and the signed distance field both solvers collide
 // with: baked once on the CPU when the scene loads, exact point-triangle distances in a band around the
-// surface, the sign by winding number, stored as floats that the CPU reference and the GPU interpolate with
-// the same float operations (src/cpu/mesh_physics.hpp, glsl/sim/mesh_collide.glsl). Why a field and not
-// a triangle BVH: docs/design.md section 6.
+// surface and a closest-point transform beyond it, the sign by winding number, stored as floats that the CPU reference
+// and the GPU interpolate with the same float operations (src/cpu/mesh_physics.hpp, glsl/sim/phases/mesh_collide.glsl).
+// Why a field and not a triangle BVH: docs/design.md section 6.
 #pragma once
 
 #include "core/obj_reader.hpp"
@@ -23,7 +23,7 @@ struct DistanceField {
   glm::vec3 origin_f{0.0f};
   float inv_cell_f = 0.0f;     // 1 / cell rounded once here (a GLSL division may differ from C++'s)
   std::vector<float> samples;  // m, signed (negative inside); x fastest, then y, then z
-  double band = 0.0;           // m: samples within this of the surface hold exact distances; beyond, +-band
+  double band = 0.0;           // m: samples within this of the surface hold exact distances (beyond: see below)
 
   std::size_t index(int x, int y, int z) const {
     return (std::size_t(z) * std::size_t(dims.y) + std::size_t(y)) * std::size_t(dims.x) + std::size_t(x);
@@ -39,10 +39,15 @@ struct MeshObstacle {
 // Samples per axis across the mesh's largest extent: 1.25 cm on a 1.6 m table, whose rounded edges
 // (2 cm) the trilinear field then follows within about a millimetre.
 inline constexpr int kFieldResolution = 128;
-// The band of exact distances, in cells: points up to this deep inside are pushed out along the field's
-// gradient. At 20 m/s and the default 2700 substeps/s a point moves 0.6 cells of the largest bundled
-// obstacle per substep.
-inline constexpr int kFieldBandCells = 4;
+// The band of exact distances, in cells: every triangle is measured from every sample this close to its
+// bounding box. Beyond it each sample holds its distance to the nearest surface point its neighbours hold (a
+// closest-point transform), never less than the exact distance and at most 0.17 cells more on the
+// bundled obstacles (docs/design.md, section 2). The 8 samples around a point within a cell of the surface
+// are within 1 + sqrt(3) cells of it, inside the band, so where the cloth touches the field is exact at its
+// samples; deeper, it still has the true sign and a gradient towards the nearest surface.
+inline constexpr int kFieldBandCells = 3;
+// The lattice reaches this many cells beyond the mesh's bounding box on every side.
+inline constexpr int kFieldPadCells = 6;
 // Cloth points are kept this far outside the field's zero level: its trilinear surface may cut a convex
 // edge by about this much.
 inline constexpr double kMeshSurfaceOffset = 2e-3;

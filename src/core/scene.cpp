@@ -447,7 +447,7 @@ PlaneSpec readPlane(const Node& n) {
 
 // `vertices_used`: what the obstacles before this one read, of kMaxObstacleVertices.
 MeshSpec readMeshObstacle(const Node& n, const std::string& scene_file, long long& vertices_used) {
-  n.expectObject({"obj", "offset", "scale", "friction"});
+  n.expectObject({"obj", "offset", "scale", "friction", "thickness"});
   MeshSpec m;
   Node obj = n.require("obj");
   m.obj = obj.text();
@@ -455,6 +455,7 @@ MeshSpec readMeshObstacle(const Node& n, const std::string& scene_file, long lon
   if (auto v = n.find("offset")) m.offset = v->vec3();
   if (auto v = n.find("scale")) m.scale = positive(*v);
   if (auto v = n.find("friction")) m.friction = between(*v, 0.0, 1.0);
+  if (auto v = n.find("thickness")) m.thickness = positive(*v);
   const std::filesystem::path file = std::filesystem::path(scene_file).parent_path() / m.obj;
   const long long left = kMaxObstacleVertices - vertices_used;
   const std::string note = vertices_used == 0

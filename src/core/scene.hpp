@@ -87,8 +87,16 @@ struct MeshSpec {
   glm::dvec3 offset{0.0};  // m, added after scaling
   double scale = 1.0;      // > 0
   double friction = 0.3;   // [0, 1], as spheres
+  // m, > 0: how far the cloth's points, edges and triangles are kept from the obstacle; 0 (not given): the
+  // cloth's thickness (meshThickness)
+  double thickness = 0.0;
   std::shared_ptr<const MeshObstacle> mesh;
 };
+
+// A mesh obstacle's collision thickness: its own, or the cloth's.
+inline double meshThickness(const ClothSpec& cloth, const MeshSpec& mesh) {
+  return mesh.thickness > 0.0 ? mesh.thickness : cloth.thickness;
+}
 
 // Wind: a steady air velocity plus smooth gradient noise in space and time. The air pushes each point
 // along its normal in proportion to the relative normal velocity (a simple drag model).

@@ -1,9 +1,9 @@
 // Self-collision candidates kept across substeps: a neighbour list with a skin (Verlet 1967). Every
-// pair closer than range + margin when the list is built is listed; the list stays valid while no
-// point has moved margin/2 from where it was at the build, because a pair then approaches by less than
-// the margin and every pair within range is still listed. Points move ~1 mm a substep at CS184's
-// speeds, so a list of a few millimetres of skin serves several substeps instead of rebuilding the
-// hash grid and reading 27 cells every substep.
+// pair closer than range + margin when the list is built is listed; the list stays valid while the
+// points' displacements since the build all fit in a box whose diagonal is under the margin (stale()),
+// because no pair then approaches by the margin and every pair within range is still listed. Points move
+// ~1 mm a substep at CS184's speeds, mostly together, so a list of a few millimetres of skin serves
+// several substeps instead of rebuilding the hash grid and reading 27 cells every substep.
 //
 // The sum of a point's corrections must not depend on when the list was rebuilt, or on the GPU on
 // thread timing: orderedCandidates() yields the pairs in range in the order a 27-cell query of a grid
@@ -26,6 +26,9 @@ class CollisionPairs {
 
   // range = 2 * thickness; margin >= 0 (0 rebuilds every substep).
   void configure(T range, T margin);
+  // The cloth's rest positions: a pair closer than `range` there is held by the springs
+  // (physics::heldAtRest) and never listed. Empty (the default): every pair is a candidate.
+  void setRest(std::vector<vec3> rest);
   void invalidate() { built_ = false; }
 
   // Makes the list valid for positions x (rebuilding if any point moved too far); returns whether it
@@ -46,7 +49,7 @@ class CollisionPairs {
   static T safeTravel(T margin, T extent);
 
  private:
-  bool stale(const std::vector<vec3>& x, int threads) const;
+  bool stale(const std::vector<vec3>& x) const;
   void build(const std::vector<vec3>& x, int threads);
 
   struct Pair {
@@ -56,6 +59,7 @@ class CollisionPairs {
   std::vector<std::vector<Pair>> found_;  // per thread, kept to spare the allocations
   std::vector<std::uint32_t> start_, list_, fill_;
   std::vector<vec3> anchor_;  // positions at the last build
+  std::vector<vec3> rest_;
   T range_ = 0, margin_ = 0;
   T travel_ = 0;  // safeTravel at the last build
   bool built_ = false;
@@ -71,20 +75,42 @@ inline int cellOrder(glm::ivec3 cell_i, glm::ivec3 cell_j) {
 }
 
 // Calls f(c) with the correction of every pair {i, j} in range, in cellOrder and then ascending j: the
-// order of a 27-cell query of a grid of cell size 2*thickness, as the sum had before the lists. Two
-// sweeps over the short candidate list: one marks the cell orders present, the next visits them.
-// Cells are computed only for pairs in range, which most points have none of.
+// order of a 27-cell query of a grid of cell size 2*thickness, as the sum had before the lists. One sweep
+// over the short candidate list computes each term once and inserts it by its cell order (stably, so one
+// order's terms stay in list order, ascending j); cells are computed only for pairs in range, which most
+// points have none of. A point with more terms than are held (a deep fold) sweeps once per order present.
 template <class T, class F>
 void forEachOrderedPair(const CollisionPairs<T>& pairs, std::size_t i, const std::vector<glm::vec<3, T>>& x,
                         T thickness, T inv_range, F&& f) {
   using vec3 = glm::vec<3, T>;
+  constexpr int kHeld = 24;  // the folded selfCollision scene has at most 5 terms a point
+  struct Term {
+    int order;
+    vec3 c;
+  };
+  Term held[kHeld];
+  int count = 0;
   std::uint32_t present = 0;
   glm::ivec3 cell_i{};
   for (const std::uint32_t* j = pairs.begin(i); j != pairs.end(i); ++j) {
-    if (physics::selfCollisionCorrection(x[i], x[*j], thickness) == vec3(0)) continue;
+    const vec3 c = physics::selfCollisionCorrection(x[i], x[*j], thickness);
+    if (c == vec3(0)) continue;
     if (present == 0) cell_i = HashGrid<T>::cellOf(x[i], inv_range);
     const int order = cellOrder(cell_i, HashGrid<T>::cellOf(x[*j], inv_range));
-    if (order >= 0) present |= 1u << order;
+    if (order < 0) continue;
+    present |= 1u << order;
+    if (count < kHeld) {
+      int k = count;
+      for (; k > 0 && held[k - 1].order > order; --k)
+        held[k] = held[k - 1];
+      held[k] = {order, c};
+    }
+    ++count;
+  }
+  if (count <= kHeld) {
+    for (int k = 0; k < count; ++k)
+      f(held[k].c);
+    return;
   }
   while (present != 0) {
     const int order = std::countr_zero(present);
@@ -95,5 +121,13 @@ void forEachOrderedPair(const CollisionPairs<T>& pairs, std::size_t i, const std
     }
   }
 }
+
+// Pairs of points closer than `range` in the rest shape `rest`: the pairs self-collision skips
+// (heldAtRest). count: each pair once; closest: the smallest such distance (0 if none).
+struct HeldPairs {
+  std::size_t count = 0;
+  double closest = 0;
+};
+HeldPairs heldPairsAtRest(const std::vector<glm::dvec3>& rest, double range);
 
 }  // namespace drape

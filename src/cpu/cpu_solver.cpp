@@ -1,4 +1,5 @@
 #include "cpu/cpu_solver.hpp"
+#include "cpu/cpu_solver_sweep.hpp"
 #include "cpu/mesh_physics.hpp"
 #include "cpu/parallel.hpp"
 
@@ -7,14 +8,31 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <limits>
+#include <type_traits>
 
 namespace drape {
 
 namespace {
 
-enum PassId { kForces, kIntegrate, kXpbd, kVbd, kSelfCollide, kCollide, kTether, kLimitStretch, kPassCount };
-const char* const kPassNames[kPassCount] = {"forces",       "integrate", "xpbd_solve",    "vbd_solve",
-                                            "self_collide", "collide",   kTetherPassName, "limit_stretch"};
+enum PassId {
+  kForces,
+  kIntegrate,
+  kXpbd,
+  kVbd,
+  kSelfCollide,
+  kCollide,
+  kTether,
+  kLimitStretch,
+  kCollideFaces,
+  kCollideLast,
+  kPassCount
+};
+const char* const kPassNames[kPassCount] = {"forces",        "integrate",   "xpbd_solve",    "vbd_solve",
+                                            "self_collide",  "collide",     kTetherPassName, "limit_stretch",
+                                            "collide_faces", "collide_last"};
 
 }  // namespace
 
@@ -24,14 +42,26 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
   threads_ = options.threads > 0 ? options.threads : std::max(omp_get_num_procs(), 1);
   pair_margin_ = options.pair_margin;
   rest_.reserve(topo_.springs.size());
-  for (const Spring& s : topo_.springs)
+  shortest_spring_ = std::numeric_limits<double>::infinity();
+  for (const Spring& s : topo_.springs) {
     rest_.push_back(T(s.rest));
+    if (s.type == SpringType::Structural) shortest_spring_ = std::min(shortest_spring_, s.rest);
+  }
   // Also per adjacency entry: the gathers read it beside the entry, not through the spring index.
   rest_adjacent_.reserve(topo_.adjacency.size());
   for (const Neighbor& nb : topo_.adjacency)
     rest_adjacent_.push_back(T(nb.rest));
   colouring_ = colourSprings(topo_);
+  if (options.skip_held_pairs)
+    pairs_.setRest(std::vector<vec3>(topo_.initial_positions.begin(), topo_.initial_positions.end()));
+  buildFaceContacts();
   const std::size_t n = std::size_t(topo_.pointCount());
+  team_ = threads_ > 1 && (long long)n >= options.team_min_points ? threads_ : 1;
+  if constexpr (std::is_same_v<T, float>)
+    if (options.grid_path) {
+      kernels_ = &drape::gridKernels(options.grid_isa);
+      if (topo_.W > 0) grid_.emplace(topo_, rest_, options.grid_isa);
+    }
   f_.resize(n);
   correction_.resize(n);
   resetTimings();
@@ -56,6 +86,18 @@ void CpuSolver<T>::refreshDerived() {
     mass_[i] = T(derived::pointMass(c, topo_, i));
     inv_mass_[i] = T(1) / mass_[i];
     drag_area_[i] = T(derived::dragArea(scene_.sim.wind.drag, c, topo_, i));
+  }
+  if constexpr (std::is_same_v<T, float>) {
+    if (grid_) grid_->setMasses(mass_);
+    if (kernels_) {
+      const float pin = std::bit_cast<float>(~std::uint32_t(0));
+      inv_mass3_.resize(3 * n);
+      pinned3_.resize(3 * n);
+      for (std::size_t e = 0; e < 3 * n; ++e) {
+        inv_mass3_[e] = inv_mass_[e / 3];
+        pinned3_[e] = topo_.pinned[e / 3] ? pin : 0.0f;
+      }
+    }
   }
   dt_ = T(scene_.sim.dt());
   keep_ = T(1.0 - c.damping / 100.0);
@@ -107,6 +149,11 @@ bool CpuSolver<T>::needsPass(int pass) const {
       return scene_.sim.tethers && tethers_.slots > 0;
     case kLimitStretch:
       return scene_.sim.stretch_passes > 0;
+    case kCollideFaces:
+      return !face_contacts_.empty();
+    case kCollideLast:
+      // Only where a pass moved the points after the collisions.
+      return needsPass(kCollide) && (needsPass(kTether) || needsPass(kLimitStretch) || needsPass(kCollideFaces));
     default:
       return true;
   }
@@ -124,13 +171,30 @@ template <class T>
 template <class F>
 void CpuSolver<T>::timed(int pass, F&& f) {
   auto start = std::chrono::steady_clock::now();
-  f();
+  f();  // in a team, every pass ends with a barrier: thread 0's clock covers the slowest thread
+  if (omp_get_thread_num() != 0) return;
   timings_[pass].ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   ++timings_[pass].calls;
 }
 
+// One OpenMP region a substep when the cloth is large enough for a team (team_min_points): every thread
+// runs every pass, each loop split between them and closed by a barrier (cpu/parallel.hpp), so the passes
+// cost a barrier each rather than a fork and a join per loop.
 template <class T>
 void CpuSolver<T>::step() {
+  failure_ = nullptr;
+  if (team_ > 1) {
+#pragma omp parallel num_threads(team_)
+    runPasses();
+  } else {
+    runPasses();
+  }
+  if (failure_) std::rethrow_exception(failure_);
+  ++substeps_;
+}
+
+template <class T>
+void CpuSolver<T>::runPasses() {
   timed(kForces, [&] { accumulateForces(); });
   timed(kIntegrate, [&] { integrate(); });
   if (needsPass(kXpbd)) timed(kXpbd, [&] { solveXpbd(); });
@@ -139,7 +203,8 @@ void CpuSolver<T>::step() {
   if (needsPass(kCollide)) timed(kCollide, [&] { collide(); });
   if (needsPass(kTether)) timed(kTether, [&] { tether(); });
   if (needsPass(kLimitStretch)) timed(kLimitStretch, [&] { limitStretch(); });
-  ++substeps_;
+  if (needsPass(kCollideFaces)) timed(kCollideFaces, [&] { collideFaces(); });
+  if (needsPass(kCollideLast)) timed(kCollideLast, [&] { collide(); });
 }
 
 template <class T>
@@ -157,6 +222,11 @@ void CpuSolver<T>::accumulateForces() {
   const bool enabled[kSpringTypeCount] = {springs && cloth.enable_structural, springs && cloth.enable_shearing,
                                           springs && cloth.enable_bending};
   const vec3 gravity = vec3(scene_.sim.gravity);
+  if constexpr (std::is_same_v<T, float>)
+    if (grid_ && springs && !wind.enabled) {
+      grid_->forces(x_, f_, gravity, stiffness_.k, enabled);
+      return;
+    }
   const T time = T(double(substeps_) * scene_.sim.dt());
   // Per point, over its adjacency in a fixed order (the GPU's). Computing each spring once and gathering
   // it from both ends gives the same bytes (springForce(b, a) is exactly -springForce(a, b)) but measured
@@ -185,6 +255,14 @@ template <class T>
 void CpuSolver<T>::integrate() {
   const T dt2 = dt_ * dt_;
   const long long n = (long long)x_.size();
+  if constexpr (std::is_same_v<T, float>)
+    if (kernels_ && form_ == VerletForm::Displacement) {
+      teamRange(0, n, [&](long long lo, long long hi) {
+        kernels_->integrate(&x_.data()->x, &v_.data()->x, &f_.data()->x, inv_mass3_.data(), pinned3_.data(), dt2, keep_,
+                            3 * lo, 3 * hi);
+      });
+      return;
+    }
   parallelFor(0, n, threads_, [&](long long p) {
     const std::size_t i = std::size_t(p);
     if (topo_.pinned[i]) {
@@ -203,97 +281,6 @@ void CpuSolver<T>::integrate() {
       x_[i] = next;
     }
   });
-}
-
-// XPBD with Small Steps (Macklin et al. 2019): many substeps of few sweeps, each spring a distance
-// constraint of compliance 1/k. Gauss-Seidel over the stretch limit's colouring rather than a Jacobi
-// average: a colour's springs share no point, so each sees its neighbours' latest positions (Jacobi
-// needs relaxation to converge and then damps), a colour is one parallel loop here and one dispatch on
-// the GPU, and the result does not depend on the thread count. The multipliers start from 0 each
-// substep (Small Steps); with one sweep the stored multiplier is never read, so it is not kept.
-template <class T>
-void CpuSolver<T>::solveXpbd() {
-  const bool displacement = form_ == VerletForm::Displacement;
-  const int iterations = scene_.sim.iterations;
-  if (iterations > 1) lambda_.assign(colouring_.springs.size(), T(0));
-  for (int sweep = 0; sweep < iterations; ++sweep)
-    sweepColours([&](std::size_t k, std::uint32_t s, const Spring& sp) {
-      const bool pinned_a = topo_.pinned[sp.a] != 0, pinned_b = topo_.pinned[sp.b] != 0;
-      if (pinned_a && pinned_b) return;
-      const T wa = pinned_a ? T(0) : inv_mass_[sp.a];
-      const T wb = pinned_b ? T(0) : inv_mass_[sp.b];
-      const T lambda = iterations > 1 ? lambda_[k] : T(0);
-      vec3 p;
-      const T dlambda = physics::xpbdDistanceCorrection(x_[sp.a], x_[sp.b], rest_[s], wa + wb,
-                                                        alpha_tilde_.k[int(sp.type)], lambda, p);
-      if (iterations > 1) lambda_[k] = lambda + dlambda;
-      if (!pinned_a) {
-        const vec3 ca = (-wa) * p;
-        x_[sp.a] += ca;
-        if (displacement) v_[sp.a] += ca;  // x_prev stays: v = x - x_prev is the constrained displacement
-      }
-      if (!pinned_b) {
-        const vec3 cb = wb * p;
-        x_[sp.b] += cb;
-        if (displacement) v_[sp.b] += cb;
-      }
-    });
-}
-
-// Vertex Block Descent (Chen et al. 2024) on the springs: each sweep moves every free point, colour after
-// colour, by a Newton step on its share of the implicit-Euler energy with its neighbours held
-// (physics::vbdAddSpring, vbdStep). Points of a colour share no spring, so a colour is one parallel loop
-// here and one dispatch on the GPU, and the result does not depend on the thread count. The sweeps start
-// from the prediction y = x + keep v + a dt^2 (integrate): a point's own position changes only when its
-// colour runs, so in the first sweep x = y and the inertia's gradient is exactly 0; later sweeps need y,
-// which the first keeps. CS184's damping is in the prediction, as for XPBD.
-template <class T>
-void CpuSolver<T>::solveVbd() {
-  const ClothSpec& cloth = scene_.cloth;
-  const bool enabled[kSpringTypeCount] = {cloth.enable_structural, cloth.enable_shearing, cloth.enable_bending};
-  const bool displacement = form_ == VerletForm::Displacement;
-  const int iterations = scene_.sim.iterations;
-  const T dt2 = dt_ * dt_;
-  if (iterations > 1) inertia_target_.resize(x_.size());
-  for (int sweep = 0; sweep < iterations; ++sweep)
-    for (int colour = 0; colour < point_colouring_.colourCount(); ++colour) {
-      const long long first = point_colouring_.start[std::size_t(colour)];
-      const long long last = point_colouring_.start[std::size_t(colour) + 1];
-      parallelFor(first, last, threads_, [&](long long k) {
-        const std::size_t i = point_colouring_.points[std::size_t(k)];
-        if (topo_.pinned[i]) return;
-        const vec3 x = x_[i];
-        const T inertia = T(1) / (inv_mass_[i] * dt2);  // m / dt^2, from the inverse mass the GPU holds
-        vec3 f(0), h_off(0);
-        vec3 h_diag(inertia);
-        if (sweep > 0) f = (-inertia) * (x - inertia_target_[i]);
-        for (std::uint32_t e = topo_.offsets[i]; e < topo_.offsets[i + 1]; ++e) {
-          const Neighbor& nb = topo_.adjacency[e];
-          const int type = int(nb.type);
-          if (enabled[type])
-            physics::vbdAddSpring(x, x_[nb.other], rest_adjacent_[e], stiffness_.k[type], f, h_diag, h_off);
-        }
-        if (sweep == 0 && iterations > 1) inertia_target_[i] = x;
-        const vec3 dx = physics::vbdStep(f, h_diag, h_off);
-        x_[i] = x + dx;
-        if (displacement) v_[i] += dx;  // x_prev stays: v = x - x_prev is the solved displacement
-      });
-    }
-}
-
-template <class T>
-template <class F>
-void CpuSolver<T>::sweepColours(F&& f) {
-  const ClothSpec& cloth = scene_.cloth;
-  const bool enabled[kSpringTypeCount] = {cloth.enable_structural, cloth.enable_shearing, cloth.enable_bending};
-  for (int colour = 0; colour < colouring_.colourCount(); ++colour) {
-    const long long first = colouring_.start[std::size_t(colour)], last = colouring_.start[std::size_t(colour) + 1];
-    parallelFor(first, last, threads_, [&](long long k) {
-      const std::uint32_t s = colouring_.springs[std::size_t(k)];
-      const Spring& sp = topo_.springs[s];
-      if (enabled[int(sp.type)]) f(std::size_t(k), s, sp);
-    });
-  }
 }
 
 // Each free point, slot after slot, back within the stretch limit of its anchors. The anchors are pinned
@@ -332,8 +319,20 @@ template <class T>
 void CpuSolver<T>::selfCollide() {
   const T thickness = T(scene_.cloth.thickness);
   const T range = T(2) * thickness;
-  pairs_.configure(range, range * T(pair_margin_));
-  pairs_.update(x_, threads_);
+  // The skin is a share of the contact distance, or of the spacing where the cloth is finer than that: a
+  // skin as thick as the contact distance holds a ring of points that never touch (97 a point at 256^2
+  // with CS184's thickness, 19.5 with the spacing's). The lists' bytes do not depend on it.
+  // The list check and build run on one thread of a team (their own loops fork only outside a team); an
+  // exception (out of memory) is kept for step() to rethrow after the region.
+  teamSingle([&] {
+    try {
+      pairs_.configure(range, T(pair_margin_) * std::min(range, T(shortest_spring_)));
+      pairs_.update(x_, threads_);
+    } catch (...) {
+      failure_ = std::current_exception();
+    }
+  });
+  if (failure_) return;
   // The cells of a grid of cell size `range` fix the order of each point's sum (see forEachOrderedPair).
   const T inv_range = T(1) / range;
   const long long n = (long long)x_.size();
@@ -344,7 +343,12 @@ void CpuSolver<T>::selfCollide() {
     const std::size_t i = std::size_t(p);
     vec3 sum(0);
     int count = 0;
-    if (!topo_.pinned[i]) {
+    bool candidates = !topo_.pinned[i];
+    // Most points have no pair in range: the vectorised test says so without the ordered sweep.
+    if constexpr (std::is_same_v<T, float>)
+      if (candidates && kernels_)
+        candidates = kernels_->anyInRange(&x_.data()->x, pairs_.begin(i), pairs_.end(i), i, thickness);
+    if (candidates) {
       forEachOrderedPair(pairs_, i, x_, thickness, inv_range, [&](vec3 c) {
         sum += c;
         ++count;
@@ -376,7 +380,8 @@ void CpuSolver<T>::collide() {
         v += c;
       }
     for (const MeshSpec& m : scene_.meshes)
-      if (physics::collideField(x, v, m.mesh->field, T(m.friction), c)) {
+      if (physics::collideField(x, v, m.mesh->field, physics::meshOffset(T(meshThickness(scene_.cloth, m))),
+                                T(m.friction), c)) {
         x += c;
         v += c;
       }
@@ -401,6 +406,13 @@ template <class T>
 void CpuSolver<T>::limitStretchColoured() {
   const T limit = T(scene_.sim.stretch_limit);
   const bool displacement = form_ == VerletForm::Displacement;
+  if constexpr (std::is_same_v<T, float>)
+    if (grid_) {
+      const ClothSpec& c = scene_.cloth;
+      const bool enabled[kSpringTypeCount] = {c.enable_structural, c.enable_shearing, c.enable_bending};
+      grid_->limitStretch(x_, displacement ? &v_ : nullptr, limit, scene_.sim.stretch_passes, enabled);
+      return;
+    }
   for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass)
     sweepColours([&](std::size_t, std::uint32_t s, const Spring& sp) {
       const bool pinned_a = topo_.pinned[sp.a] != 0, pinned_b = topo_.pinned[sp.b] != 0;

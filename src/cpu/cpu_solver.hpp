@@ -4,15 +4,26 @@
 
 #include "core/colouring.hpp"
 #include "core/derived.hpp"
+#include "core/mesh_features.hpp"
 #include "core/solver.hpp"
 #include "core/tethers.hpp"
 #include "cpu/collision_pairs.hpp"
+#include "cpu/grid_path.hpp"
 #include "cpu/physics.hpp"
 
 #include <chrono>
+#include <exception>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace drape {
+
+// A barrier costs well under a microsecond when both threads have a core and up to a time slice when other
+// load on the machine has descheduled one (docs/results/cpu_speed.md): a cloth gets a team only where its
+// loops are long enough to pay for that, the size from which loops forked a team of their own before
+// (kParallelItems). On this shared 2-core machine, busy, a team on a 50x50 cloth measured 12x slower.
+inline constexpr long long kTeamMinPoints = 32768;
 
 // How Verlet keeps the previous position: the displacement v = x - x_prev (default, precise) or
 // x_prev itself (CS184's form, kept to measure the round-off it costs).
@@ -21,7 +32,19 @@ enum class VerletForm { Displacement, PreviousPosition };
 struct CpuSolverOptions {
   VerletForm form = VerletForm::Displacement;
   int threads = 0;  // OpenMP threads for the per-point loops; 0 = every core. Any count gives the same bytes.
-  double pair_margin = kDefaultPairMargin;  // list skin / (2*thickness); 0 rebuilds the list every substep
+  // list skin / min(2*thickness, the shortest structural spring at rest); 0 rebuilds the list every substep
+  double pair_margin = kDefaultPairMargin;
+  // Self-collision skips the pairs closer than 2*thickness at rest (physics::heldAtRest); false collides them
+  // too, as CS184 does, to measure what skipping changes.
+  bool skip_held_pairs = true;
+  // Float grid cloths: forces and the Gauss-Seidel stretch limit by the SIMD grid kernels (cpu/grid_path.hpp),
+  // the same bytes as the general gathers; false runs the general path (the tests compare the two).
+  bool grid_path = true;
+  GridIsa grid_isa = GridIsa::Auto;  // the grid kernels' instruction set; Auto: AVX2 where the CPU has it
+  // The fewest points for which step() runs its passes on a team of `threads` (one OpenMP region a substep,
+  // a barrier between passes); below, one thread. Tests set 0 to run a small cloth on a team. Measured:
+  // docs/results/cpu_speed.md.
+  long long team_min_points = kTeamMinPoints;
 };
 
 template <class T>
@@ -43,9 +66,11 @@ class CpuSolver final : public Solver {
   void solveXpbd();         // XPBD: sim.iterations Gauss-Seidel sweeps of the springs as distance constraints
   void solveVbd();          // VBD: sim.iterations Gauss-Seidel sweeps of per-point Newton steps, colour by colour
   void selfCollide();       // candidate lists, Jacobi, averaged, / steps_per_frame
-  void collide();           // each sphere, then each plane
+  void collide();           // each sphere, then each plane, then each mesh's field
   void tether();            // long-range attachments to the pins (core/tethers.hpp), when the scene asks
   void limitStretch();      // Provot, sim.stretch_passes passes (Gauss-Seidel over colours, or Jacobi)
+  void collideFaces();      // the cloth's edges and triangles off the meshes' sharp edges and corners, Jacobi
+  // collide() again, last: whatever moved the points after the collisions, none ends inside a collider.
 
   void reset() override;
   void setParams(const ClothSpec& cloth, const SimParams& sim) override;
@@ -67,6 +92,10 @@ class CpuSolver final : public Solver {
   const CollisionPairs<T>& collisionPairs() const { return pairs_; }
   const Tethers& tethers() const { return tethers_; }
   const PointColouring& pointColouring() const { return point_colouring_; }
+  const FaceAdjacency& faceAdjacency() const { return faces_; }
+  // The grid kernels' instruction set ("sse2", "avx2"), or "" where the general path runs.
+  std::string gridKernels() const { return grid_ ? grid_->kernels().name : ""; }
+  int teamThreads() const { return team_; }  // threads step() runs its passes on
 
  private:
   struct Stiffness {
@@ -76,6 +105,7 @@ class CpuSolver final : public Solver {
   void applyCorrections();  // x += c, and v += c so that x_prev stays put
   void limitStretchColoured();
   void limitStretchJacobi();
+  void buildFaceContacts();  // the meshes' features, their grids and the cloth's face adjacency
   // One Gauss-Seidel sweep over the enabled springs, colour after colour, each colour one parallel loop:
   // f(k, s, spring) with k the spring's slot in the colouring and s its index.
   template <class F>
@@ -84,12 +114,20 @@ class CpuSolver final : public Solver {
   bool needsPass(int pass) const;
   template <class F>
   void timed(int pass, F&& f);
+  void runPasses();
+  bool gridForces() const;
 
   Scene scene_;
   Topology topo_;
   VerletForm form_;
   int threads_ = 1;
+  int team_ = 1;                            // threads step() runs on (team_min_points)
+  std::optional<GridPath> grid_;            // float grid cloths, unless the options turn it off (copyable)
+  const GridKernels* kernels_ = nullptr;    // float: the SIMD integrate (any cloth)
+  std::vector<float> inv_mass3_, pinned3_;  // float: per coordinate, its point's 1/m and pin mask
+  std::exception_ptr failure_;              // thrown inside step()'s team, rethrown once it is over
   double pair_margin_ = kDefaultPairMargin;
+  double shortest_spring_ = 0;  // m, the shortest structural spring's rest length
   std::vector<vec3> x_, v_, f_, correction_;
   std::vector<T> rest_;           // per spring, in T
   std::vector<T> rest_adjacent_;  // per adjacency entry, in T
@@ -104,6 +142,23 @@ class CpuSolver final : public Solver {
   std::vector<T> lambda_;             // XPBD: per coloured spring, the multiplier summed over this substep's sweeps
   PointColouring point_colouring_;    // VBD: built the first time the scene asks for VBD
   std::vector<vec3> inertia_target_;  // VBD with iterations > 1: the prediction y, kept by the first sweep
+  // Per mesh obstacle, for collideFaces: its sharp features in T and the grid they are looked up by.
+  struct FeatureEdgeT {
+    vec3 a, b, n1, n2;
+    vec3 mid;  // (a + b) / 2 and |b - a| / 2: a sphere around it, to pass over the far ones quickly
+    T half;
+  };
+  struct FeatureCornerT {
+    vec3 p, normal;
+  };
+  struct FaceContacts {
+    std::vector<FeatureEdgeT> edges;
+    std::vector<FeatureCornerT> corners;
+    FeatureGrid grid;
+    T thickness = 0;
+  };
+  std::vector<FaceContacts> face_contacts_;  // one per mesh, in scene order; empty if no mesh has features
+  FaceAdjacency faces_;
   long long substeps_ = 0;
   std::vector<PassTiming> timings_;
 };

@@ -1,24 +1,82 @@
 // Loops split between OpenMP threads (the CPU solver is compiled with -fopenmp; elsewhere, such as in
-// tests, parallelFor is a plain loop).
+// tests, these are plain loops).
+//
+// Two ways to run a loop on several threads. Inside a team (CpuSolver::step opens one OpenMP parallel region
+// for a whole substep and every thread runs every pass), a loop is split between the team's threads and
+// ends with a barrier: no fork, and the threads wait for each other only where a pass needs the previous
+// one's results. Outside a team (a test running one pass, the list build), a long loop forks a team of its
+// own and a short one runs as a plain loop.
 #pragma once
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace drape {
 
-// OpenMP team for a loop of `items` iterations: one thread below kParallelItems, where forking and the
-// closing barrier cost more than the loop saves. A 50x50 cloth's loops take 10-50 us each, a dozen per
-// substep; measured on the 2-core development machine under load, 2 threads on them ran 3.4x slower
-// than one (threads spin at every barrier while their partner is descheduled). From 32768 items a
-// loop is worth a few hundred microseconds, and the threads pay.
+// OpenMP team for a loop of `items` iterations outside a team: one thread below kParallelItems, where
+// forking and the closing barrier cost more than the loop saves. A 50x50 cloth's loops take 10-50 us each,
+// a dozen per substep; measured on the 2-core development machine under load, 2 threads on them ran 3.4x
+// slower than one (a fork per loop, threads spinning at every barrier while their partner is descheduled).
+// From 32768 items a loop is worth a few hundred microseconds, and the threads pay.
 inline constexpr long long kParallelItems = 32768;
 inline int teamFor(int threads, long long items) {
   return items >= kParallelItems ? threads : 1;
 }
 
-// body(k) for k in [first, last), split between `threads` OpenMP threads when the loop is long enough
-// (teamFor). Short loops run as a plain loop: an OpenMP region, even of one thread, compiles the body
-// into an outlined function that reloads every member it touches, which measured 30% slower.
+// Whether the caller is one of several threads of a team (an active parallel region).
+inline bool inTeam() {
+#ifdef _OPENMP
+  return omp_in_parallel() != 0;
+#else
+  return false;
+#endif
+}
+
+// This thread's share [lo, hi) of [first, last) in a team (contiguous, by thread number: the same split
+// every time), or all of it outside one.
+inline void teamShare(long long first, long long last, long long& lo, long long& hi) {
+  lo = first;
+  hi = last;
+#ifdef _OPENMP
+  if (!inTeam()) return;
+  const long long n = last - first, t = omp_get_thread_num(), count = omp_get_num_threads();
+  lo = first + n * t / count;
+  hi = first + n * (t + 1) / count;
+#endif
+}
+
+// The team waits for all its threads (nothing outside a team).
+inline void teamBarrier() {
+#ifdef _OPENMP
+  if (inTeam()) {
+#pragma omp barrier
+  }
+#endif
+}
+
+// body(lo, hi) on this thread's share of [first, last), then a barrier: inside a team each thread calls it.
+template <class F>
+void teamRange(long long first, long long last, F&& body) {
+  long long lo, hi;
+  teamShare(first, last, lo, hi);
+  if (lo < hi) body(lo, hi);
+  teamBarrier();
+}
+
+// body(k) for k in [first, last). In a team, this thread's share, then a barrier. Outside, split between
+// `threads` OpenMP threads when the loop is long enough (teamFor); short loops run as a plain loop: an
+// OpenMP region, even of one thread, compiles the body into an outlined function that reloads every member
+// it touches, which measured 30% slower.
 template <class F>
 void parallelFor(long long first, long long last, int threads, F&& body) {
+  if (inTeam()) {
+    teamRange(first, last, [&](long long lo, long long hi) {
+      for (long long k = lo; k < hi; ++k)
+        body(k);
+    });
+    return;
+  }
   if (teamFor(threads, last - first) == 1) {
     for (long long k = first; k < last; ++k)
       body(k);
@@ -29,6 +87,21 @@ void parallelFor(long long first, long long last, int threads, F&& body) {
 #endif
   for (long long k = first; k < last; ++k)
     body(k);
+}
+
+// Serial work inside a pass (resizing a buffer, building a list): one thread of a team does it while the
+// others wait; outside a team, the caller. An exception must not leave an OpenMP region, so it is kept and
+// rethrown by `rethrow` once the region is over (CpuSolver::step).
+template <class F>
+void teamSingle(F&& body) {
+  if (!inTeam()) {
+    body();
+    return;
+  }
+#ifdef _OPENMP
+#pragma omp single
+  body();
+#endif
 }
 
 }  // namespace drape

@@ -58,6 +58,15 @@ DRAPE_PHYSICS_INLINE vec3<T> selfCollisionCorrection(vec3<T> xi, vec3<T> xj, T t
   return ((range - dist) / dist) * d;
 }
 
+// Whether the springs already hold the pair {i, j}: its distance in the rest shape is below the contact
+// distance 2*thickness, so it would start "in contact" and self-collision would fight the springs (a cloth
+// refined below 2*thickness between points). Such pairs are not self-collision candidates.
+template <class T>
+DRAPE_PHYSICS_INLINE bool heldAtRest(vec3<T> rest_i, vec3<T> rest_j, T range) {
+  vec3<T> d = rest_i - rest_j;
+  return glm::dot(d, d) < range * range;
+}
+
 // Position-based collision response with friction f, written as a correction c added to both x and
 // v (so x_prev = x - v stays put): x' = x_prev + (1-f)(target - x_prev)  <=>  c = (1-f)(target-x) - f v.
 // Working with the small differences target - x and v keeps float precision.

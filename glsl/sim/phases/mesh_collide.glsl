@@ -1,14 +1,12 @@
 // Collision with a mesh obstacle's signed distance field: collideField of src/cpu/mesh_physics.hpp, the
 // same float operations in the same order. The fields ride in the collider buffer after the spheres and
-// planes (GpuSolver::uploadColliders): two headers per mesh, then the samples of every mesh, 8 per
+// planes (gpu::colliders, src/gpu/cloth_tables.cpp): two headers per mesh, then the samples of every mesh, 8 per
 // Collider. A buffer of their own would be a 17th storage block in the self-collision kernel, one more
 // than Mesa allows.
 #pragma once
 
-#include "common.glsl"
-#include "physics.glsl"
-
-const float kMeshSurfaceOffset = 2e-3;  // m, core/mesh_obstacle.hpp
+#include "../common.glsl"
+#include "../physics.glsl"
 
 float fieldSample(uint base, ivec3 dims, ivec3 i) {
   uint k = uint((i.z * dims.y + i.y) * dims.x + i.x);
@@ -18,12 +16,14 @@ float fieldSample(uint base, ivec3 dims, ivec3 i) {
   return q[r & 3u];
 }
 
-// Mesh m's headers: colliders[first] = (origin, 1 / cell), (dims, friction); colliders[first + 1].a.x = the
-// index of the Collider holding its sample 0.
+// Mesh m's headers: colliders[first] = (origin, 1 / cell), (dims, friction); colliders[first + 1].a = (the
+// index of the Collider holding its sample 0, the offset: physics::meshOffset of the obstacle's thickness).
 bool collideField(vec3 x, vec3 v, uint first, out vec3 c) {
   c = vec3(0.0);
   Collider h0 = colliders[first];
-  uint base = uint(colliders[first + 1u].a.x);
+  vec4 h1 = colliders[first + 1u].a;
+  uint base = uint(h1.x);
+  float offset = h1.y;
   ivec3 dims = ivec3(h0.b.xyz);
   precise vec3 g = (x - h0.a.xyz) * h0.a.w;
   // isnan spelled out: a compiler may assume no NaN and fold the range test.
@@ -38,13 +38,13 @@ bool collideField(vec3 x, vec3 v, uint first, out vec3 c) {
   precise float x00 = mix1(s000, s100, t.x), x10 = mix1(s010, s110, t.x);
   precise float x01 = mix1(s001, s101, t.x), x11 = mix1(s011, s111, t.x);
   precise float d = mix1(mix1(x00, x10, t.y), mix1(x01, x11, t.y), t.z);
-  if (d >= kMeshSurfaceOffset) return false;
+  if (d >= offset) return false;
   precise vec3 grad = vec3(mix1(mix1(s100 - s000, s110 - s010, t.y), mix1(s101 - s001, s111 - s011, t.y), t.z),
                            mix1(mix1(s010 - s000, s110 - s100, t.x), mix1(s011 - s001, s111 - s101, t.x), t.z),
                            mix1(mix1(s001 - s000, s101 - s100, t.x), mix1(s011 - s010, s111 - s110, t.x), t.y));
   precise float len = length3(grad);
   if (len <= 0.0) return false;
-  precise vec3 r = frictionCorrection((kMeshSurfaceOffset - d) * (grad / len), v, h0.b.w);
+  precise vec3 r = frictionCorrection((offset - d) * (grad / len), v, h0.b.w);
   c = r;
   return true;
 }

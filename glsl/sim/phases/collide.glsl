@@ -3,8 +3,8 @@
 // own position and displacement, so they need no pass of their own.
 #pragma once
 
-#include "common.glsl"
-#include "physics.glsl"
+#include "../common.glsl"
+#include "../physics.glsl"
 #if NUM_MESHES > 0
 #include "mesh_collide.glsl"
 #endif

@@ -1,0 +1,154 @@
+#include "app/roofline.hpp"
+#include "cpu/cpu_solver.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+
+namespace drape {
+
+namespace {
+
+// Springs of an N x N grid with every type enabled (docs/design.md section 2): structural, shearing, bending.
+double gridSprings(double n) {
+  return (2 * n * n - 2 * n) + 2 * (n - 1) * (n - 1) + (2 * n * n - 4 * n);
+}
+
+// Where the arrays a pass touches live: a cloth of up to this many bytes of state (positions, displacements,
+// forces, the kernels' copies and rest lengths: about 128 bytes a point) stays in a core's L2.
+constexpr double kCacheBytes = 512.0 * 1024;
+constexpr double kStateBytesPerPoint = 128;
+
+const MachinePeak* peakFor(const BenchReport& r, const BenchRun& run) {
+  if (r.peaks.empty()) return nullptr;
+  return run.team_threads > 1 && r.peaks.size() > 1 ? &r.peaks[1] : &r.peaks[0];
+}
+
+}  // namespace
+
+// What the roofline needs of a CPU run: the path it took and the self-collision lists' shape.
+void recordCpuDetails(const Solver& solver, const Scene& scene, BenchRun& run) {
+  run.spheres = int(scene.spheres.size());
+  run.planes = int(scene.planes.size());
+  run.stretch_passes = scene.sim.stretch_passes;
+  if (const auto* cpu = dynamic_cast<const CpuSolver<float>*>(&solver)) {
+    run.grid_kernels = cpu->gridKernels();
+    run.team_threads = cpu->teamThreads();
+    if (cpu->substeps() > 0 && run.points > 0) {
+      run.pair_entries_per_point = double(cpu->collisionPairs().pairCount()) / double(run.points);
+      run.rebuilds_per_substep = double(cpu->collisionPairs().rebuilds()) / double(cpu->substeps());
+    }
+  }
+}
+
+nlohmann::json peaksJson(const std::vector<MachinePeak>& peaks) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const MachinePeak& p : peaks)
+    out.push_back({{"isa", p.isa},
+                   {"threads", p.threads},
+                   {"memory_gbs", p.dram_gbs},
+                   {"l2_gbs", p.cache_gbs},
+                   {"addmul_gflops", p.addmul_gflops},
+                   {"divsqrt_gops", p.divsqrt_gops},
+                   {"barrier_us", p.barrier_us},
+                   {"barrier_best_us", p.barrier_best_us}});
+  return out;
+}
+
+std::optional<PassWork> passWork(const BenchRun& run, const std::string& pass) {
+  if (run.integrator != "verlet" || run.solver != "cpu") return std::nullopt;
+  const double n = run.size;
+  const double ends = 2 * gridSprings(n) / (n * n);  // spring ends a point (12 inside the cloth)
+  const bool grid = !run.grid_kernels.empty();
+  if (pass == "forces" && grid)
+    // Per spring end (addSpring): d = x_o - x (3), |d|^2 (3 mul, 2 add), sqrt, len - rest, k (), / len,
+    // s d (3), f += (3); gravity times mass (3). Bytes: the positions read as vec3s, written and read as
+    // arrays (12 + 12 + 12), the mass (4), six rest lengths (24), the forces written (12).
+    return PassWork{16 * ends + 3, 2 * ends, 76};
+  if (pass == "integrate")
+    // f / m (3), a dt^2 (3), keep v (3), + (3), x + v (3). Bytes: pin (1), f, v, x read, v, x written, 1/m.
+    return PassWork{15, 0, 1 + 12 * 5 + 4};
+  if (pass == "self_collide") {
+    // The travel check (3 sub, 3 mul, 2 add), each list entry's distance (the same 8), the average and the
+    // correction added to x and v (10). Bytes: x and the anchor (24), the list (4 an entry), the correction
+    // written and read (24), x and v read and written (48); the candidates' positions are gathered from cache.
+    const double e = run.pair_entries_per_point;
+    return PassWork{8 + 8 * e + 10, 0, 96 + 4 * e};
+  }
+  if (pass == "collide")
+    // A sphere: x - c (3), |x - c| (5 and a sqrt); a plane: (x - p).n (8), v.n (5). The rare response is
+    // left out. Bytes: pin, x and v read and written.
+    return PassWork{8.0 * run.spheres + 13.0 * run.planes, double(run.spheres), 1 + 48};
+  if (pass == "limit_stretch" && grid) {
+    // Every lane computes all of limitSprings: d (3), |d|^2 (5), sqrt, limit rest (1), len - max (1),
+    // share times excess (2), two divisions, q d for both ends (6), x and v of both ends (12). Bytes: x and
+    // v copied in and back (4 x 24), the pin masks (4) and six rest lengths (24); the colours' sweeps over
+    // the copies stay in cache.
+    const double springs = gridSprings(n) / (n * n) * run.stretch_passes;
+    return PassWork{30 * springs, 3 * springs, 96 + 28};
+  }
+  return std::nullopt;
+}
+
+std::string rooflineMarkdown(const BenchReport& r) {
+  if (r.peaks.empty()) return "";
+  std::string md = "## Roofline\n\n";
+  md += fmt::format(
+      "Ceilings measured on this machine just before the runs ({} vectors, the grid kernels' instructions; "
+      "load average {} at the start). Triad: STREAM's a = b + s c, 12 bytes an element, over 3 × 64 MiB "
+      "(memory) and 3 × 64 KiB a thread (L2). Adds and multiplies without fused multiply-add (the bits "
+      "forbid it). A barrier: one OpenMP barrier of the team, what each pass boundary of a substep costs.\n\n",
+      r.peaks.front().isa, r.machine.load_average);
+  md +=
+      "| threads | memory GB/s | L2 GB/s | add+mul GFLOP/s | div+sqrt G/s | barrier µs (median, best) "
+      "|\n|---|---|---|---|---|---|\n";
+  for (const MachinePeak& p : r.peaks)
+    md += fmt::format("| {} | {:.1f} | {:.1f} | {:.1f} | {:.2f} | {} |\n", p.threads, p.dram_gbs, p.cache_gbs,
+                      p.addmul_gflops, p.divsqrt_gops,
+                      p.threads > 1 ? fmt::format("{:.2f}, {:.2f}", p.barrier_us, p.barrier_best_us) : "–");
+  md +=
+      "\nPer pass, the work a point and call counted from the code (app/roofline.cpp says what each number "
+      "holds), the least time a point the ceilings allow (the binding ceiling in brackets: memory or L2 "
+      "bandwidth by where the cloth's state fits, add+mul or div+sqrt throughput), the measured time, and "
+      "their ratio: the share of the roofline the pass reaches. Self-collision: list entries a point and "
+      "rebuilds a substep at the end of the run; a rebuild's work is not in the model. A one-thread run's "
+      "pass times are wall clock times the run's CPU share (its CPU time over its wall time, in brackets after "
+      "the solver): the time it had a core, where other work on the machine took it now and then. The probes "
+      "of one thread count CPU time too; a team's are wall clock.\n\n";
+  md +=
+      "| scene | N×N | solver | pass | add+mul | div+sqrt | bytes | least ns/point | measured ns/point | share |\n"
+      "|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const BenchRun& run : r.runs) {
+    const MachinePeak* peak = peakFor(r, run);
+    if (!peak || run.passes.empty() || run.points <= 0) continue;
+    const bool in_cache = double(run.points) * kStateBytesPerPoint <= kCacheBytes;
+    const double gbs = in_cache ? peak->cache_gbs : peak->dram_gbs;
+    const std::string scene = std::filesystem::path(run.scene).stem().string();
+    std::string solver = fmt::format("{} ×{}", run.solver, run.threads);
+    if (!run.grid_kernels.empty()) solver += " " + run.grid_kernels;
+    // One thread: its wall time less the time it waited for a core (spread over the passes as evenly as the
+    // scheduler's ticks fall). A team's threads also wait for each other, which is the passes' own cost.
+    const double on_core = run.team_threads <= 1 && run.cpu_share > 0 && run.cpu_share < 1 ? run.cpu_share : 1;
+    if (on_core < 1) solver += fmt::format(" ({:.0f}% on a core)", 100 * on_core);
+    for (const BenchPass& pass : run.passes) {
+      const std::optional<PassWork> w = passWork(run, pass.name);
+      if (!w || pass.calls_per_frame <= 0) continue;
+      const double measured = on_core * pass.ms_per_frame * 1e6 / (pass.calls_per_frame * double(run.points));
+      const std::pair<double, const char*> bounds[] = {{w->bytes / gbs, in_cache ? "L2" : "memory"},
+                                                       {w->addmul / peak->addmul_gflops, "add+mul"},
+                                                       {w->divsqrt / peak->divsqrt_gops, "div+sqrt"}};
+      const auto& [least, kind] = *std::max_element(std::begin(bounds), std::end(bounds),
+                                                    [](const auto& a, const auto& b) { return a.first < b.first; });
+      std::string name = pass.name;
+      if (pass.name == "self_collide")
+        name += fmt::format(" ({:.1f} entries, {:.2f} rebuilds)", run.pair_entries_per_point, run.rebuilds_per_substep);
+      md += fmt::format("| {} | {} | {} | {} | {:.0f} | {:.0f} | {:.0f} | {:.2f} ({}) | {:.2f} | {:.0f}% |\n", scene,
+                        run.size, solver, name, w->addmul, w->divsqrt, w->bytes, least, kind, measured,
+                        100 * least / measured);
+    }
+  }
+  return md;
+}
+
+}  // namespace drape

@@ -1,0 +1,111 @@
+// CpuSolver's contact between the cloth's faces and the mesh obstacles' sharp features (collideFaces), kept
+// apart from cpu_solver.cpp for its size. The data and the order of the work: docs/contact.md.
+#include "cpu/cpu_solver.hpp"
+#include "cpu/mesh_physics.hpp"
+#include "cpu/parallel.hpp"
+
+namespace drape {
+
+template <class T>
+void CpuSolver<T>::buildFaceContacts() {
+  face_contacts_.clear();
+  if (scene_.meshes.empty() || topo_.triangles.empty()) return;
+  faces_ = buildFaceAdjacency(topo_);
+  bool any = false;
+  std::vector<FaceContacts> contacts;
+  for (const MeshSpec& m : scene_.meshes) {
+    const MeshFeatures kept = contactFeatures(scene_, m);
+    FaceContacts fc;
+    const double thickness = meshThickness(scene_.cloth, m);
+    fc.thickness = T(thickness);
+    fc.grid = buildFeatureGrid(kept, featureReach(thickness, faces_));
+    for (const FeatureEdge& e : kept.edges)
+      fc.edges.push_back({vec3(e.a), vec3(e.b), vec3(e.normal_a), vec3(e.normal_b), vec3(0.5 * (e.a + e.b)),
+                          T(0.5 * glm::distance(e.a, e.b))});
+    for (const FeatureCorner& c : kept.corners)
+      fc.corners.push_back({vec3(c.p), vec3(c.normal)});
+    any = any || !fc.edges.empty() || !fc.corners.empty();
+    contacts.push_back(std::move(fc));
+  }
+  if (any) face_contacts_ = std::move(contacts);
+}
+
+// Jacobi, as self-collision: every point gathers the contacts of its edges (ascending edge index) and then of
+// its triangles (ascending triangle index), mesh after mesh, each against the features its grid cell lists
+// (ascending), all from the positions before the pass; it takes the mean of its shares. A contact's two or
+// three points compute it alike, so they agree on it without writing to one another.
+template <class T>
+void CpuSolver<T>::collideFaces() {
+  const long long n = (long long)x_.size();
+  const T third = T(1.0 / 3.0);
+  parallelFor(0, n, threads_, [&](long long pi) {
+    const auto i = std::uint32_t(pi);
+    vec3 sum(0);
+    int count = 0;
+    if (!topo_.pinned[i]) {
+      for (const FaceContacts& mesh : face_contacts_) {
+        const FeatureGrid& g = mesh.grid;
+        if (g.edge_start.empty()) continue;
+        auto cellOf = [&](vec3 at, glm::ivec3& cell) {
+          const vec3 c = glm::floor((at - vec3(g.origin_f)) * T(g.inv_cell_f));
+          if (!(c.x >= T(0) && c.y >= T(0) && c.z >= T(0) && c.x < T(g.dims.x) && c.y < T(g.dims.y) &&
+                c.z < T(g.dims.z)))
+            return false;
+          cell = glm::ivec3(c);
+          return true;
+        };
+        for (std::uint32_t k = faces_.edge_start[i]; k < faces_.edge_start[i + 1]; ++k) {
+          const std::uint32_t e = faces_.point_edges[k];
+          const std::uint32_t a = faces_.edges[2 * e], b = faces_.edges[2 * e + 1];
+          const vec3 mid = (x_[a] + x_[b]) * T(0.5);
+          glm::ivec3 cell;
+          if (!cellOf(mid, cell)) continue;
+          const std::size_t c = g.index(cell);
+          const T half = T(0.5) * glm::distance(x_[a], x_[b]);
+          for (std::uint32_t f = g.edge_start[c]; f < g.edge_start[c + 1]; ++f) {
+            const FeatureEdgeT& fe = mesh.edges[g.edges[f]];
+            if (physics::farApart(mid, half, fe.mid, fe.half, mesh.thickness)) continue;
+            T s;
+            vec3 move;
+            if (physics::edgeContact(x_[a], x_[b], fe.a, fe.b, fe.n1, fe.n2, mesh.thickness, s, move)) {
+              sum += physics::edgeShare(s, i == b, move);
+              ++count;
+            }
+          }
+        }
+        for (std::uint32_t k = faces_.triangle_start[i]; k < faces_.triangle_start[i + 1]; ++k) {
+          const std::uint32_t t = faces_.point_triangles[k];
+          const std::uint32_t p0 = topo_.triangles[3 * t], p1 = topo_.triangles[3 * t + 1],
+                              p2 = topo_.triangles[3 * t + 2];
+          const vec3 centre = (x_[p0] + x_[p1] + x_[p2]) * third;
+          glm::ivec3 cell;
+          if (!cellOf(centre, cell)) continue;
+          const std::size_t c = g.index(cell);
+          const int corner = i == p0 ? 0 : i == p1 ? 1 : 2;
+          const T radius = std::sqrt(
+              std::max({glm::dot(x_[p0] - centre, x_[p0] - centre), glm::dot(x_[p1] - centre, x_[p1] - centre),
+                        glm::dot(x_[p2] - centre, x_[p2] - centre)}));
+          for (std::uint32_t f = g.corner_start[c]; f < g.corner_start[c + 1]; ++f) {
+            const FeatureCornerT& fc = mesh.corners[g.corners[f]];
+            if (physics::farApart(centre, radius, fc.p, T(0), mesh.thickness)) continue;
+            vec3 bary, move;
+            if (physics::cornerContact(x_[p0], x_[p1], x_[p2], fc.p, fc.normal, mesh.thickness, bary, move)) {
+              sum += physics::cornerShare(bary, corner, move);
+              ++count;
+            }
+          }
+        }
+      }
+    }
+    correction_[i] = count > 0 ? sum / T(count) : vec3(0);
+  });
+  applyCorrections();
+}
+
+// The members defined here; cpu_solver.cpp instantiates the rest of the class.
+template void CpuSolver<float>::buildFaceContacts();
+template void CpuSolver<float>::collideFaces();
+template void CpuSolver<double>::buildFaceContacts();
+template void CpuSolver<double>::collideFaces();
+
+}  // namespace drape

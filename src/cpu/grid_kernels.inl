@@ -1,0 +1,363 @@
+// The grid kernels, written once over a vector type V (cpu/simd.hpp) and included by one translation unit
+// per instruction set. Each lane follows the scalar code of cpu/physics.hpp operation for operation: the
+// comments name the function whose arithmetic a block repeats. Nothing here may be a non-inline symbol
+// shared with other units (see simd.hpp), so everything but the table at the end is in an unnamed namespace.
+#include "cpu/grid_kernels.hpp"
+#include "cpu/simd.hpp"
+
+#include <cstring>
+
+namespace drape {
+namespace {
+
+// GridShape::at, kept here: the kernels' translation units share no inline function with the rest.
+std::ptrdiff_t at(const GridShape& g, int x, int y) {
+  return std::ptrdiff_t(y + GridShape::kTop) * g.stride + GridShape::kLeft + x;
+}
+
+constexpr int kDx[6] = {1, 0, 1, -1, 2, 0}, kDy[6] = {0, 1, 1, 1, 0, 2};  // core/colouring.hpp, kGridDirections
+
+template <class V>
+struct Kernels {
+  using F = typename V::F;
+  static constexpr int kW = V::kWidth;
+
+  static void toSoa(const GridShape& g, const float* aos, float* x, float* y, float* z, int y0, int y1) {
+    for (int row = y0; row < y1; ++row) {
+      const float* src = aos + 3 * std::ptrdiff_t(row) * g.W;
+      const std::ptrdiff_t q = at(g, 0, row);
+      int i = 0;
+      for (; i + kW <= g.W; i += kW) {
+        F X, Y, Z;
+        V::loadVec3(src + 3 * i, X, Y, Z);
+        V::store(x + q + i, X);
+        V::store(y + q + i, Y);
+        V::store(z + q + i, Z);
+      }
+      for (; i < g.W; ++i) {
+        x[q + i] = src[3 * i];
+        y[q + i] = src[3 * i + 1];
+        z[q + i] = src[3 * i + 2];
+      }
+    }
+  }
+
+  static void fromSoa(const GridShape& g, const float* x, const float* y, const float* z, float* aos, int y0, int y1) {
+    for (int row = y0; row < y1; ++row) {
+      float* dst = aos + 3 * std::ptrdiff_t(row) * g.W;
+      const std::ptrdiff_t q = at(g, 0, row);
+      int i = 0;
+      for (; i + kW <= g.W; i += kW)
+        V::storeVec3(dst + 3 * i, V::load(x + q + i), V::load(y + q + i), V::load(z + q + i));
+      for (; i < g.W; ++i) {
+        dst[3 * i] = x[q + i];
+        dst[3 * i + 1] = y[q + i];
+        dst[3 * i + 2] = z[q + i];
+      }
+    }
+  }
+
+  // Lanes whose point x + offset lies on the grid (lane x coordinates in xs, exact small integers).
+  static F onGrid(F xs, int offset, int w) {
+    return V::bitAnd(V::le(V::set1(float(-offset)), xs), V::lt(xs, V::set1(float(w - offset))));
+  }
+
+  // f += springForce(x_i, x_other, rest, k) (cpu/physics.hpp) in the lanes of `exists`; the others keep f.
+  static void addSpring(const GridForceArgs& a, std::ptrdiff_t rest_at, std::ptrdiff_t other, const float* rest, F k,
+                        F exists, F X, F Y, F Z, F& fx, F& fy, F& fz) {
+    const F dx = V::sub(V::load(a.x + other), X);
+    const F dy = V::sub(V::load(a.y + other), Y);
+    const F dz = V::sub(V::load(a.z + other), Z);
+    const F len = V::sqrt(V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz)));
+    const F s = V::div(V::mul(k, V::sub(len, V::load(rest + rest_at))), len);
+    const F zero = V::set1(0.0f), none = V::le(len, zero);  // springForce returns vec3(0) there, and f adds it
+    fx = V::select(exists, V::add(fx, V::select(none, zero, V::mul(s, dx))), fx);
+    fy = V::select(exists, V::add(fy, V::select(none, zero, V::mul(s, dy))), fy);
+    fz = V::select(exists, V::add(fz, V::select(none, zero, V::mul(s, dz))), fz);
+  }
+
+  static void forces(const GridForceArgs& a, int y0, int y1) {
+    const GridShape& g = a.shape;
+    const F gx = V::set1(a.gravity[0]), gy = V::set1(a.gravity[1]), gz = V::set1(a.gravity[2]);
+    for (int row = y0; row < y1; ++row)
+      for (int x0 = 0; x0 < g.W; x0 += kW) {
+        const std::ptrdiff_t q = at(g, x0, row);
+        const F X = V::load(a.x + q), Y = V::load(a.y + q), Z = V::load(a.z + q);
+        const F m = V::load(a.mass + q);
+        F fx = V::mul(gx, m), fy = V::mul(gy, m), fz = V::mul(gz, m);  // gravity * mass
+        const F xs = V::add(V::set1(float(x0)), V::iota());
+        // Per direction, in the adjacency's order: the spring that ends at the point, then the one that
+        // starts there (both ascending spring index, core/topology.cpp).
+        for (int d = 0; d < 6; ++d) {
+          if (!a.springs.enabled[d]) continue;
+          const F k = V::set1(a.springs.k[d]);
+          const std::ptrdiff_t offset = kDx[d] + std::ptrdiff_t(kDy[d]) * g.stride;
+          if (row - kDy[d] >= 0)
+            addSpring(a, q - offset, q - offset, a.springs.rest[d], k, onGrid(xs, -kDx[d], g.W), X, Y, Z, fx, fy, fz);
+          if (row + kDy[d] < g.H)
+            addSpring(a, q, q + offset, a.springs.rest[d], k, onGrid(xs, kDx[d], g.W), X, Y, Z, fx, fy, fz);
+        }
+        float* out = a.forces + 3 * (std::ptrdiff_t(row) * g.W + x0);
+        if (x0 + kW <= g.W) {
+          V::storeVec3(out, fx, fy, fz);
+        } else {
+          float tmp[3 * kW];
+          V::storeVec3(tmp, fx, fy, fz);
+          std::memcpy(out, tmp, sizeof(float) * 3 * std::size_t(g.W - x0));
+        }
+      }
+  }
+
+  struct End {
+    F x, y, z, vx, vy, vz, pinned;
+  };
+
+  // One lane per spring a-b of the colour (valid lanes only): Provot's correction as limitStretchColoured
+  // computes it, both ends moved at once. stretchShare, stretchCorrection (cpu/physics.hpp) lane by lane:
+  // ca = (share_a (len - max) / len) d with d = x_b - x_a; cb = -ca where the shares are equal, else the
+  // same expression seen from b, whose d is exactly -d. A spring within the limit gives +0 (and -ca = -0),
+  // which is still added, as the scalar code adds it.
+  static void limitSprings(End& a, End& b, F rest, F limit, F valid, bool displacements) {
+    const F dx = V::sub(b.x, a.x), dy = V::sub(b.y, a.y), dz = V::sub(b.z, a.z);
+    const F len = V::sqrt(V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz)));
+    const F max_len = V::mul(limit, rest);
+    const F within = V::le(len, max_len);
+    const F excess = V::sub(len, max_len);
+    const F zero = V::set1(0.0f), one = V::set1(1.0f), half = V::set1(0.5f);
+    const F share_a = V::select(a.pinned, zero, V::select(b.pinned, one, half));
+    const F share_b = V::select(b.pinned, zero, V::select(a.pinned, one, half));
+    const F qa = V::div(V::mul(share_a, excess), len);
+    const F qb = V::div(V::mul(share_b, excess), len);
+    const F same = V::eq(share_a, share_b);
+    const F cax = V::select(within, zero, V::mul(qa, dx));
+    const F cay = V::select(within, zero, V::mul(qa, dy));
+    const F caz = V::select(within, zero, V::mul(qa, dz));
+    const F cbx = V::select(same, V::neg(cax), V::select(within, zero, V::mul(qb, V::neg(dx))));
+    const F cby = V::select(same, V::neg(cay), V::select(within, zero, V::mul(qb, V::neg(dy))));
+    const F cbz = V::select(same, V::neg(caz), V::select(within, zero, V::mul(qb, V::neg(dz))));
+    const F move_a = V::andNot(a.pinned, valid), move_b = V::andNot(b.pinned, valid);
+    a.x = V::select(move_a, V::add(a.x, cax), a.x);
+    a.y = V::select(move_a, V::add(a.y, cay), a.y);
+    a.z = V::select(move_a, V::add(a.z, caz), a.z);
+    b.x = V::select(move_b, V::add(b.x, cbx), b.x);
+    b.y = V::select(move_b, V::add(b.y, cby), b.y);
+    b.z = V::select(move_b, V::add(b.z, cbz), b.z);
+    if (!displacements) return;  // x_prev stays where it was: v takes the same corrections
+    a.vx = V::select(move_a, V::add(a.vx, cax), a.vx);
+    a.vy = V::select(move_a, V::add(a.vy, cay), a.vy);
+    a.vz = V::select(move_a, V::add(a.vz, caz), a.vz);
+    b.vx = V::select(move_b, V::add(b.vx, cbx), b.vx);
+    b.vy = V::select(move_b, V::add(b.vy, cby), b.vy);
+    b.vz = V::select(move_b, V::add(b.vz, cbz), b.vz);
+  }
+
+  static End loadEnd(const GridStretchArgs& a, std::ptrdiff_t q, bool displacements) {
+    End e{V::load(a.x + q), V::load(a.y + q), V::load(a.z + q), {}, {}, {}, V::load(a.pinned + q)};
+    if (displacements) {
+      e.vx = V::load(a.vx + q);
+      e.vy = V::load(a.vy + q);
+      e.vz = V::load(a.vz + q);
+    }
+    return e;
+  }
+  static void storeEnd(const GridStretchArgs& a, std::ptrdiff_t q, const End& e, bool displacements) {
+    V::store(a.x + q, e.x);
+    V::store(a.y + q, e.y);
+    V::store(a.z + q, e.z);
+    if (!displacements) return;
+    V::store(a.vx + q, e.vx);
+    V::store(a.vy + q, e.vy);
+    V::store(a.vz + q, e.vz);
+  }
+
+  // A colour of a vertical or diagonal direction: the springs from row y to row y + dy, one per point of a
+  // run of row y, so the a ends are consecutive and so are the b ends.
+  static void rowColour(const GridStretchArgs& a, int d, int row, bool displacements) {
+    const GridShape& g = a.shape;
+    const int x_first = kDx[d] < 0 ? -kDx[d] : 0, x_end = kDx[d] > 0 ? g.W - kDx[d] : g.W;
+    const std::ptrdiff_t offset = kDx[d] + std::ptrdiff_t(kDy[d]) * g.stride;
+    const F limit = V::set1(a.limit);
+    for (int x0 = x_first; x0 < x_end; x0 += kW) {
+      const std::ptrdiff_t q = at(g, x0, row);
+      const F valid = V::lt(V::add(V::set1(float(x0)), V::iota()), V::set1(float(x_end)));
+      End ea = loadEnd(a, q, displacements), eb = loadEnd(a, q + offset, displacements);
+      limitSprings(ea, eb, V::load(a.springs.rest[d] + q), limit, valid, displacements);
+      storeEnd(a, q, ea, displacements);
+      storeEnd(a, q + offset, eb, displacements);
+    }
+  }
+
+  // A colour of a horizontal direction: along a row the a and b ends alternate, one by one (structural,
+  // dx = 1) or two by two (bending, dx = 2). 2 kW consecutive points are loaded and split into a vector of
+  // a ends and one of b ends, then put back.
+  template <bool kPairs>
+  static void split(F lo, F hi, F& ea, F& eb) {
+    ea = kPairs ? V::pairsA(lo, hi) : V::evens(lo, hi);
+    eb = kPairs ? V::pairsB(lo, hi) : V::odds(lo, hi);
+  }
+  template <bool kPairs>
+  static void join(F ea, F eb, float* p) {
+    F lo, hi;
+    if (kPairs)
+      V::interleavePairs(ea, eb, lo, hi);
+    else
+      V::interleave(ea, eb, lo, hi);
+    V::store(p, lo);
+    V::store(p + kW, hi);
+  }
+  template <bool kPairs>
+  static void splitArray(const float* p, F& ea, F& eb) {
+    split<kPairs>(V::load(p), V::load(p + kW), ea, eb);
+  }
+
+  template <bool kPairs>
+  static void alternatingColour(const GridStretchArgs& a, int d, int parity, int row, bool displacements) {
+    const GridShape& g = a.shape;
+    const int dx = kDx[d];
+    const F limit = V::set1(a.limit);
+    F lane_lo = V::iota(), lane_hi = V::add(V::iota(), V::set1(float(kW))), lane_a, lane_b;
+    split<kPairs>(lane_lo, lane_hi, lane_a, lane_b);
+    for (int x0 = dx * parity; x0 + dx < g.W; x0 += 2 * kW) {
+      const std::ptrdiff_t q = at(g, x0, row);
+      const F valid = V::lt(V::add(V::set1(float(x0)), lane_a), V::set1(float(g.W - dx)));
+      End ea, eb;
+      F rest, unused;
+      splitArray<kPairs>(a.x + q, ea.x, eb.x);
+      splitArray<kPairs>(a.y + q, ea.y, eb.y);
+      splitArray<kPairs>(a.z + q, ea.z, eb.z);
+      splitArray<kPairs>(a.pinned + q, ea.pinned, eb.pinned);
+      splitArray<kPairs>(a.springs.rest[d] + q, rest, unused);
+      if (displacements) {
+        splitArray<kPairs>(a.vx + q, ea.vx, eb.vx);
+        splitArray<kPairs>(a.vy + q, ea.vy, eb.vy);
+        splitArray<kPairs>(a.vz + q, ea.vz, eb.vz);
+      }
+      limitSprings(ea, eb, rest, limit, valid, displacements);
+      join<kPairs>(ea.x, eb.x, a.x + q);
+      join<kPairs>(ea.y, eb.y, a.y + q);
+      join<kPairs>(ea.z, eb.z, a.z + q);
+      if (displacements) {
+        join<kPairs>(ea.vx, eb.vx, a.vx + q);
+        join<kPairs>(ea.vy, eb.vy, a.vy + q);
+        join<kPairs>(ea.vz, eb.vz, a.vz + q);
+      }
+    }
+  }
+
+  // Colour 2 d + parity (core/colouring.hpp, colourGridSprings): the springs of direction d whose start's
+  // coordinate along it (x for horizontal directions, else y; halved for bending) has that parity.
+  static void stretchColour(const GridStretchArgs& a, int d, int parity, int y0, int y1) {
+    const bool displacements = a.vx != nullptr;
+    for (int row = y0; row < y1; ++row) {
+      if (kDy[d] == 0) {
+        if (d == 0)
+          alternatingColour<false>(a, d, parity, row, displacements);
+        else
+          alternatingColour<true>(a, d, parity, row, displacements);
+        continue;
+      }
+      const int along = kDy[d] == 2 ? row / 2 : row;
+      if (along % 2 == parity && row + kDy[d] < a.shape.H) rowColour(a, d, row, displacements);
+    }
+  }
+
+  static void integrate(float* x, float* v, const float* f, const float* inv_mass3, const float* pinned3, float dt2,
+                        float keep, long long first, long long last) {
+    const F dt2v = V::set1(dt2), keepv = V::set1(keep), zero = V::set1(0.0f);
+    long long e = first;
+    for (; e + kW <= last; e += kW) {
+      const F pinned = V::load(pinned3 + e), xe = V::load(x + e);
+      // keep * v + (f * (1/m)) * dt^2, as integrateVerlet computes each coordinate
+      const F ve = V::add(V::mul(keepv, V::load(v + e)), V::mul(V::mul(V::load(f + e), V::load(inv_mass3 + e)), dt2v));
+      V::store(v + e, V::select(pinned, zero, ve));
+      V::store(x + e, V::select(pinned, xe, V::add(xe, ve)));
+    }
+    for (; e < last; ++e) {
+      if (pinned3[e] != pinned3[e]) {  // all bits set is a NaN
+        v[e] = 0.0f;
+        continue;
+      }
+      v[e] = keep * v[e] + f[e] * inv_mass3[e] * dt2;
+      x[e] += v[e];
+    }
+  }
+
+  static bool anyInRange(const float* x, const std::uint32_t* begin, const std::uint32_t* end, std::size_t i,
+                         float thickness) {
+    const float range = 2.0f * thickness;  // selfCollisionCorrection's range * range, in its order
+    const F range2 = V::set1(range * range), zero = V::set1(0.0f);
+    const F xi = V::set1(x[3 * i]), yi = V::set1(x[3 * i + 1]), zi = V::set1(x[3 * i + 2]);
+    for (const std::uint32_t* p = begin; p < end; p += kW) {
+      F gx, gy, gz, live;
+      V::gatherVec3(x, p, int(end - p < kW ? end - p : kW), gx, gy, gz, live);
+      const F dx = V::sub(xi, gx), dy = V::sub(yi, gy), dz = V::sub(zi, gz);
+      const F dist2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
+      // Not (dist2 >= range^2 or dist2 <= 0): a NaN distance is a term there too.
+      if (V::any(V::andNot(V::bitOr(V::ge(dist2, range2), V::le(dist2, zero)), live))) return true;
+    }
+    return false;
+  }
+
+  static float sum(F v) {
+    float lanes[kW];
+    V::store(lanes, v);
+    float s = 0;
+    for (float l : lanes)
+      s += l;
+    return s;
+  }
+
+  static float probeAddMul(long long reps) {
+    const F m = V::set1(0.9999999f), c = V::set1(1e-7f);
+    F p0 = V::set1(1.0f), p1 = V::set1(1.1f), p2 = V::set1(1.2f), p3 = V::set1(1.3f), p4 = V::set1(1.4f),
+      p5 = V::set1(1.5f);
+    F s0 = V::set1(0.0f), s1 = s0, s2 = s0, s3 = s0, s4 = s0, s5 = s0;
+    for (long long r = 0; r < reps; ++r) {
+      p0 = V::mul(p0, m);
+      s0 = V::add(s0, c);
+      p1 = V::mul(p1, m);
+      s1 = V::add(s1, c);
+      p2 = V::mul(p2, m);
+      s2 = V::add(s2, c);
+      p3 = V::mul(p3, m);
+      s3 = V::add(s3, c);
+      p4 = V::mul(p4, m);
+      s4 = V::add(s4, c);
+      p5 = V::mul(p5, m);
+      s5 = V::add(s5, c);
+    }
+    return sum(V::add(V::add(V::add(p0, p1), V::add(p2, p3)), V::add(V::add(p4, p5), V::add(s0, s5)))) +
+           sum(V::add(V::add(s1, s2), V::add(s3, s4)));
+  }
+
+  static float probeDivSqrt(long long reps) {
+    const F c = V::set1(1.5f);
+    F r0 = V::set1(2.0f), r1 = V::set1(3.0f), r2 = V::set1(4.0f), r3 = V::set1(5.0f);
+    F q0 = V::set1(1.1f), q1 = V::set1(1.2f), q2 = V::set1(1.3f), q3 = V::set1(1.4f);
+    for (long long r = 0; r < reps; ++r) {
+      r0 = V::sqrt(r0);
+      q0 = V::div(c, q0);
+      r1 = V::sqrt(r1);
+      q1 = V::div(c, q1);
+      r2 = V::sqrt(r2);
+      q2 = V::div(c, q2);
+      r3 = V::sqrt(r3);
+      q3 = V::div(c, q3);
+    }
+    return sum(V::add(V::add(V::add(r0, r1), V::add(r2, r3)), V::add(V::add(q0, q1), V::add(q2, q3))));
+  }
+
+  static void probeTriad(float* a, const float* b, const float* c, long long n, float s) {
+    const F sv = V::set1(s);
+    for (long long i = 0; i < n; i += kW)
+      V::store(a + i, V::add(V::load(b + i), V::mul(sv, V::load(c + i))));
+  }
+
+  static constexpr GridKernels table(const char* name) {
+    return {name,       kW,          &toSoa,       &fromSoa,      &forces,    &stretchColour,
+            &integrate, &anyInRange, &probeAddMul, &probeDivSqrt, &probeTriad};
+  }
+};
+
+}  // namespace
+}  // namespace drape

@@ -1,0 +1,104 @@
+#include "cpu/grid_path.hpp"
+
+#include "core/colouring.hpp"
+#include "cpu/parallel.hpp"
+
+#include <bit>
+#include <cstdint>
+#include <limits>
+
+namespace drape {
+
+namespace {
+
+constexpr SpringType kDirectionType[6] = {SpringType::Structural, SpringType::Structural, SpringType::Shearing,
+                                          SpringType::Shearing,   SpringType::Bending,    SpringType::Bending};
+
+}  // namespace
+
+GridPath::GridPath(const Topology& topo, const std::vector<float>& rest, GridIsa isa)
+    : shape_(GridShape::of(topo.W, topo.H)), kernels_(&gridKernels(isa)) {
+  for (std::vector<float>* a : {&x_, &y_, &z_, &vx_, &vy_, &vz_, &pinned_, &mass_})
+    a->assign(shape_.size, 0.0f);
+  for (std::vector<float>& r : rest_)
+    r.assign(shape_.size, 0.0f);
+  const auto w = std::uint32_t(topo.W);
+  for (std::size_t s = 0; s < topo.springs.size(); ++s) {
+    const Spring& sp = topo.springs[s];
+    rest_[gridDirection(topo, sp)][std::size_t(shape_.at(int(sp.a % w), int(sp.a / w)))] = rest[s];
+  }
+  const float all_bits = std::bit_cast<float>(std::numeric_limits<std::uint32_t>::max());
+  for (std::size_t i = 0; i < topo.pinned.size(); ++i)
+    if (topo.pinned[i]) pinned_[std::size_t(shape_.at(int(i % w), int(i / w)))] = all_bits;
+}
+
+void GridPath::setMasses(const std::vector<float>& mass) {
+  const auto w = std::size_t(shape_.W);
+  for (std::size_t i = 0; i < mass.size(); ++i)
+    mass_[std::size_t(shape_.at(int(i % w), int(i / w)))] = mass[i];
+}
+
+GridSprings GridPath::springs(const float k[3], const bool enabled[3]) const {
+  GridSprings s;
+  for (int d = 0; d < 6; ++d) {
+    const int t = int(kDirectionType[d]);
+    s.rest[d] = rest_[d].data();
+    s.k[d] = k[t];
+    s.enabled[d] = enabled[t];
+  }
+  return s;
+}
+
+void GridPath::forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f, glm::vec3 gravity, const float k[3],
+                      const bool enabled[3]) {
+  const GridKernels& kern = *kernels_;
+  // Every row's neighbours must be in the arrays before any row's forces: a barrier between.
+  teamRange(0, shape_.H, [&](long long y0, long long y1) {
+    kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1));
+  });
+  GridForceArgs args{shape_,
+                     x_.data(),
+                     y_.data(),
+                     z_.data(),
+                     mass_.data(),
+                     {gravity.x, gravity.y, gravity.z},
+                     springs(k, enabled),
+                     &f.data()->x};
+  teamRange(0, shape_.H, [&](long long y0, long long y1) { kern.forces(args, int(y0), int(y1)); });
+}
+
+void GridPath::limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,
+                            const bool enabled[3]) {
+  const GridKernels& kern = *kernels_;
+  float* vx = v ? vx_.data() : nullptr;
+  teamRange(0, shape_.H, [&](long long y0, long long y1) {
+    kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1));
+    if (v) kern.toSoa(shape_, &v->data()->x, vx_.data(), vy_.data(), vz_.data(), int(y0), int(y1));
+  });
+  const float unit[3] = {1, 1, 1};
+  GridStretchArgs args{shape_,
+                       x_.data(),
+                       y_.data(),
+                       z_.data(),
+                       vx,
+                       v ? vy_.data() : nullptr,
+                       v ? vz_.data() : nullptr,
+                       pinned_.data(),
+                       springs(unit, enabled),
+                       limit};
+  // The colours in order (colourGridSprings: 2 * direction + parity); a colour's springs share no point and
+  // every spring starts in the row its thread owns, so a colour is split by rows with a barrier after it.
+  for (int pass = 0; pass < passes; ++pass)
+    for (int d = 0; d < 6; ++d) {
+      if (!args.springs.enabled[d]) continue;
+      for (int parity = 0; parity < 2; ++parity)
+        teamRange(0, shape_.H,
+                  [&](long long y0, long long y1) { kern.stretchColour(args, d, parity, int(y0), int(y1)); });
+    }
+  teamRange(0, shape_.H, [&](long long y0, long long y1) {
+    kern.fromSoa(shape_, x_.data(), y_.data(), z_.data(), &x.data()->x, int(y0), int(y1));
+    if (v) kern.fromSoa(shape_, vx_.data(), vy_.data(), vz_.data(), &v->data()->x, int(y0), int(y1));
+  });
+}
+
+}  // namespace drape

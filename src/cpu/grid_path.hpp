@@ -1,0 +1,41 @@
+// The float solver's grid path: forces and the Gauss-Seidel stretch limit of a grid cloth with the grid
+// kernels (cpu/grid_kernels.hpp), the positions and displacements copied into a padded structure of arrays
+// for the pass and back after it. The bytes are the general path's (tests/grid_path_test.cpp); the mesh path
+// and double keep the gathers over the adjacency and the colouring.
+#pragma once
+
+#include "core/topology.hpp"
+#include "cpu/grid_kernels.hpp"
+
+#include <glm/glm.hpp>
+
+#include <vector>
+
+namespace drape {
+
+class GridPath {
+ public:
+  // A grid cloth's topology (Topology::W > 0); rest lengths per spring, as the solver rounds them.
+  GridPath(const Topology& topo, const std::vector<float>& rest, GridIsa isa);
+
+  const GridKernels& kernels() const { return *kernels_; }
+  void setMasses(const std::vector<float>& mass);
+
+  // Called by every thread of a team (or by one thread alone): each splits the rows and ends with a barrier.
+  // enabled[t] and k[t] per spring type.
+  void forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f, glm::vec3 gravity, const float k[3],
+              const bool enabled[3]);
+  // `passes` Gauss-Seidel passes over the 12 colours in order; v nullptr when it is not a displacement.
+  void limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,
+                    const bool enabled[3]);
+
+ private:
+  GridSprings springs(const float k[3], const bool enabled[3]) const;
+
+  GridShape shape_;
+  const GridKernels* kernels_;
+  std::vector<float> x_, y_, z_, vx_, vy_, vz_, pinned_, mass_;
+  std::vector<float> rest_[6];  // per direction, at each spring's start a
+};
+
+}  // namespace drape

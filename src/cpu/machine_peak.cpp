@@ -1,0 +1,93 @@
+#include "cpu/machine_peak.hpp"
+#include "cpu/grid_kernels.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <vector>
+
+namespace drape {
+
+namespace {
+
+double threadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
+}
+
+// Seconds for body() run by `threads` threads at once, each on its own data (the slowest thread's time
+// is the region's): the best of `tries`. One thread is timed by its CPU time, which leaves out the slices
+// other processes on a shared machine take from it; a team by the wall clock (its threads must run at once).
+template <class F>
+double bestSeconds(int threads, int tries, F&& body) {
+  double best = 1e30;
+  for (int t = 0; t < tries; ++t) {
+    if (threads == 1) {
+      const double start = threadCpuSeconds();
+      body(0);
+      best = std::min(best, threadCpuSeconds() - start);
+      continue;
+    }
+    const auto start = std::chrono::steady_clock::now();
+#pragma omp parallel num_threads(threads)
+    body(omp_get_thread_num());
+    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  return best;
+}
+
+// Triad over `floats` per array and thread, `sweeps` times: GB/s over all threads.
+double triadGbs(const GridKernels& k, int threads, long long floats, int sweeps) {
+  std::vector<std::vector<float>> a(std::size_t(threads), std::vector<float>(std::size_t(floats) * 3, 1.0f));
+  const double s = bestSeconds(threads, 5, [&](int t) {
+    float* p = a[std::size_t(t)].data();
+    for (int r = 0; r < sweeps; ++r)
+      k.probeTriad(p, p + floats, p + 2 * floats, floats, 0.5f);
+  });
+  volatile float sink = a[0][std::size_t(floats) / 2];
+  (void)sink;
+  return 12.0 * double(floats) * sweeps * threads / s * 1e-9;
+}
+
+}  // namespace
+
+MachinePeak measurePeak(int threads) {
+  const GridKernels& k = gridKernels();
+  MachinePeak peak;
+  peak.isa = k.name;
+  peak.threads = threads;
+  peak.dram_gbs = triadGbs(k, threads, (16LL << 20) / threads / 8 * 8, 4);  // 64 MiB an array in all
+  peak.cache_gbs = triadGbs(k, threads, 16LL << 10, 2000);                  // 64 KiB an array, in L2
+  const long long reps = 4'000'000;
+  std::vector<float> sink(static_cast<std::size_t>(threads), 0.0f);
+  double s = bestSeconds(threads, 5, [&](int t) { sink[std::size_t(t)] = k.probeAddMul(reps); });
+  peak.addmul_gflops = 12.0 * k.width * double(reps) * threads / s * 1e-9;
+  const long long div_reps = 1'000'000;
+  s = bestSeconds(threads, 5, [&](int t) { sink[std::size_t(t)] += k.probeDivSqrt(div_reps); });
+  volatile float keep = sink[0];
+  (void)keep;
+  peak.divsqrt_gops = 8.0 * k.width * double(div_reps) * threads / s * 1e-9;
+  if (threads > 1) {
+    // What a pass boundary costs a team (CpuSolver::step): all threads pass a barrier, over and over.
+    constexpr int kBarriers = 2000;
+    std::vector<double> tries;
+    for (int t = 0; t < 5; ++t) {
+      const auto start = std::chrono::steady_clock::now();
+#pragma omp parallel num_threads(threads)
+      for (int b = 0; b < kBarriers; ++b) {
+#pragma omp barrier
+      }
+      tries.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count() /
+                      kBarriers);
+    }
+    std::sort(tries.begin(), tries.end());
+    peak.barrier_us = tries[tries.size() / 2];
+    peak.barrier_best_us = tries.front();
+  }
+  return peak;
+}
+
+}  // namespace drape

@@ -1,0 +1,27 @@
+// This machine's peak, measured by small probes with the grid kernels' instructions (cpu/grid_kernels.hpp):
+// the ceilings of `drape bench --roofline` (app/roofline.hpp). A STREAM-style triad for memory bandwidth,
+// once over arrays far larger than any cache and once over arrays that fit the per-core L2, and independent
+// chains of vector multiplies and adds (the model's flops; no fused multiply-add, which the bits forbid) and
+// of square roots and divisions (every spring takes one of each, and they are far slower than the rest).
+#pragma once
+
+#include <string>
+
+namespace drape {
+
+struct MachinePeak {
+  std::string isa;       // the grid kernels' instruction set the probes ran with
+  int threads = 1;       // threads that ran each probe at once
+  double dram_gbs = 0;   // triad over 3 x 64 MiB, all threads
+  double cache_gbs = 0;  // triad over 3 x 64 KiB per thread (in its L2)
+  double addmul_gflops = 0;
+  double divsqrt_gops = 0;
+  // One OpenMP barrier of `threads` threads (0 for one thread): the median of 5 tries of 2000, and the best. On
+  // a shared machine the two differ by orders of magnitude: a thread whose partner is descheduled waits a slice.
+  double barrier_us = 0, barrier_best_us = 0;
+};
+
+// A fraction of a second per probe; the best of a few tries (others share the machine).
+MachinePeak measurePeak(int threads);
+
+}  // namespace drape

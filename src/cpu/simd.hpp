@@ -1,0 +1,180 @@
+// Vectors of floats for the grid kernels (cpu/grid_kernels.inl): one struct per instruction set, the same
+// operations under the same names, so a kernel is written once and compiled for each. Only the kernels'
+// translation units include this, each compiled for its own target (grid_kernels_sse2.cpp at the x86-64
+// baseline, grid_kernels_avx2.cpp with -mavx2), and everything here is inline in an unnamed namespace:
+// an AVX2 copy of a shared inline function must never be what the linker picks for the baseline code.
+//
+// Every operation is one IEEE-754 operation per lane, rounded to nearest (add, sub, mul, div, sqrt, and
+// compares and bit selections that round nothing), so a lane computes exactly what the scalar expression
+// computes: no reciprocal estimates, no fused multiply-add (the build keeps -ffp-contract=off).
+#pragma once
+
+#include <immintrin.h>
+
+#include <cstdint>
+#include <cstring>
+
+namespace drape::simd {
+namespace {
+
+// Four lanes, the x86-64 baseline (SSE2 is part of it).
+struct Sse2 {
+  static constexpr int kWidth = 4;
+  using F = __m128;
+  static F load(const float* p) { return _mm_loadu_ps(p); }
+  static void store(float* p, F v) { _mm_storeu_ps(p, v); }
+  static F set1(float v) { return _mm_set1_ps(v); }
+  static F iota() { return _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f); }
+  static F add(F a, F b) { return _mm_add_ps(a, b); }
+  static F sub(F a, F b) { return _mm_sub_ps(a, b); }
+  static F mul(F a, F b) { return _mm_mul_ps(a, b); }
+  static F div(F a, F b) { return _mm_div_ps(a, b); }
+  static F sqrt(F a) { return _mm_sqrt_ps(a); }
+  static F neg(F a) { return _mm_xor_ps(a, _mm_set1_ps(-0.0f)); }
+  static F le(F a, F b) { return _mm_cmple_ps(a, b); }  // false where either is NaN, as a scalar <=
+  static F lt(F a, F b) { return _mm_cmplt_ps(a, b); }
+  static F eq(F a, F b) { return _mm_cmpeq_ps(a, b); }
+  static F andNot(F m, F a) { return _mm_andnot_ps(m, a); }  // ~m & a
+  static F bitAnd(F a, F b) { return _mm_and_ps(a, b); }
+  static F bitOr(F a, F b) { return _mm_or_ps(a, b); }
+  static F ge(F a, F b) { return _mm_cmpge_ps(a, b); }  // false where either is NaN
+  static bool any(F m) { return _mm_movemask_ps(m) != 0; }
+  static F select(F m, F a, F b) { return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b)); }  // m ? a : b
+  // The vec3s x[idx[l]] of the first `count` lanes (count <= kWidth), and those lanes' mask. No gather
+  // instruction before AVX2: loaded one by one.
+  static void gatherVec3(const float* x, const std::uint32_t* idx, int count, F& gx, F& gy, F& gz, F& live) {
+    float a[4] = {}, b[4] = {}, c[4] = {}, m[4] = {};
+    const std::uint32_t all = ~std::uint32_t(0);
+    for (int l = 0; l < count; ++l) {
+      a[l] = x[3 * std::size_t(idx[l])];
+      b[l] = x[3 * std::size_t(idx[l]) + 1];
+      c[l] = x[3 * std::size_t(idx[l]) + 2];
+      std::memcpy(&m[l], &all, sizeof(float));
+    }
+    gx = load(a);
+    gy = load(b);
+    gz = load(c);
+    live = load(m);
+  }
+  // Two vectors of consecutive points, lo = p0..p3 and hi = p4..p7, split into even and odd points (in an
+  // order of their own, undone by interleave), or into pairs (p0 p1, p4 p5) and (p2 p3, p6 p7).
+  static F evens(F lo, F hi) { return _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)); }
+  static F odds(F lo, F hi) { return _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1)); }
+  static void interleave(F e, F o, F& lo, F& hi) {
+    lo = _mm_unpacklo_ps(e, o);
+    hi = _mm_unpackhi_ps(e, o);
+  }
+  static F pairsA(F lo, F hi) { return _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(1, 0, 1, 0)); }
+  static F pairsB(F lo, F hi) { return _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 2, 3, 2)); }
+  static void interleavePairs(F a, F b, F& lo, F& hi) {
+    lo = _mm_shuffle_ps(a, b, _MM_SHUFFLE(1, 0, 1, 0));
+    hi = _mm_shuffle_ps(a, b, _MM_SHUFFLE(3, 2, 3, 2));
+  }
+  // kWidth vec3s, x y z x y z ..., to and from a vector per coordinate (Intel's 3-way shuffle).
+  static void loadVec3(const float* p, F& x, F& y, F& z) { split(load(p), load(p + 4), load(p + 8), x, y, z); }
+  static void storeVec3(float* p, F x, F y, F z) {
+    F m0, m1, m2;
+    join(x, y, z, m0, m1, m2);
+    store(p, m0);
+    store(p + 4, m1);
+    store(p + 8, m2);
+  }
+  // m0 = x0 y0 z0 x1, m1 = y1 z1 x2 y2, m2 = z2 x3 y3 z3 in each 128-bit lane.
+  template <class V>
+  static void split(V m0, V m1, V m2, V& x, V& y, V& z) {
+    const V xy = shuffle<_MM_SHUFFLE(2, 1, 3, 2)>(m1, m2);  // x2 y2 x3 y3
+    const V yz = shuffle<_MM_SHUFFLE(1, 0, 2, 1)>(m0, m1);  // y0 z0 y1 z1
+    x = shuffle<_MM_SHUFFLE(2, 0, 3, 0)>(m0, xy);
+    y = shuffle<_MM_SHUFFLE(3, 1, 2, 0)>(yz, xy);
+    z = shuffle<_MM_SHUFFLE(3, 0, 3, 1)>(yz, m2);
+  }
+  template <class V>
+  static void join(V x, V y, V z, V& m0, V& m1, V& m2) {
+    const V xy = shuffle<_MM_SHUFFLE(2, 0, 2, 0)>(x, y);  // x0 x2 y0 y2
+    const V yz = shuffle<_MM_SHUFFLE(3, 1, 3, 1)>(y, z);  // y1 y3 z1 z3
+    const V zx = shuffle<_MM_SHUFFLE(3, 1, 2, 0)>(z, x);  // z0 z2 x1 x3
+    m0 = shuffle<_MM_SHUFFLE(2, 0, 2, 0)>(xy, zx);
+    m1 = shuffle<_MM_SHUFFLE(3, 1, 2, 0)>(yz, xy);
+    m2 = shuffle<_MM_SHUFFLE(3, 1, 3, 1)>(zx, yz);
+  }
+  template <int kImm>
+  static __m128 shuffle(__m128 a, __m128 b) {
+    return _mm_shuffle_ps(a, b, kImm);
+  }
+#ifdef __AVX__
+  template <int kImm>
+  static __m256 shuffle(__m256 a, __m256 b) {
+    return _mm256_shuffle_ps(a, b, kImm);
+  }
+#endif
+};
+
+#ifdef __AVX2__
+// Eight lanes. The shuffles work within each 128-bit half, so evens/odds and the pairs come out in an order
+// of their own; interleave puts every point back where it was, which is all the kernels need.
+struct Avx2 {
+  static constexpr int kWidth = 8;
+  using F = __m256;
+  static F load(const float* p) { return _mm256_loadu_ps(p); }
+  static void store(float* p, F v) { _mm256_storeu_ps(p, v); }
+  static F set1(float v) { return _mm256_set1_ps(v); }
+  static F iota() { return _mm256_set_ps(7.0f, 6.0f, 5.0f, 4.0f, 3.0f, 2.0f, 1.0f, 0.0f); }
+  static F add(F a, F b) { return _mm256_add_ps(a, b); }
+  static F sub(F a, F b) { return _mm256_sub_ps(a, b); }
+  static F mul(F a, F b) { return _mm256_mul_ps(a, b); }
+  static F div(F a, F b) { return _mm256_div_ps(a, b); }
+  static F sqrt(F a) { return _mm256_sqrt_ps(a); }
+  static F neg(F a) { return _mm256_xor_ps(a, _mm256_set1_ps(-0.0f)); }
+  static F le(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
+  static F lt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
+  static F eq(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_EQ_OQ); }
+  static F andNot(F m, F a) { return _mm256_andnot_ps(m, a); }
+  static F bitAnd(F a, F b) { return _mm256_and_ps(a, b); }
+  static F bitOr(F a, F b) { return _mm256_or_ps(a, b); }
+  static F ge(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
+  static bool any(F m) { return _mm256_movemask_ps(m) != 0; }
+  static F select(F m, F a, F b) { return _mm256_blendv_ps(b, a, m); }
+  // Masked loads and gathers: nothing is read for the lanes past `count`.
+  static void gatherVec3(const float* x, const std::uint32_t* idx, int count, F& gx, F& gy, F& gz, F& live) {
+    const __m256i mask = _mm256_cmpgt_epi32(_mm256_set1_epi32(count), _mm256_set_epi32(7, 6, 5, 4, 3, 2, 1, 0));
+    const __m256i j = _mm256_maskload_epi32(reinterpret_cast<const int*>(idx), mask);
+    const __m256i j3 = _mm256_add_epi32(_mm256_add_epi32(j, j), j);
+    live = _mm256_castsi256_ps(mask);
+    gx = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), x, j3, live, 4);
+    gy = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), x + 1, j3, live, 4);
+    gz = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), x + 2, j3, live, 4);
+  }
+  static F evens(F lo, F hi) { return _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)); }
+  static F odds(F lo, F hi) { return _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1)); }
+  static void interleave(F e, F o, F& lo, F& hi) {
+    lo = _mm256_unpacklo_ps(e, o);
+    hi = _mm256_unpackhi_ps(e, o);
+  }
+  static F pairsA(F lo, F hi) { return _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(1, 0, 1, 0)); }
+  static F pairsB(F lo, F hi) { return _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 2, 3, 2)); }
+  static void interleavePairs(F a, F b, F& lo, F& hi) {
+    lo = _mm256_shuffle_ps(a, b, _MM_SHUFFLE(1, 0, 1, 0));
+    hi = _mm256_shuffle_ps(a, b, _MM_SHUFFLE(3, 2, 3, 2));
+  }
+  // Points 0-3 in the low halves, 4-7 in the high ones, then the 128-bit shuffles of Sse2 on both at once.
+  static void loadVec3(const float* p, F& x, F& y, F& z) {
+    const F m0 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p)), _mm_loadu_ps(p + 12), 1);
+    const F m1 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p + 4)), _mm_loadu_ps(p + 16), 1);
+    const F m2 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p + 8)), _mm_loadu_ps(p + 20), 1);
+    Sse2::split(m0, m1, m2, x, y, z);
+  }
+  static void storeVec3(float* p, F x, F y, F z) {
+    F m0, m1, m2;
+    Sse2::join(x, y, z, m0, m1, m2);
+    _mm_storeu_ps(p, _mm256_castps256_ps128(m0));
+    _mm_storeu_ps(p + 4, _mm256_castps256_ps128(m1));
+    _mm_storeu_ps(p + 8, _mm256_castps256_ps128(m2));
+    _mm_storeu_ps(p + 12, _mm256_extractf128_ps(m0, 1));
+    _mm_storeu_ps(p + 16, _mm256_extractf128_ps(m1, 1));
+    _mm_storeu_ps(p + 20, _mm256_extractf128_ps(m2, 1));
+  }
+};
+#endif
+
+}  // namespace
+}  // namespace drape::simd

@@ -1,0 +1,184 @@
+// The float solver's grid path (SIMD across points, cpu/grid_path.hpp) against its general path (gathers over
+// the adjacency and the colouring), byte for byte: per pass from a disturbed state, and over whole runs; with
+// each instruction set this CPU has; and a substep's team of two threads against one thread.
+#include "cpu/cpu_solver.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace drape {
+namespace {
+
+struct GridCase {
+  std::string name;
+  std::string file;  // a bundled scene, or "" for a small free cloth
+  int w = 0, h = 0;  // resample to w x h (0: as the file has it)
+  bool vertical = false;
+  bool structural = true, shearing = true, bending = true;
+  int stretch_passes = 1;
+  VerletForm form = VerletForm::Displacement;
+};
+
+Scene sceneFor(const GridCase& c) {
+  Scene s;
+  if (!c.file.empty()) {
+    s = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + c.file);
+  } else {
+    s.path = "test";
+    s.cloth.density = 150;
+    s.cloth.pinned = {{0, 0}, {c.w - 1, 0}, {c.w / 2, c.h - 1}};
+  }
+  if (c.w > 0) {
+    s.cloth.num_width_points = c.w;
+    s.cloth.num_height_points = c.h;
+    s.cloth.pinned.erase(std::remove_if(s.cloth.pinned.begin(), s.cloth.pinned.end(),
+                                        [&](glm::ivec2 p) { return p.x >= c.w || p.y >= c.h; }),
+                         s.cloth.pinned.end());
+  }
+  if (c.vertical) s.cloth.orientation = Orientation::Vertical;
+  s.cloth.enable_structural = c.structural;
+  s.cloth.enable_shearing = c.shearing;
+  s.cloth.enable_bending = c.bending;
+  s.sim.stretch_passes = c.stretch_passes;
+  return s;
+}
+
+template <class V>
+bool sameBytes(const std::vector<V>& a, const std::vector<V>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(V)) == 0;
+}
+
+// The instruction sets this CPU runs: SSE2 always, AVX2 where it has it.
+std::vector<GridIsa> isas() {
+  std::vector<GridIsa> out = {GridIsa::Sse2};
+  if (cpuHasAvx2()) out.push_back(GridIsa::Avx2);
+  return out;
+}
+
+class GridPathEquality : public ::testing::TestWithParam<GridCase> {};
+
+// A state far from rest: every point moved by up to a third of the spacing, so that many springs are beyond
+// the stretch limit and the forces are large.
+void disturb(CpuSolver<float>& s, unsigned seed) {
+  std::mt19937 rng(seed);
+  const double spacing = s.scene().cloth.width / (s.topology().W - 1);
+  std::uniform_real_distribution<double> u(-spacing / 3, spacing / 3);
+  std::vector<glm::dvec3> x = s.readPositions(), v(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (s.topology().pinned[i]) continue;
+    x[i] += glm::dvec3(u(rng), u(rng), u(rng));
+    v[i] = glm::dvec3(u(rng), u(rng), u(rng)) * 0.1;
+  }
+  s.setState(x, v);
+}
+
+TEST_P(GridPathEquality, EachPassGivesTheGeneralPathsBytes) {
+  const Scene scene = sceneFor(GetParam());
+  for (GridIsa isa : isas()) {
+    CpuSolver<float> general(scene, CpuSolverOptions{.form = GetParam().form, .threads = 1, .grid_path = false});
+    CpuSolver<float> grid(scene, CpuSolverOptions{.form = GetParam().form, .threads = 1, .grid_isa = isa});
+    ASSERT_EQ(general.gridKernels(), "");
+    ASSERT_EQ(grid.gridKernels(), isa == GridIsa::Avx2 ? "avx2" : "sse2");
+    disturb(general, 7);
+    disturb(grid, 7);
+    general.accumulateForces();
+    grid.accumulateForces();
+    EXPECT_TRUE(sameBytes(general.forces(), grid.forces())) << grid.gridKernels();
+    const std::vector<glm::vec3> before = general.positions();
+    general.limitStretch();
+    grid.limitStretch();
+    ASSERT_FALSE(sameBytes(before, general.positions())) << "the stretch limit had nothing to do";
+    EXPECT_TRUE(sameBytes(general.positions(), grid.positions())) << grid.gridKernels();
+    EXPECT_TRUE(sameBytes(general.displacements(), grid.displacements())) << grid.gridKernels();
+  }
+}
+
+TEST_P(GridPathEquality, RunsGiveTheGeneralPathsBytes) {
+  const Scene scene = sceneFor(GetParam());
+  CpuSolver<float> general(scene, CpuSolverOptions{.form = GetParam().form, .threads = 1, .grid_path = false});
+  for (int s = 0; s < 60; ++s)
+    general.step();
+  for (GridIsa isa : isas()) {
+    CpuSolver<float> grid(scene, CpuSolverOptions{.form = GetParam().form, .threads = 1, .grid_isa = isa});
+    for (int s = 0; s < 60; ++s)
+      grid.step();
+    EXPECT_TRUE(sameBytes(general.positions(), grid.positions())) << grid.gridKernels();
+    EXPECT_TRUE(sameBytes(general.displacements(), grid.displacements())) << grid.gridKernels();
+  }
+}
+
+// clang-format off
+INSTANTIATE_TEST_SUITE_P(Cases, GridPathEquality, ::testing::Values(
+    GridCase{.name = "pinned2", .file = "pinned2.json"},
+    GridCase{.name = "selfCollision_vertical", .file = "selfCollision.json", .w = 21, .h = 19},
+    GridCase{.name = "sphere_odd", .file = "sphere.json", .w = 23, .h = 17},
+    GridCase{.name = "tiny", .file = "", .w = 3, .h = 5},
+    GridCase{.name = "wide_vertical", .file = "", .w = 41, .h = 6, .vertical = true},
+    GridCase{.name = "no_bending", .file = "", .w = 19, .h = 13, .bending = false},
+    GridCase{.name = "structural_only", .file = "", .w = 18, .h = 11, .shearing = false, .bending = false},
+    GridCase{.name = "two_passes", .file = "", .w = 26, .h = 9, .stretch_passes = 2},
+    GridCase{.name = "previous_position", .file = "", .w = 17, .h = 17, .form = VerletForm::PreviousPosition}),
+    [](const auto& test) { return test.param.name; });
+// clang-format on
+
+// The folded selfCollision cloth: the vectorised test that lets a point with no pair in range skip its ordered
+// sum, against the solver without it, once the cloth has folded onto itself.
+TEST(GridPathSelfCollision, TheRangeTestKeepsTheGeneralPathsBytes) {
+  Scene scene = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/selfCollision.json");
+  scene.sim.self_collision = true;
+  CpuSolver<float> general(scene, CpuSolverOptions{.threads = 1, .grid_path = false});
+  CpuSolver<float> vectorised(scene, CpuSolverOptions{.threads = 1});
+  for (int f = 0; f < 45; ++f) {
+    general.stepFrame();
+    vectorised.stepFrame();
+  }
+  const std::vector<glm::vec3>& x = vectorised.positions();
+  const float thickness = float(scene.cloth.thickness);
+  long long in_range = 0;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (std::size_t j = i + 1; j < x.size(); ++j)
+      in_range += physics::selfCollisionCorrection(x[i], x[j], thickness) != glm::vec3(0);
+  ASSERT_GT(in_range, 100) << "the cloth must have folded onto itself";
+  EXPECT_TRUE(sameBytes(general.positions(), vectorised.positions()));
+  EXPECT_TRUE(sameBytes(general.displacements(), vectorised.displacements()));
+}
+
+// A mesh cloth keeps its gathers; only the integration runs vectorised there (it needs no neighbours).
+TEST(GridPathMesh, AMeshClothGivesTheGeneralPathsBytes) {
+  const Scene scene = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/flag.json");
+  CpuSolver<float> general(scene, CpuSolverOptions{.threads = 1, .grid_path = false});
+  CpuSolver<float> vectorised(scene, CpuSolverOptions{.threads = 1});
+  ASSERT_EQ(vectorised.gridKernels(), "") << "a mesh has no grid";
+  for (int s = 0; s < 40; ++s) {
+    general.step();
+    vectorised.step();
+  }
+  EXPECT_TRUE(sameBytes(general.positions(), vectorised.positions()));
+  EXPECT_TRUE(sameBytes(general.displacements(), vectorised.displacements()));
+}
+
+// A substep on a team of two threads (one OpenMP region, a barrier between passes) gives one thread's bytes:
+// every pass of the selfCollision scene (self-collision, a plane), on both paths.
+TEST(GridPathTeam, TwoThreadsGiveOneThreadsBytes) {
+  Scene scene = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/selfCollision.json");
+  scene.sim.self_collision = true;
+  for (bool grid : {true, false}) {
+    CpuSolver<float> one(scene, CpuSolverOptions{.threads = 1, .grid_path = grid});
+    CpuSolver<float> two(scene, CpuSolverOptions{.threads = 2, .grid_path = grid, .team_min_points = 0});
+    ASSERT_EQ(two.teamThreads(), 2);
+    for (int f = 0; f < 3; ++f) {
+      one.stepFrame();
+      two.stepFrame();
+    }
+    EXPECT_TRUE(sameBytes(one.positions(), two.positions())) << (grid ? "grid" : "general");
+    EXPECT_TRUE(sameBytes(one.displacements(), two.displacements())) << (grid ? "grid" : "general");
+  }
+}
+
+}  // namespace
+}  // namespace drape

@@ -1,0 +1,119 @@
+// `drape bench --roofline`'s model and table on made-up runs and ceilings (no probing, no timing): the work
+// counted per pass, which ceiling binds, and the share of it a pass reaches.
+#include "app/roofline.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+namespace drape {
+namespace {
+
+BenchRun gridRun(int n, const std::string& kernels) {
+  BenchRun run;
+  run.scene = "scenes/pinned2.json";
+  run.solver = "cpu";
+  run.integrator = "verlet";
+  run.threads = 1;
+  run.team_threads = 1;
+  run.size = n;
+  run.points = (long long)n * n;
+  run.grid_kernels = kernels;
+  run.pair_entries_per_point = 3.5;
+  run.planes = 1;
+  return run;
+}
+
+TEST(Roofline, AnInteriorPointHasTwelveSpringEnds) {
+  // 2 ends a spring; a large grid's springs a point tend to 6, so forces' division count tends to 12.
+  const std::optional<PassWork> w = passWork(gridRun(2048, "avx2"), "forces");
+  ASSERT_TRUE(w);
+  EXPECT_NEAR(w->divsqrt, 2 * 12, 0.05);
+  EXPECT_NEAR(w->addmul, 16 * 12 + 3, 0.5);
+  // On a small grid the border points have fewer springs.
+  EXPECT_LT(passWork(gridRun(8, "avx2"), "forces")->divsqrt, 2 * 11);
+}
+
+TEST(Roofline, OnlyPassesTheModelCoversHaveWork) {
+  EXPECT_FALSE(passWork(gridRun(50, ""), "forces")) << "the mesh path's gathers are not modelled";
+  EXPECT_FALSE(passWork(gridRun(50, ""), "limit_stretch"));
+  EXPECT_TRUE(passWork(gridRun(50, ""), "integrate")) << "integrate needs no grid";
+  BenchRun xpbd = gridRun(50, "avx2");
+  xpbd.integrator = "xpbd";
+  EXPECT_FALSE(passWork(xpbd, "integrate"));
+  BenchRun cpu64 = gridRun(50, "avx2");
+  cpu64.solver = "cpu64";
+  EXPECT_FALSE(passWork(cpu64, "forces"));
+  EXPECT_FALSE(passWork(gridRun(50, "avx2"), "tether"));
+  // Self-collision's work grows with the list: 8 flops and 4 bytes an entry.
+  BenchRun longer = gridRun(50, "avx2");
+  longer.pair_entries_per_point = 13.5;
+  EXPECT_DOUBLE_EQ(passWork(longer, "self_collide")->addmul - passWork(gridRun(50, "avx2"), "self_collide")->addmul,
+                   80);
+  EXPECT_DOUBLE_EQ(passWork(longer, "self_collide")->bytes - passWork(gridRun(50, "avx2"), "self_collide")->bytes, 40);
+}
+
+TEST(Roofline, ShareIsTheLeastTimeOverTheMeasuredOne) {
+  BenchReport r;
+  r.machine.load_average = "0.50 0.40 0.30";
+  MachinePeak one;
+  one.isa = "avx2";
+  one.threads = 1;
+  one.dram_gbs = 10;
+  one.cache_gbs = 100;
+  one.addmul_gflops = 20;
+  one.divsqrt_gops = 1;
+  r.peaks.push_back(one);
+  BenchRun small = gridRun(50, "avx2");  // 2500 points: its state fits L2
+  const double calls = 30;               // a frame's substeps
+  // integrate: 65 bytes, 15 add/mul. L2: 0.65 ns, add+mul: 0.75 ns, which binds. Measured 3 ns a point.
+  small.passes.push_back({"integrate", 3e-6 * 2500 * calls, calls});
+  // forces: 2 div+sqrt an end at 1 G/s is far over the rest.
+  small.passes.push_back({"forces", 100e-6 * 2500 * calls, calls});
+  BenchRun large = gridRun(512, "avx2");  // 262144 points: memory
+  // integrate from memory: 65 bytes at 10 GB/s, 6.5 ns. 26 ns of wall clock with a core half the time is
+  // 13 ns on it: half the roofline.
+  large.passes.push_back({"integrate", 26e-6 * 512.0 * 512.0 * calls, calls});
+  large.cpu_share = 0.5;
+  r.runs = {small, large};
+  const std::string md = rooflineMarkdown(r);
+  EXPECT_NE(md.find("| 1 | 10.0 | 100.0 | 20.0 | 1.00 | – |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| pinned2 | 50 | cpu ×1 avx2 | integrate | 15 | 0 | 65 | 0.75 (add+mul) | 3.00 | 25% |"),
+            std::string::npos)
+      << md;
+  const double forces_least = passWork(small, "forces")->divsqrt / 1.0;
+  EXPECT_NE(md.find(fmt::format("| {:.2f} (div+sqrt) | 100.00 | {:.0f}% |", forces_least, forces_least)),
+            std::string::npos)
+      << md;
+  EXPECT_NE(
+      md.find(
+          "| pinned2 | 512 | cpu ×1 avx2 (50% on a core) | integrate | 15 | 0 | 65 | 6.50 (memory) | 13.00 | 50% |"),
+      std::string::npos)
+      << md;
+  EXPECT_EQ(rooflineMarkdown(BenchReport{}), "") << "no probes, no section";
+}
+
+TEST(Roofline, ATeamIsHeldToTheCeilingsOfItsThreads) {
+  BenchReport r;
+  MachinePeak one, two;
+  one.threads = 1;
+  two.threads = 2;
+  one.dram_gbs = one.cache_gbs = one.addmul_gflops = one.divsqrt_gops = 1;
+  two.dram_gbs = two.addmul_gflops = two.divsqrt_gops = 2;
+  two.cache_gbs = 100;
+  two.barrier_us = 3;
+  two.barrier_best_us = 0.25;
+  r.peaks = {one, two};
+  BenchRun team = gridRun(50, "avx2");
+  team.threads = team.team_threads = 2;
+  team.cpu_share = 0.3;                                   // a team's waits for a core are its own cost: not taken out
+  team.passes.push_back({"integrate", 15e-6 * 2500, 1});  // 15 flops at 2 GFLOP/s: 7.5 ns of 15 (one thread's
+  // ceilings would allow 65 ns, more than was measured)
+  r.runs = {team};
+  const std::string md = rooflineMarkdown(r);
+  EXPECT_NE(md.find("| 2 | 2.0 | 100.0 | 2.0 | 2.00 | 3.00, 0.25 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 7.50 (add+mul) | 15.00 | 50% |"), std::string::npos) << md;
+}
+
+}  // namespace
+}  // namespace drape
