@@ -2,11 +2,12 @@
 // the accuracy report's exact properties and the stability cases. No GL: GPU solvers are not asked for.
 #include "app/bench.hpp"
 #include "app/accuracy.hpp"
-#include "app/commands.hpp"
+#include "app/command_error.hpp"
 #include "app/jobs.hpp"
 #include "app/stability_cases.hpp"
 #include "core/derived.hpp"
 #include "core/stability.hpp"
+#include "test_paths.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -26,7 +27,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string scenePath(const std::string& name) {
-  return std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name;
+  return std::string(drape::test::sourceDir()) + "/scenes/" + name;
 }
 
 TEST(Resample, KeepsSizeMassAndCornerPins) {

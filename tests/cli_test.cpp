@@ -1,5 +1,6 @@
 // The `drape` command line as a user meets it: runs the real binary as a subprocess.
 #include "app/stability_cases.hpp"
+#include "test_paths.hpp"
 
 #include "shell_quote.hpp"
 
@@ -57,8 +58,8 @@ fs::path tempDir() {
 // `prefix` goes before the binary: a `cd`, environment settings, `timeout`.
 Result run(const std::string& args, const std::string& prefix = "") {
   const fs::path dir = tempDir();
-  const std::string cmd = prefix + " " + std::string(DRAPE_BINARY) + " " + args + " >" + (dir / "out").string() +
-                          " 2>" + (dir / "err").string() + " </dev/null";
+  const std::string cmd = prefix + " " + std::string(drape::test::drapeBinary()) + " " + args + " >" +
+                          (dir / "out").string() + " 2>" + (dir / "err").string() + " </dev/null";
   int raw = std::system(cmd.c_str());
   Result r;
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
@@ -68,7 +69,7 @@ Result run(const std::string& args, const std::string& prefix = "") {
 }
 
 std::string scene(const std::string& name) {
-  return std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name;
+  return std::string(drape::test::sourceDir()) + "/scenes/" + name;
 }
 
 fs::path writeScene(const std::string& name, const std::string& json) {
@@ -228,8 +229,8 @@ TEST(Cli, TheOutputIsWrittenBeforeTheSummary) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
   const fs::path out = tempDir() / "before_summary.json", err = tempDir() / "before_summary.err";
   fs::remove(out);
-  const std::string command = std::string(DRAPE_BINARY) + " simulate " + scene("pinned2.json") + " --frames 1 --out " +
-                              out.string() + " >/dev/full 2>" + err.string() + " </dev/null";
+  const std::string command = std::string(drape::test::drapeBinary()) + " simulate " + scene("pinned2.json") +
+                              " --frames 1 --out " + out.string() + " >/dev/full 2>" + err.string() + " </dev/null";
   const int raw = std::system(command.c_str());
   ASSERT_TRUE(WIFEXITED(raw));
   EXPECT_EQ(WEXITSTATUS(raw), 1) << slurp(err);
@@ -669,7 +670,8 @@ TEST(FirstMinutes, VersionIsTheProjectsAndNamesTheDataDirectories) {
   EXPECT_EQ(r.out.substr(0, r.out.find('\n')), std::string("drape ") + DRAPE_VERSION) << r.out;
   // The build tree's binary reads the source tree's files.
   for (const char* dir : {"glsl", "textures", "scenes"})
-    EXPECT_NE(r.out.find(std::string(DRAPE_SOURCE_DIR) + "/" + dir + "\n"), std::string::npos) << dir << ": " << r.out;
+    EXPECT_NE(r.out.find(std::string(drape::test::sourceDir()) + "/" + dir + "\n"), std::string::npos)
+        << dir << ": " << r.out;
   const Result moved = run("--version", "DRAPE_GLSL_DIR=/elsewhere/glsl");
   EXPECT_NE(moved.out.find("glsl      /elsewhere/glsl (missing)\n"), std::string::npos) << moved.out;
 }
@@ -707,8 +709,8 @@ TEST(FirstMinutes, StabilityHelpListsEveryCase) {
 // link of it and of the pages it links, images included, names a file that was installed.
 TEST(FirstMinutes, TheInstalledReadmesPicturesAndLinksResolve) {
   const fs::path prefix = freshDir("installed_docs") / "prefix";
-  const std::string install = "cmake --install " + quote(fs::path(DRAPE_BINARY).parent_path().string()) + " --prefix " +
-                              quote(prefix.string()) + " >/dev/null 2>&1";
+  const std::string install = "cmake --install " + quote(fs::path(drape::test::drapeBinary()).parent_path().string()) +
+                              " --prefix " + quote(prefix.string()) + " >/dev/null 2>&1";
   ASSERT_EQ(std::system(install.c_str()), 0) << install;
   const fs::path doc = prefix / "share" / "doc" / "drape";
   std::vector<fs::path> pages = {doc / "README.md"}, seen;
@@ -780,8 +782,8 @@ TEST(FirstMinutes, SimulateOnATerminalShowsOneUpdatingLine) {
   if (std::system("command -v script >/dev/null 2>&1") != 0) GTEST_SKIP() << "no script(1) to make a terminal";
   // script(1) gives drape a terminal; drape's stdout goes to a file, so what script records is stderr.
   const fs::path dir = freshDir("tty");
-  const std::string inner =
-      std::string(DRAPE_BINARY) + " " + longSimulate() + " >" + quote((dir / "summary").string()) + " </dev/null";
+  const std::string inner = std::string(drape::test::drapeBinary()) + " " + longSimulate() + " >" +
+                            quote((dir / "summary").string()) + " </dev/null";
   const std::string command =
       "script -qec " + quote(inner) + " /dev/null >" + quote((dir / "tty").string()) + " 2>&1 </dev/null";
   ASSERT_EQ(std::system(command.c_str()), 0) << slurp(dir / "tty");
@@ -802,7 +804,7 @@ TEST(FirstMinutes, AnInterruptedAccuracyKeepsEveryFinishedRun) {
   const fs::path dir = freshDir("interrupted");
   std::ofstream(dir / "tiny.json") << kTinyScene;
   const fs::path csv = dir / "out" / "accuracy.csv";
-  std::vector<std::string> args = {DRAPE_BINARY,
+  std::vector<std::string> args = {drape::test::drapeBinary(),
                                    "accuracy",
                                    (dir / "tiny.json").string(),
                                    "--out",
@@ -888,7 +890,7 @@ TEST(FirstMinutes, AnInterruptedAccuracyKeepsEveryFinishedRun) {
 // tests/render_cli_gl_test.cpp shows that its shaders are read from there too.
 TEST(Install, TheInstalledDrapeFindsItsDataBesideItself) {
   const fs::path prefix = freshDir("install") / "prefix";
-  const fs::path build = fs::path(DRAPE_BINARY).parent_path();
+  const fs::path build = fs::path(drape::test::drapeBinary()).parent_path();
   const std::string install =
       "cmake --install " + quote(build.string()) + " --prefix " + quote(prefix.string()) + " >/dev/null 2>&1";
   ASSERT_EQ(std::system(install.c_str()), 0) << install;
@@ -905,7 +907,7 @@ TEST(Install, TheInstalledDrapeFindsItsDataBesideItself) {
   const std::string version = slurp(out);
   for (const char* dir : {"glsl", "textures", "scenes"})
     EXPECT_NE(version.find(" " + (share / dir).string() + "\n"), std::string::npos) << version;
-  EXPECT_EQ(version.find(DRAPE_SOURCE_DIR), std::string::npos) << "the source tree is not read: " << version;
+  EXPECT_EQ(version.find(drape::test::sourceDir()), std::string::npos) << "the source tree is not read: " << version;
 
   // The default scene of `bench` comes from the installed scenes/, from any directory.
   const std::string bench =
@@ -920,15 +922,15 @@ TEST(Install, ADrapeWithoutItsDataReadsNothingFromTheBuildMachine) {
   const fs::path prefix = freshDir("partial_install");
   fs::create_directories(prefix / "bin");
   std::error_code linked;
-  fs::create_hard_link(DRAPE_BINARY, prefix / "bin" / "drape", linked);  // the same file, at another path
-  if (linked) fs::copy_file(DRAPE_BINARY, prefix / "bin" / "drape");
+  fs::create_hard_link(drape::test::drapeBinary(), prefix / "bin" / "drape", linked);  // the same file, at another path
+  if (linked) fs::copy_file(drape::test::drapeBinary(), prefix / "bin" / "drape");
   const fs::path share = prefix / "share" / "drape";
   const std::string drape = "cd / && env -u DRAPE_GLSL_DIR -u DRAPE_TEXTURE_DIR -u DISPLAY -u WAYLAND_DISPLAY " +
                             (prefix / "bin" / "drape").string();
   const fs::path out = prefix / "out", err = prefix / "err";
   ASSERT_EQ(std::system((drape + " --version >" + out.string()).c_str()), 0);
   const std::string version = slurp(out);
-  EXPECT_EQ(version.find(DRAPE_SOURCE_DIR), std::string::npos) << version;
+  EXPECT_EQ(version.find(drape::test::sourceDir()), std::string::npos) << version;
   for (const char* dir : {"glsl", "textures", "scenes"})
     EXPECT_NE(version.find(" " + (share / dir).string() + " (missing)\n"), std::string::npos) << version;
   const int raw = std::system((drape + " view >/dev/null 2>" + err.string() + " </dev/null").c_str());

@@ -7,6 +7,7 @@
 #include "core/topology.hpp"
 #include "cpu/cpu_solver.hpp"
 #include "mesh_test_support.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -229,7 +230,7 @@ TEST(MeshClothCommand, BadMeshIsStatusTwoWithOneLineAndNoOutput) {
   const auto scene = writeFile("cmd_bad.json", R"({"cloth": {"mesh": "cmd_bad.obj", "thickness": 0.01}})");
   std::filesystem::remove(dir / "cmd_out.json");
   std::filesystem::remove(dir / "cmd_err.txt");
-  const std::string cmd = std::string(DRAPE_BINARY) + " simulate " + scene.string() + " --out " +
+  const std::string cmd = std::string(drape::test::drapeBinary()) + " simulate " + scene.string() + " --out " +
                           (dir / "cmd_out.json").string() + " >/dev/null 2>" + (dir / "cmd_err.txt").string();
   const int raw = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(raw));
@@ -242,10 +243,10 @@ TEST(MeshClothCommand, BadMeshIsStatusTwoWithOneLineAndNoOutput) {
   EXPECT_NE(text.find("non-manifold"), std::string::npos) << text;
   EXPECT_FALSE(std::filesystem::exists(dir / "cmd_out.json"));
   // bench resamples grids: a mesh cloth is refused the same way.
-  const std::string flag = std::string(DRAPE_SOURCE_DIR) + "/scenes/flag.json";
-  const int bench = std::system(
-      (std::string(DRAPE_BINARY) + " bench --scenes " + flag + " --solver cpu --sizes 8 --frames 1 >/dev/null 2>&1")
-          .c_str());
+  const std::string flag = std::string(drape::test::sourceDir()) + "/scenes/flag.json";
+  const int bench = std::system((std::string(drape::test::drapeBinary()) + " bench --scenes " + flag +
+                                 " --solver cpu --sizes 8 --frames 1 >/dev/null 2>&1")
+                                    .c_str());
   ASSERT_TRUE(WIFEXITED(bench));
   EXPECT_EQ(WEXITSTATUS(bench), 2);
 }

@@ -6,6 +6,7 @@
 #include "core/scene.hpp"
 #include "cpu/cpu_solver.hpp"
 #include "cpu/parallel.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,7 +22,7 @@ namespace {
 using vec3 = glm::vec3;
 
 Scene cs184Scene(const std::string& name) {
-  Scene scene = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name);
+  Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/" + name);
   scene.sim.self_collision = true;  // as CS184 runs every scene
   return scene;
 }

@@ -1,7 +1,7 @@
 // Contact that holds (issue 26), on the CPU: the face contacts' pure functions against hand-worked cases,
 // the features and grids they read, collisions as the last pass, the box drop at the issue's settings,
 // and self-collision skipping the pairs the springs hold.
-#include "app/commands.hpp"
+#include "app/command_error.hpp"
 #include "app/solver_factory.hpp"
 #include "core/mesh_features.hpp"
 #include "core/metrics.hpp"
@@ -9,6 +9,7 @@
 #include "cpu/collision_pairs.hpp"
 #include "cpu/cpu_solver.hpp"
 #include "cpu/mesh_physics.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -24,7 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 using dvec3 = glm::dvec3;
 
-const fs::path kScenes = fs::path(DRAPE_SOURCE_DIR) / "scenes";
+const fs::path kScenes = fs::path(drape::test::sourceDir()) / "scenes";
 
 // ---- the pure functions -------------------------------------------------------------------------------
 

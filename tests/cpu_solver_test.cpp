@@ -1,6 +1,7 @@
 // Physical properties of the CPU reference solver (pure CPU, no GL).
 #include "cpu/cpu_solver.hpp"
 #include "core/metrics.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +12,7 @@ namespace drape {
 namespace {
 
 Scene standardScene(const std::string& name) {
-  return loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name);
+  return loadScene(std::string(drape::test::sourceDir()) + "/scenes/" + name);
 }
 
 // A small free cloth with no colliders: quick to step, used for the pass-level properties.
@@ -232,7 +233,7 @@ TEST(CpuSolver, PassesLeftOutWhenTheSceneDoesNotNeedThem) {
   EXPECT_EQ(self.passes(), (std::vector<std::string>{"forces", "integrate", "self_collide", "collide", "limit_stretch",
                                                      "collide_last"}));
   // A mesh with sharp edges: its face contacts too; without a pass after the collisions, no second one.
-  Scene drop = loadScene(std::filesystem::path(DRAPE_SOURCE_DIR) / "scenes" / "box_drop.json");
+  Scene drop = loadScene(std::filesystem::path(drape::test::sourceDir()) / "scenes" / "box_drop.json");
   EXPECT_EQ(CpuSolver<float>(drop).passes(),
             (std::vector<std::string>{"forces", "integrate", "self_collide", "collide", "limit_stretch",
                                       "collide_faces", "collide_last"}));

@@ -2,6 +2,7 @@
 // file checked structurally, each with the same points as --out writes; bad export options are status 2
 // before any work.
 #include "shell_quote.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -39,12 +40,13 @@ std::string slurp(const fs::path& p) {
 }
 
 int run(const std::string& args) {
-  const std::string cmd = std::string(DRAPE_BINARY) + " " + args + " >/dev/null 2>" + (tempDir() / "err").string();
+  const std::string cmd =
+      std::string(drape::test::drapeBinary()) + " " + args + " >/dev/null 2>" + (tempDir() / "err").string();
   const int raw = std::system(cmd.c_str());
   return WIFEXITED(raw) ? WEXITSTATUS(raw) : 128;
 }
 
-const std::string kScene = std::string(DRAPE_SOURCE_DIR) + "/scenes/pinned2.json";
+const std::string kScene = std::string(drape::test::sourceDir()) + "/scenes/pinned2.json";
 constexpr std::size_t kPoints = 50 * 50, kTriangles = 49 * 49 * 2;
 
 // --out's points, as doubles parsed from its text.

@@ -8,6 +8,7 @@
 #include "render/framing.hpp"
 #include "cpu/cpu_solver.hpp"
 #include "render/camera_follow.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -25,7 +26,7 @@ namespace fs = std::filesystem;
 
 std::vector<std::string> bundledScenes() {
   std::vector<std::string> names;
-  for (const fs::directory_entry& e : fs::directory_iterator(fs::path(DRAPE_SOURCE_DIR) / "scenes"))
+  for (const fs::directory_entry& e : fs::directory_iterator(fs::path(drape::test::sourceDir()) / "scenes"))
     if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
   std::sort(names.begin(), names.end());
   return names;
@@ -70,7 +71,7 @@ TEST_P(DefaultCamera, KeepsTheClothInViewOverTheRun) {
   // the plain build runs them all.
   if (GetParam() != "flag" && GetParam() != "pinned2") GTEST_SKIP() << "the plain build runs this scene";
 #endif
-  const Scene scene = loadScene(fs::path(DRAPE_SOURCE_DIR) / "scenes" / (GetParam() + ".json"));
+  const Scene scene = loadScene(fs::path(drape::test::sourceDir()) / "scenes" / (GetParam() + ".json"));
   CpuSolver<float> solver(scene);
   // The run, stepped once: its first frames are the look-ahead's (lookAhead() steps the same solver from the
   // same start), the rest what the follow meets.

@@ -5,6 +5,7 @@
 
 #include "gl/context.hpp"
 #include "gl/gl.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -22,7 +23,7 @@ class GlTest : public ::testing::Test {
 
   // A test shader under tests/glsl/.
   static std::filesystem::path testShader(const std::string& name) {
-    return std::filesystem::path(DRAPE_SOURCE_DIR) / "tests" / "glsl" / name;
+    return std::filesystem::path(drape::test::sourceDir()) / "tests" / "glsl" / name;
   }
 
  protected:

@@ -2,6 +2,7 @@
 // failure with nothing to run (a summary still written). The real check is the script run end to end
 // (docs/gpu-machine.md); these keep its contract from drifting.
 #include "shell_quote.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -44,7 +45,7 @@ class GpuCheck : public ::testing::Test {
   // The script from the source folder, as a user runs it; `environment` goes before it.
   Result run(const std::string& args, const std::string& environment = "") const {
     const fs::path out = dir_ / "output";
-    const std::string script = std::string(DRAPE_SOURCE_DIR) + "/tools/gpu-check";
+    const std::string script = std::string(drape::test::sourceDir()) + "/tools/gpu-check";
     const std::string cmd =
         environment + " " + quote(script) + " " + args + " >" + quote(out.string()) + " 2>&1 </dev/null";
     const int raw = std::system(cmd.c_str());

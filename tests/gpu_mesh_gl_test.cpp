@@ -7,6 +7,7 @@
 #include "gpu/gpu_solver.hpp"
 #include "gpu_test_support.hpp"
 #include "shell_quote.hpp"
+#include "test_paths.hpp"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -175,8 +176,8 @@ TEST_F(RenderExport, RenderWritesTheUsdaOfTheFramesItDraws) {
   const fs::path dir = fs::temp_directory_path() / ("drape_render_export_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const std::string cmd = std::string(DRAPE_BINARY) + " render " +
-                          testing::quote(std::string(DRAPE_SOURCE_DIR) + "/scenes/flag.json") +
+  const std::string cmd = std::string(drape::test::drapeBinary()) + " render " +
+                          testing::quote(std::string(drape::test::sourceDir()) + "/scenes/flag.json") +
                           " --frames 4 --every 2 --size 48x32 --out " + testing::quote((dir / "png").string()) +
                           " --export " + testing::quote((dir / "flag.usda").string()) + " >/dev/null 2>&1";
   const int raw = std::system(cmd.c_str());

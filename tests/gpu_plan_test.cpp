@@ -9,6 +9,7 @@
 #include "gpu/layout.hpp"
 #include "gpu/plan.hpp"
 #include "gpu/traffic.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -32,7 +33,8 @@ using Strings = std::vector<std::string>;
 Scene bundled(const std::string& file) {
   static std::map<std::string, Scene> loaded;
   auto it = loaded.find(file);
-  if (it == loaded.end()) it = loaded.emplace(file, loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + file)).first;
+  if (it == loaded.end())
+    it = loaded.emplace(file, loadScene(std::string(drape::test::sourceDir()) + "/scenes/" + file)).first;
   return it->second;
 }
 
@@ -458,7 +460,8 @@ TEST(GpuKernels, EveryPassHasARowWithItsKernel) {
     EXPECT_EQ(row.pass, Pass(p));
     EXPECT_NE(row.defines, nullptr);
     EXPECT_NE(row.bytes, nullptr);
-    EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(DRAPE_SOURCE_DIR) / "glsl" / row.file)) << row.file;
+    EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(drape::test::sourceDir()) / "glsl" / row.file))
+        << row.file;
     EXPECT_TRUE(names.insert(row.name).second) << "a name twice";
     for (int variant = 0; variant < row.variants; ++variant) {
       std::set<std::string> defined;

@@ -7,6 +7,7 @@
 #include "gpu/kernels.hpp"
 #include "gpu/layout.hpp"
 #include "gpu_test_support.hpp"
+#include "test_paths.hpp"
 
 #include <sys/wait.h>
 #include <algorithm>
@@ -587,7 +588,7 @@ TEST_F(GpuSolverTest, AKernelThatFailsToCompileNamesItsFileAndLine) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("drape_broken_glsl_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  fs::copy(fs::path(DRAPE_SOURCE_DIR) / "glsl", dir, fs::copy_options::recursive);
+  fs::copy(fs::path(drape::test::sourceDir()) / "glsl", dir, fs::copy_options::recursive);
   const fs::path kernel = dir / "sim" / "limit_stretch_coloured.comp";
   int lines = 0;
   {
@@ -618,7 +619,7 @@ struct CommandResult {
 
 CommandResult runDrape(const std::string& environment, const std::string& args) {
   CommandResult result;
-  const std::string command = environment + " " + DRAPE_BINARY + " " + args + " 2>&1";
+  const std::string command = environment + " " + drape::test::drapeBinary() + " " + args + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return result;
   char buffer[4096];
@@ -632,9 +633,10 @@ CommandResult runDrape(const std::string& environment, const std::string& args) 
 class GpuSolverCommand : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (!std::filesystem::exists(DRAPE_BINARY)) GTEST_SKIP() << DRAPE_BINARY << " is not built";
+    if (!std::filesystem::exists(drape::test::drapeBinary()))
+      GTEST_SKIP() << drape::test::drapeBinary() << " is not built";
   }
-  const std::string scene_ = std::string(DRAPE_SOURCE_DIR) + "/scenes/";
+  const std::string scene_ = std::string(drape::test::sourceDir()) + "/scenes/";
 };
 
 TEST_F(GpuSolverCommand, VerboseListsThePassesOfTheScene) {
@@ -700,7 +702,7 @@ const std::map<std::string, int> kBundledDispatchesPerFrame = {
 
 Strings bundledScenes() {
   Strings names;
-  for (const auto& entry : std::filesystem::directory_iterator(std::string(DRAPE_SOURCE_DIR) + "/scenes"))
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(drape::test::sourceDir()) + "/scenes"))
     if (entry.path().extension() == ".json") names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
   return names;
@@ -1071,11 +1073,12 @@ VerboseListing parseVerbose(const std::string& output) {
 }
 
 TEST_F(GpuSolverTest, TheVerboseListingOfEveryBundledSceneIsWhatItDispatches) {
-  if (!std::filesystem::exists(DRAPE_BINARY)) GTEST_SKIP() << DRAPE_BINARY << " is not built";
+  if (!std::filesystem::exists(drape::test::drapeBinary()))
+    GTEST_SKIP() << drape::test::drapeBinary() << " is not built";
   for (const std::string& name : bundledScenes()) {
     SCOPED_TRACE(name);
-    const CommandResult r = runDrape(
-        "", "simulate " + std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name + " --solver gpu --frames 1 --verbose");
+    const CommandResult r = runDrape("", "simulate " + std::string(drape::test::sourceDir()) + "/scenes/" + name +
+                                             " --solver gpu --frames 1 --verbose");
     ASSERT_EQ(r.status, 0) << r.output;
     const VerboseListing listed = parseVerbose(r.output);
     GpuSolver gpu(standardScene(name));

@@ -6,6 +6,7 @@
 #include "core/scene.hpp"
 #include "cpu/cpu_solver.hpp"
 #include "gl/context.hpp"
+#include "test_paths.hpp"
 
 #include <glm/glm.hpp>
 
@@ -17,7 +18,7 @@
 namespace drape::gpu_test {
 
 inline Scene standardScene(const std::string& file) {
-  return loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + file);
+  return loadScene(std::string(drape::test::sourceDir()) + "/scenes/" + file);
 }
 
 // The nearest float coordinates, as a solver working in float stores them. Through a volatile:

@@ -10,6 +10,8 @@
 // tools/compare-outputs compares two builds byte for byte on more frames.
 // The GPU equals the CPU float solver bit for bit on llvmpipe (tests/gpu_runs_gl_test.cpp), so it is
 // covered through them.
+#include "test_paths.hpp"
+
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -45,8 +47,9 @@ TEST_P(GridGolden, BundledSceneGivesThePositionsOfTheGridOnlyGenerator) {
   const fs::path dir = fs::temp_directory_path() / ("drape_grid_golden_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const fs::path out = dir / (std::string(GetParam().scene) + ".json");
-  const std::string cmd = std::string(DRAPE_BINARY) + " simulate " + DRAPE_SOURCE_DIR + "/scenes/" + GetParam().scene +
-                          ".json --frames 90 --solver cpu --threads 1 --out " + out.string() + " >/dev/null 2>&1";
+  const std::string cmd = std::string(drape::test::drapeBinary()) + " simulate " + drape::test::sourceDir() +
+                          "/scenes/" + GetParam().scene + ".json --frames 90 --solver cpu --threads 1 --out " +
+                          out.string() + " >/dev/null 2>&1";
   const int raw = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << cmd;
   std::ifstream in(out, std::ios::binary);

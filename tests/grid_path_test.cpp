@@ -2,6 +2,7 @@
 // the adjacency and the colouring), byte for byte: per pass from a disturbed state, and over whole runs; with
 // each instruction set this CPU has; and a substep's team of two threads against one thread.
 #include "cpu/cpu_solver.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -27,7 +28,7 @@ struct GridCase {
 Scene sceneFor(const GridCase& c) {
   Scene s;
   if (!c.file.empty()) {
-    s = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + c.file);
+    s = loadScene(std::string(drape::test::sourceDir()) + "/scenes/" + c.file);
   } else {
     s.path = "test";
     s.cloth.density = 150;
@@ -129,7 +130,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, GridPathEquality, ::testing::Values(
 // The folded selfCollision cloth: the vectorised test that lets a point with no pair in range skip its ordered
 // sum, against the solver without it, once the cloth has folded onto itself.
 TEST(GridPathSelfCollision, TheRangeTestKeepsTheGeneralPathsBytes) {
-  Scene scene = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/selfCollision.json");
+  Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/selfCollision.json");
   scene.sim.self_collision = true;
   CpuSolver<float> general(scene, CpuSolverOptions{.threads = 1, .grid_path = false});
   CpuSolver<float> vectorised(scene, CpuSolverOptions{.threads = 1});
@@ -150,7 +151,7 @@ TEST(GridPathSelfCollision, TheRangeTestKeepsTheGeneralPathsBytes) {
 
 // A mesh cloth keeps its gathers; only the integration runs vectorised there (it needs no neighbours).
 TEST(GridPathMesh, AMeshClothGivesTheGeneralPathsBytes) {
-  const Scene scene = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/flag.json");
+  const Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/flag.json");
   CpuSolver<float> general(scene, CpuSolverOptions{.threads = 1, .grid_path = false});
   CpuSolver<float> vectorised(scene, CpuSolverOptions{.threads = 1});
   ASSERT_EQ(vectorised.gridKernels(), "") << "a mesh has no grid";
@@ -165,7 +166,7 @@ TEST(GridPathMesh, AMeshClothGivesTheGeneralPathsBytes) {
 // A substep on a team of two threads (one OpenMP region, a barrier between passes) gives one thread's bytes:
 // every pass of the selfCollision scene (self-collision, a plane), on both paths.
 TEST(GridPathTeam, TwoThreadsGiveOneThreadsBytes) {
-  Scene scene = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/selfCollision.json");
+  Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/selfCollision.json");
   scene.sim.self_collision = true;
   for (bool grid : {true, false}) {
     CpuSolver<float> one(scene, CpuSolverOptions{.threads = 1, .grid_path = grid});

@@ -4,6 +4,7 @@
 #include "core/mesh_distance.hpp"
 #include "core/metrics.hpp"
 #include "core/scene.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,7 +17,7 @@ namespace drape {
 namespace {
 
 const Scene& tableScene() {
-  static const Scene scene = loadScene(std::filesystem::path(DRAPE_SOURCE_DIR) / "scenes" / "tablecloth.json");
+  static const Scene scene = loadScene(std::filesystem::path(drape::test::sourceDir()) / "scenes" / "tablecloth.json");
   return scene;
 }
 

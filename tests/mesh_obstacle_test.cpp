@@ -7,6 +7,7 @@
 #include "cpu/cpu_solver.hpp"
 #include "cpu/mesh_physics.hpp"
 #include "mesh_test_support.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,7 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kScenes = fs::path(DRAPE_SOURCE_DIR) / "scenes";
+const fs::path kScenes = fs::path(drape::test::sourceDir()) / "scenes";
 
 const MeshObstacle& firstMesh(const Scene& s) {
   return *s.meshes.at(0).mesh;

@@ -1,6 +1,7 @@
 // `drape render` and `drape view` as a user meets them: the real binary as a subprocess. The viewer
 // runs under `xvfb-run` when there is no display.
 #include "render/image.hpp"
+#include "test_paths.hpp"
 
 #include "shell_quote.hpp"
 
@@ -39,8 +40,8 @@ class RenderCliTest : public ::testing::Test {
 
   // `prefix` goes before the binary (environment settings, xvfb-run).
   Result run(const std::string& args, const std::string& prefix = "") const {
-    const std::string command =
-        prefix + " " + DRAPE_BINARY + " " + args + " >/dev/null 2>'" + (dir / "err").string() + "' </dev/null";
+    const std::string command = prefix + " " + drape::test::drapeBinary() + " " + args + " >/dev/null 2>'" +
+                                (dir / "err").string() + "' </dev/null";
     const int raw = std::system(command.c_str());
     Result r;
     r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
@@ -53,7 +54,7 @@ class RenderCliTest : public ::testing::Test {
 };
 
 std::string scene(const std::string& name) {
-  return std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name;
+  return std::string(drape::test::sourceDir()) + "/scenes/" + name;
 }
 
 std::string slurp(const fs::path& p) {
@@ -293,7 +294,7 @@ TEST_F(RenderCliTest, FfmpegDiesWithAKilledDrapeAndNothingIsLeftForLong) {
   fs::create_directories(dir / "tmp");
   const fs::path bin = writeFfmpeg(dir, "echo $$ > " + quote((dir / "ffmpeg.pid").string()) + "\nexec sleep 60");
   const std::string command = "PATH=" + quote(bin.string()) + ":\"$PATH\" TMPDIR=" + quote((dir / "tmp").string()) +
-                              " exec " + DRAPE_BINARY + " render " + scene("sphere.json") +
+                              " exec " + drape::test::drapeBinary() + " render " + scene("sphere.json") +
                               " --frames 1 --size 32x32 --out " + quote((dir / "frames").string()) + " --video " +
                               quote((dir / "v.mp4").string()) + " 2>/dev/null";
   const pid_t drape = ::fork();
@@ -338,8 +339,8 @@ TEST_F(RenderCliTest, FfmpegDiesWithAKilledDrapeAndNothingIsLeftForLong) {
 // only there, stops its render with that file's name; whole again, the render works from any directory.
 TEST_F(RenderCliTest, TheInstalledDrapeReadsItsOwnShaders) {
   const fs::path prefix = dir / "prefix";
-  const std::string install = "cmake --install " + quote(fs::path(DRAPE_BINARY).parent_path().string()) + " --prefix " +
-                              quote(prefix.string()) + " >/dev/null 2>&1";
+  const std::string install = "cmake --install " + quote(fs::path(drape::test::drapeBinary()).parent_path().string()) +
+                              " --prefix " + quote(prefix.string()) + " >/dev/null 2>&1";
   ASSERT_EQ(std::system(install.c_str()), 0) << install;
   const fs::path shader = prefix / "share" / "drape" / "glsl" / "render" / "phong.frag";
   ASSERT_TRUE(fs::exists(shader));

@@ -6,6 +6,7 @@
 #include "gpu/gpu_solver.hpp"
 #include "render/reach_probe.hpp"
 #include "render/renderer.hpp"
+#include "test_paths.hpp"
 
 #include <algorithm>
 #include <array>
@@ -148,7 +149,7 @@ struct Stage {
 };
 
 Scene sphereScene() {
-  return loadScene(std::filesystem::path(DRAPE_SOURCE_DIR) / "scenes" / "sphere.json");
+  return loadScene(std::filesystem::path(drape::test::sourceDir()) / "scenes" / "sphere.json");
 }
 
 class RenderImageTest : public GlTest {

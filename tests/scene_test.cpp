@@ -2,6 +2,7 @@
 // loads, the CS184 scenes carry CS184's values, and omitted optional keys take the documented defaults.
 #include "core/scene.hpp"
 #include "core/stability.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -23,7 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kScenesDir = fs::path(DRAPE_SOURCE_DIR) / "scenes";
+const fs::path kScenesDir = fs::path(drape::test::sourceDir()) / "scenes";
 
 // A valid scene using every key, so that each bad case below changes exactly one thing.
 nlohmann::json fullScene() {

@@ -1,6 +1,7 @@
 // Shader source assembly without GL: #version and defines, includes, include-once, errors with
 // file:line, #line mapping back to every original line, and compiler-log translation.
 #include "gl/shader_source.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -199,7 +200,7 @@ TEST(ShaderSource, GlslRootIsTheRepositoryGlslUnlessOverridden) {
   const char* saved = std::getenv("DRAPE_GLSL_DIR");
   const std::string restore = saved ? saved : "";
   unsetenv("DRAPE_GLSL_DIR");
-  EXPECT_EQ(gl::glslRoot(), fs::path(DRAPE_SOURCE_DIR) / "glsl");
+  EXPECT_EQ(gl::glslRoot(), fs::path(drape::test::sourceDir()) / "glsl");
   EXPECT_TRUE(fs::is_directory(gl::glslRoot()));
   setenv("DRAPE_GLSL_DIR", "/elsewhere/glsl", 1);
   EXPECT_EQ(gl::glslRoot(), fs::path("/elsewhere/glsl"));
@@ -211,7 +212,8 @@ TEST(ShaderSource, GlslRootIsTheRepositoryGlslUnlessOverridden) {
 }
 
 TEST(ShaderSource, DisplayNamesAreRelativeToTheSourceTree) {
-  EXPECT_EQ(gl::displayName(fs::path(DRAPE_SOURCE_DIR) / "glsl" / "sim" / "forces.comp"), "glsl/sim/forces.comp");
+  EXPECT_EQ(gl::displayName(fs::path(drape::test::sourceDir()) / "glsl" / "sim" / "forces.comp"),
+            "glsl/sim/forces.comp");
   EXPECT_EQ(gl::displayName("/not/in/the/tree.comp"), "/not/in/the/tree.comp");
 }
 

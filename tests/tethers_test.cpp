@@ -5,6 +5,7 @@
 #include "core/metrics.hpp"
 #include "cpu/cpu_solver.hpp"
 #include "mesh_test_support.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +18,7 @@ namespace drape {
 namespace {
 
 Scene standardScene(const std::string& name) {
-  return loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name);
+  return loadScene(std::string(drape::test::sourceDir()) + "/scenes/" + name);
 }
 
 std::vector<std::uint32_t> pinsOf(const Topology& t) {

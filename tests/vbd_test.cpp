@@ -7,6 +7,7 @@
 #include "core/stability.hpp"
 #include "cpu/cpu_solver.hpp"
 #include "cpu/physics.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +18,7 @@ namespace drape {
 namespace {
 
 Scene vbdScene(const std::string& name, int iterations = 1) {
-  Scene s = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name);
+  Scene s = loadScene(std::string(drape::test::sourceDir()) + "/scenes/" + name);
   s.sim.integrator = Integrator::Vbd;
   s.sim.iterations = iterations;
   return s;
@@ -73,7 +74,7 @@ TEST(VbdPhysics, StepSolvesTheBlock) {
 // points move at once from their neighbours' latest positions.
 TEST(VbdColouring, NoSpringJoinsTwoPointsOfAColour) {
   for (const char* file : {"pinned2.json", "sphere.json"}) {
-    const Scene scene = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + file);
+    const Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/" + file);
     const Topology topo = buildTopology(scene.cloth);
     const PointColouring c = colourPoints(topo);
     ASSERT_EQ(c.points.size(), std::size_t(topo.pointCount()));

@@ -5,6 +5,7 @@
 #include "gl/shader_source.hpp"
 #include "gpu/gpu_solver.hpp"
 #include "render/viewer.hpp"
+#include "test_paths.hpp"
 
 #include <GLFW/glfw3.h>
 #include <gtest/gtest.h>
@@ -28,7 +29,7 @@ class FakePanel final : public ViewerPanel {
 };
 
 Scene sphereScene() {
-  return loadScene(fs::path(DRAPE_SOURCE_DIR) / "scenes" / "sphere.json");
+  return loadScene(fs::path(drape::test::sourceDir()) / "scenes" / "sphere.json");
 }
 
 // A hidden 320x240 window with the viewer on the GPU solver.

@@ -7,6 +7,7 @@
 #include "core/scene.hpp"
 #include "display_support.hpp"
 #include "gpu/gpu_solver.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -18,7 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 Scene pinned2() {
-  return loadScene(fs::path(DRAPE_SOURCE_DIR) / "scenes" / "pinned2.json");
+  return loadScene(fs::path(drape::test::sourceDir()) / "scenes" / "pinned2.json");
 }
 
 double centroidY(Solver& solver) {

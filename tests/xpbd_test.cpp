@@ -6,6 +6,7 @@
 #include "core/stability.hpp"
 #include "cpu/cpu_solver.hpp"
 #include "cpu/physics.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,7 +17,7 @@ namespace drape {
 namespace {
 
 Scene xpbdScene(const std::string& name, int iterations = 1, Integrator integrator = Integrator::Xpbd) {
-  Scene s = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name);
+  Scene s = loadScene(std::string(drape::test::sourceDir()) + "/scenes/" + name);
   s.sim.integrator = integrator;
   s.sim.iterations = iterations;
   return s;
@@ -63,7 +64,7 @@ TEST(XpbdPhysics, DistanceCorrectionWorkedByHand) {
 }
 
 TEST(XpbdSolver, PassesListTheConstraintSweepOnlyForXpbd) {
-  const Scene verlet = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/sphere.json");
+  const Scene verlet = loadScene(std::string(drape::test::sourceDir()) + "/scenes/sphere.json");
   EXPECT_EQ(CpuSolver<float>(verlet).passes(), (std::vector<std::string>{"forces", "integrate", "self_collide",
                                                                          "collide", "limit_stretch", "collide_last"}));
   EXPECT_EQ(CpuSolver<float>(xpbdScene("sphere.json")).passes(),
@@ -74,7 +75,7 @@ TEST(XpbdSolver, PassesListTheConstraintSweepOnlyForXpbd) {
 // The integrator key changes the physics: the same scene falls differently, and Verlet is untouched by
 // the parts XPBD added (its run equals a run of a scene that never heard of XPBD).
 TEST(XpbdSolver, TheIntegratorKeyChangesTheRunAndVerletIsUnchanged) {
-  const Scene verlet = loadScene(std::string(DRAPE_SOURCE_DIR) + "/scenes/pinned2.json");
+  const Scene verlet = loadScene(std::string(drape::test::sourceDir()) + "/scenes/pinned2.json");
   Scene verlet_iterations = verlet;
   verlet_iterations.sim.iterations = 5;  // read by XPBD only
   CpuSolver<float> a(verlet), b(verlet_iterations), x(xpbdScene("pinned2.json"));

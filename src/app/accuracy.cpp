@@ -2,7 +2,7 @@
 #include "app/jobs.hpp"
 #include "app/progress.hpp"
 
-#include "app/commands.hpp"
+#include "app/command_error.hpp"
 
 #include "core/metrics.hpp"
 #include "core/stability.hpp"

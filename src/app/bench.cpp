@@ -1,6 +1,6 @@
 #include "app/bench.hpp"
 
-#include "app/options.hpp"
+#include "app/option_values.hpp"
 #include "app/roofline.hpp"
 #include "core/stability.hpp"
 #include "gl/objects.hpp"

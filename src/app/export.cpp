@@ -1,6 +1,6 @@
 #include "app/export.hpp"
 
-#include "app/commands.hpp"
+#include "app/command_error.hpp"
 #include "core/atomic_file.hpp"
 
 #include <fmt/format.h>

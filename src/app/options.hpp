@@ -2,10 +2,9 @@
 // A bad value is one line naming the option and exit status 2, like every usage error (docs/exit-status.md).
 #pragma once
 
-#include "core/scene.hpp"
+#include "app/option_values.hpp"
 
 #include <CLI/CLI.hpp>
-#include <glm/glm.hpp>
 
 #include <memory>
 #include <string>
@@ -55,12 +54,7 @@ CLI::Option* addListOption(CLI::App* command, const std::string& name, std::vect
   return option;
 }
 
-// --integrator verlet|xpbd: when given (`target` not empty), replaces the scene's simulation.integrator.
-std::vector<std::string> integratorNames();  // verlet, xpbd, vbd: what --integrator takes
+// --integrator verlet|xpbd|vbd into `target` (applyIntegrator applies it).
 CLI::Option* addIntegratorOption(CLI::App* command, std::string& target);
-void applyIntegrator(Scene& scene, const std::string& name);
-
-// "640x480" with both sides in [min_side, max_side]; otherwise CommandError(kExitBadInput) naming `option`.
-glm::ivec2 parseSize(const std::string& option, const std::string& text, int min_side, int max_side);
 
 }  // namespace drape

@@ -1,6 +1,6 @@
 #include "app/solver_factory.hpp"
 
-#include "app/commands.hpp"
+#include "app/command_error.hpp"
 #include "core/memory_stage.hpp"
 #include "cpu/cpu_solver.hpp"
 #include "gl/context.hpp"

@@ -1,6 +1,6 @@
 #include "app/video.hpp"
 
-#include "app/commands.hpp"
+#include "app/command_error.hpp"
 #include "app/process.hpp"
 
 #include <fcntl.h>

@@ -1,0 +1,11 @@
+// Where the tests find the source tree and the drape they run. Functions, not the compile definitions
+// themselves, so that only test_paths.cpp names the checkout: every other test compiles to the same bytes in
+// any clone and a fresh clone's build reuses the compiler cache (tools/test).
+#pragma once
+
+namespace drape::test {
+
+const char* sourceDir();    // the source tree this build was configured from
+const char* drapeBinary();  // the build's drape executable
+
+}  // namespace drape::test
