@@ -30,10 +30,10 @@ void CpuSolver<T>::buildFaceContacts() {
   if (any) face_contacts_ = std::move(contacts);
 }
 
-// Jacobi, as self-collision: every point gathers the contacts of its edges (ascending edge index) and then of
-// its triangles (ascending triangle index), mesh after mesh, each against the features its grid cell lists
-// (ascending), all from the positions before the pass; it takes the mean of its shares. A contact's two or
-// three points compute it alike, so they agree on it without writing to one another.
+// Jacobi, as self-collision: every point gathers the contacts of its edges (those with a pinned point skipped)
+// (ascending edge index) and then of its triangles (ascending triangle index), mesh after mesh, each against the
+// features its grid cell lists (ascending), all from the positions before the pass; it takes the mean of its shares. A
+// contact's two or three points compute it alike, so they agree on it without writing to one another.
 template <class T>
 void CpuSolver<T>::collideFaces() {
   const long long n = (long long)x_.size();
@@ -57,6 +57,7 @@ void CpuSolver<T>::collideFaces() {
         for (std::uint32_t k = faces_.edge_start[i]; k < faces_.edge_start[i + 1]; ++k) {
           const std::uint32_t e = faces_.point_edges[k];
           const std::uint32_t a = faces_.edges[2 * e], b = faces_.edges[2 * e + 1];
+          if (topo_.pinned[a] || topo_.pinned[b]) continue;  // see below
           const vec3 mid = (x_[a] + x_[b]) * T(0.5);
           glm::ivec3 cell;
           if (!cellOf(mid, cell)) continue;
@@ -77,6 +78,10 @@ void CpuSolver<T>::collideFaces() {
           const std::uint32_t t = faces_.point_triangles[k];
           const std::uint32_t p0 = topo_.triangles[3 * t], p1 = topo_.triangles[3 * t + 1],
                               p2 = topo_.triangles[3 * t + 2];
+          // A pin cannot take its share, so a contact at a pin never resolves and pushes the free points
+          // again every substep, into their velocity: the flag, pinned a thickness from its pole, wrapped
+          // itself around the pole. Where the scene pins the cloth, the pin has the last word.
+          if (topo_.pinned[p0] || topo_.pinned[p1] || topo_.pinned[p2]) continue;
           const vec3 centre = (x_[p0] + x_[p1] + x_[p2]) * third;
           glm::ivec3 cell;
           if (!cellOf(centre, cell)) continue;

@@ -58,6 +58,7 @@ vec3 faceCorrection(uint i) {
     for (uint k = faceTable[edge_start + i]; k < faceTable[edge_start + i + 1u]; ++k) {
       uint e = faceTable[point_edges + k];
       uint a = faceTable[edges + 2u * e], b = faceTable[edges + 2u * e + 1u];
+      if (isPinned(neighbour(a)) || isPinned(neighbour(b))) continue;  // the pin has the last word (CPU's why)
       vec3 xa = facePosition(a), xb = facePosition(b);
       precise vec3 mid = (xa + xb) * 0.5;
       uint cell;
@@ -80,6 +81,7 @@ vec3 faceCorrection(uint i) {
       uint t = faceTable[point_triangles + k];
       uint i0 = faceTable[triangles + 3u * t], i1 = faceTable[triangles + 3u * t + 1u],
            i2 = faceTable[triangles + 3u * t + 2u];
+      if (isPinned(neighbour(i0)) || isPinned(neighbour(i1)) || isPinned(neighbour(i2))) continue;
       vec3 p0 = facePosition(i0), p1 = facePosition(i1), p2 = facePosition(i2);
       precise vec3 centre = (p0 + p1 + p2) * kThird;
       uint cell;
