@@ -32,10 +32,6 @@ bool featureCell(vec3 at, vec3 origin, float inv_cell, uvec3 dims, out uint cell
   return true;
 }
 
-vec3 facePosition(uint j) {
-  return neighbour(j).xyz;
-}
-
 // The point's mean share of its face contacts (zero if none).
 vec3 faceCorrection(uint i) {
   precise vec3 sum = vec3(0.0);
@@ -58,8 +54,9 @@ vec3 faceCorrection(uint i) {
     for (uint k = faceTable[edge_start + i]; k < faceTable[edge_start + i + 1u]; ++k) {
       uint e = faceTable[point_edges + k];
       uint a = faceTable[edges + 2u * e], b = faceTable[edges + 2u * e + 1u];
-      if (isPinned(neighbour(a)) || isPinned(neighbour(b))) continue;  // the pin has the last word (CPU's why)
-      vec3 xa = facePosition(a), xb = facePosition(b);
+      vec4 na = neighbour(a), nb = neighbour(b);
+      if (isPinned(na) || isPinned(nb)) continue;  // the pin has the last word (CpuSolver::collideFaces says why)
+      vec3 xa = na.xyz, xb = nb.xyz;
       precise vec3 mid = (xa + xb) * 0.5;
       uint cell;
       if (!featureCell(mid, g0.xyz, g0.w, dims, cell)) continue;
@@ -81,8 +78,9 @@ vec3 faceCorrection(uint i) {
       uint t = faceTable[point_triangles + k];
       uint i0 = faceTable[triangles + 3u * t], i1 = faceTable[triangles + 3u * t + 1u],
            i2 = faceTable[triangles + 3u * t + 2u];
-      if (isPinned(neighbour(i0)) || isPinned(neighbour(i1)) || isPinned(neighbour(i2))) continue;
-      vec3 p0 = facePosition(i0), p1 = facePosition(i1), p2 = facePosition(i2);
+      vec4 n0 = neighbour(i0), n1 = neighbour(i1), n2 = neighbour(i2);
+      if (isPinned(n0) || isPinned(n1) || isPinned(n2)) continue;
+      vec3 p0 = n0.xyz, p1 = n1.xyz, p2 = n2.xyz;
       precise vec3 centre = (p0 + p1 + p2) * kThird;
       uint cell;
       if (!featureCell(centre, g0.xyz, g0.w, dims, cell)) continue;
