@@ -59,7 +59,7 @@ std::vector<BenchPass> timeGpuPasses(SolverFactory& factory, const Scene& scene,
 
 BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::string& scene_name, int size,
                   const std::string& solver_name, const BenchOptions& o, int threads) {
-  const Scene scene = resampleCloth(original, size);
+  const Scene scene = resampleCloth(original, size, o.keep_thickness);
   BenchRun run;
   run.scene = scene_name;
   run.solver = solver_name;
@@ -277,6 +277,7 @@ nlohmann::json benchJson(const BenchReport& r) {
       {"warmup_frames", r.options.warmup},
       {"repeats", r.options.repeats},
       {"cpu_threads", r.options.threads},
+      {"keep_thickness", r.options.keep_thickness},
       {"integrators", r.options.integrators.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.options.integrators)}};
   j["runs"] = nlohmann::json::array();
   for (const BenchRun& run : r.runs) {

@@ -26,7 +26,8 @@ struct BenchOptions {
   double peak_gbs = 0;             // the device's peak memory bandwidth; 0: from knownPeakGbs(renderer), if listed
   // Each of "verlet", "xpbd", "vbd" in turn replaces every scene's simulation.integrator, a run each; empty: as given.
   std::vector<std::string> integrators;
-  bool roofline = false;  // probe this machine's peak first; the markdown adds each CPU pass's share of it
+  bool keep_thickness = false;  // resampleCloth keeps each scene's thickness instead of capping it
+  bool roofline = false;        // probe this machine's peak first; the markdown adds each CPU pass's share of it
 };
 
 struct BenchPass {

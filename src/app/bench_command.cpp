@@ -37,6 +37,7 @@ struct BenchCommandOptions {
   std::string baseline;
   std::vector<std::string> integrators;  // empty: each scene's
   bool roofline = false;
+  bool keep_thickness = false;
 };
 
 // Far beyond any bench --json (a few hundred KB for the largest sweep).
@@ -89,6 +90,7 @@ void runBenchCommand(const BenchCommandOptions& c) {
   o.peak_gbs = c.peak_gbs;
   o.integrators = c.integrators;
   o.roofline = c.roofline;
+  o.keep_thickness = c.keep_thickness;
   // Output paths are checked before the runs, which may take minutes, not after them.
   if (!c.json.empty()) checkOutputFile(c.json);
   if (!c.markdown.empty()) checkOutputFile(c.markdown);
@@ -141,6 +143,9 @@ void addBenchCommand(CLI::App& app) {
   cmd->add_flag("--roofline", c->roofline,
                 "Probe this machine's peak (memory and L2 bandwidth, vector arithmetic, a barrier) first; the markdown "
                 "adds each CPU pass's work a point and its share of the least time the peak allows");
+  cmd->add_flag("--keep-thickness", c->keep_thickness,
+                "Keep each scene's cloth thickness at every size (default: at most 0.45 x the spacing, so that no "
+                "two points are in self-collision range at rest); a fine cloth then has neighbours the springs hold");
   cmd->add_option("--json", c->json, "Write the results as JSON here (default: stdout)");
   cmd->add_option("--markdown", c->markdown, "Write a markdown table of the results here");
   cmd->add_option(

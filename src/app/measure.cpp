@@ -12,7 +12,7 @@
 
 namespace drape {
 
-Scene resampleCloth(const Scene& scene, int n) {
+Scene resampleCloth(const Scene& scene, int n, bool keep_thickness) {
   Scene out = scene;
   ClothSpec& c = out.cloth;
   const int W = scene.cloth.num_width_points, H = scene.cloth.num_height_points;
@@ -25,7 +25,7 @@ Scene resampleCloth(const Scene& scene, int n) {
     if (std::find(c.pinned.begin(), c.pinned.end(), q) == c.pinned.end()) c.pinned.push_back(q);
   }
   const double spacing = std::min(c.width, c.height) / double(n - 1);
-  c.thickness = std::min(c.thickness, 0.45 * spacing);
+  if (!keep_thickness) c.thickness = std::min(c.thickness, 0.45 * spacing);
   return out;
 }
 

@@ -13,8 +13,9 @@ namespace drape {
 
 // The scene with its cloth resampled to n x n points: width, height and density (kg/m^2, so the
 // total mass) stay, pins keep their relative grid place (corners stay corners), and thickness is
-// capped at 0.45 x spacing so that neighbours at rest are outside the self-collision range 2 x thickness.
-Scene resampleCloth(const Scene& scene, int n);
+// capped at 0.45 x spacing so that neighbours at rest are outside the self-collision range 2 x thickness,
+// unless keep_thickness (a CS184 file refined as it is, with neighbours held at rest).
+Scene resampleCloth(const Scene& scene, int n, bool keep_thickness = false);
 
 struct MachineInfo {
   std::string hostname, cpu_model, kernel;

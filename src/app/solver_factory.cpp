@@ -99,6 +99,28 @@ std::unique_ptr<Solver> SolverFactory::makeGpu(const Scene& scene, const std::st
   return solver;
 }
 
+namespace {
+
+template <class T>
+std::string describePairs(const CpuSolver<T>& cpu) {
+  const CollisionPairs<T>& p = cpu.collisionPairs();
+  const double n = double(cpu.positions().size());
+  if (!cpu.scene().sim.self_collision || p.rebuilds() == 0 || n == 0) return "";
+  return fmt::format(
+      "self-collision: lists built {} times in {} substeps, {:.2f} entries a point (mean over the builds; {:.2f} at "
+      "the last); stencil: {} grid offsets tested every substep\n",
+      p.rebuilds(), cpu.substeps(), double(p.entriesBuilt()) / double(p.rebuilds()) / n, double(p.pairCount()) / n,
+      p.stencil().size());
+}
+
+}  // namespace
+
+std::string describeSelfCollision(const Solver& solver) {
+  if (const auto* f = dynamic_cast<const CpuSolver<float>*>(&solver)) return describePairs(*f);
+  if (const auto* d = dynamic_cast<const CpuSolver<double>*>(&solver)) return describePairs(*d);
+  return "";
+}
+
 std::string describePasses(const Solver& solver) {
   const std::vector<std::string> passes = solver.passes(), frame_passes = solver.framePasses();
   const int substeps = solver.scene().sim.steps_per_frame;

@@ -95,5 +95,8 @@ class SolverFactory {
 //     then once per frame, after the last substep:
 //     3. health
 std::string describePasses(const Solver& solver);
+// The CPU solvers' self-collision candidates after a run: list entries a point, builds, the stencil's offsets
+// (cpu/collision_pairs.hpp); "" for a solver without them or a scene without self-collision.
+std::string describeSelfCollision(const Solver& solver);
 
 }  // namespace drape

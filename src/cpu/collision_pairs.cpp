@@ -10,6 +10,7 @@
 #include <limits>
 #include <new>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 namespace drape {
@@ -24,7 +25,120 @@ void CollisionPairs<T>::configure(T range, T margin) {
 template <class T>
 void CollisionPairs<T>::setRest(std::vector<vec3> rest) {
   rest_ = std::move(rest);
+  stencil_range_ = stencil_margin_ = -1;
   built_ = false;
+}
+
+template <class T>
+void CollisionPairs<T>::setGrid(int w, int h) {
+  w_ = w;
+  h_ = h;
+  const std::size_t n = std::size_t(w) * std::size_t(h);
+  u_.resize(n);
+  v_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    u_[i] = std::uint16_t(i % std::size_t(w));
+    v_[i] = std::uint16_t(i / std::size_t(w));
+  }
+  stencil_range_ = stencil_margin_ = -1;
+  tiled_ = std::size_t(-1);
+  built_ = false;
+}
+
+// Which offsets hold, which are on the stencil, and which a build tests pair by pair. The rest shape is a grid
+// origin + u a + v b to within `slack` a point (round-off, and a vertical cloth's millimetre of jitter out of
+// its plane), so a pair at offset (du, dv) is within 2 slack of the offset's nominal distance |du a + dv b|:
+// offsets surely under the range are held; those that may reach within range + margin at rest are on the
+// stencil, which tests each pair's rest distance where the offset straddles the range (mixed: some of its
+// pairs held, some not); the farther ones are the list's. No pair is classed by a guess: a mixed offset asks
+// heldAtRest pair by pair, as the list does.
+template <class T>
+void CollisionPairs<T>::makeStencil() {
+  a2_ = b2_ = 0;
+  near_below_ = -1;
+  stencil_.clear();
+  du_.clear();
+  dv_.clear();
+  mixed_.clear();
+  kind_.clear();
+  box_ = -1;
+  stencil_range_ = range_;
+  stencil_margin_ = margin_;
+  if (w_ < 2 || h_ < 2 || rest_.size() != std::size_t(w_) * std::size_t(h_)) return;
+  const auto at = [&](int u, int v) { return glm::dvec3(rest_[std::size_t(v) * std::size_t(w_) + std::size_t(u)]); };
+  // The grid's steps from its corners (a jitter averages out over a row)
+  const glm::dvec3 origin = at(0, 0), a = (at(w_ - 1, 0) - origin) / double(w_ - 1),
+                   b = (at(0, h_ - 1) - origin) / double(h_ - 1);
+  const double step = std::min(glm::length(a), glm::length(b));
+  if (!(step > 0) || !std::isfinite(step)) return;
+  // Square to round-off, so that a pair off the box (|du| or |dv| over it) is farther than the box reaches.
+  if (std::abs(glm::dot(a, b)) > 1e-6 * glm::length(a) * glm::length(b)) return;
+  double extent = 0, off = 0;
+  for (int v = 0; v < h_; ++v)
+    for (int u = 0; u < w_; ++u) {
+      extent = std::max(extent, glm::length(at(u, v)));
+      off = std::max(off, glm::length(at(u, v) - (origin + double(u) * a + double(v) * b)));
+    }
+  // Each distance computed in T is off by a few ulps of the coordinates: 64 of the largest cover it.
+  const double slack = 2 * off + 64 * std::numeric_limits<T>::epsilon() * (extent + step);
+  const double range = double(range_), reach = double(range_ + margin_);
+  if (slack > 0.25 * step) return;  // not a grid
+  const int box = std::min(int(std::ceil((reach + slack) / step)) + 1, std::max(w_, h_) - 1);
+  if (box < 1 || box > kMaxStencilBox) return;
+  box_ = box;
+  const int side = 2 * box + 1;
+  kind_.assign(std::size_t(side) * std::size_t(side), kList);
+  std::vector<std::uint8_t> straddles(kind_.size(), 0);
+  for (int dv = -box; dv <= box; ++dv)
+    for (int du = -box; du <= box; ++du) {
+      const double nominal = glm::length(double(du) * a + double(dv) * b);
+      const std::size_t k = std::size_t((dv + box) * side + du + box);
+      if (du == 0 && dv == 0) continue;
+      if (nominal + slack < range)
+        kind_[k] = kHeld;
+      else if (nominal - slack < reach)
+        kind_[k] = kStencil;
+      straddles[k] = nominal - slack <= range && nominal + slack >= range;
+      if (kind_[k] == kStencil) {
+        stencil_.push_back({du, dv, std::int64_t(dv) * w_ + du});
+        mixed_.push_back(straddles[k]);
+      }
+    }
+  // What scanPairs passes over without a look at the table: the offsets held or on the stencil are exactly
+  // those under reach + slack, less a margin for the float arithmetic of the nominal distance.
+  a2_ = T(glm::dot(a, a));
+  b2_ = T(glm::dot(b, b));
+  near_below_ = T((reach + slack) * (reach + slack) * (1 - 1e-5));
+  std::vector<std::size_t> order(stencil_.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    order[k] = k;
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t p, std::size_t q) { return stencil_[p].step < stencil_[q].step; });
+  std::vector<Offset> sorted;
+  std::vector<std::uint8_t> mixed;
+  for (std::size_t k : order) {
+    sorted.push_back(stencil_[k]);
+    mixed.push_back(mixed_[k]);
+    du_.push_back(stencil_[k].du);
+    dv_.push_back(stencil_[k].dv);
+  }
+  stencil_ = std::move(sorted);
+  mixed_ = std::move(mixed);
+}
+
+template <class T>
+bool CollisionPairs<T>::stencilInRange(const std::vector<vec3>& x, std::size_t i) const {
+  const int u = u_[i], v = v_[i];
+  const T range2 = range_ * range_;
+  for (std::size_t k = 0; k < stencil_.size(); ++k) {
+    const Offset& o = stencil_[k];
+    if (!onGrid(u + o.du, v + o.dv)) continue;
+    const std::size_t j = std::size_t(std::int64_t(i) + o.step);
+    if (mixed_[k] && physics::heldAtRest(rest_[i], rest_[j], range_)) continue;
+    const vec3 d = x[i] - x[j];
+    if (!(glm::dot(d, d) >= range2)) return true;  // selfCollisionCorrection's test; NaN counts
+  }
+  return false;
 }
 
 template <class T>
@@ -36,6 +150,7 @@ T CollisionPairs<T>::safeTravel(T margin, T extent) {
 
 template <class T>
 bool CollisionPairs<T>::update(const std::vector<vec3>& x, int threads) {
+  if (range_ != stencil_range_ || margin_ != stencil_margin_) makeStencil();
   if (built_ && anchor_.size() == x.size() && !stale(x)) return false;
   build(x, threads);
   return true;
@@ -43,27 +158,96 @@ bool CollisionPairs<T>::update(const std::vector<vec3>& x, int threads) {
 
 // A pair not listed was at least range + margin apart at the build, and its distance has changed since by at
 // most |d_i - d_j|, d being each point's displacement from its anchor: at most the diagonal of the box
-// around every d. The lists hold while that diagonal is under the margin (2 * travel_, less round-off), so
-// the motion every point shares (a cloth falling or swinging as a whole) does not wear them out; the classic
-// check, each |d| under half the margin, charges it twice. At 256 x 256 (pinned2, CS184's thickness) the
-// lists are built 163 times in the first 900 substeps against 289 (at 50 x 50, 44 against 68). The box is a reduction
-// (min and max, in any order), so a GPU decides from it without another pass over the points.
+// around the d of i's tile and j's tile together. The lists hold while that diagonal is under the margin
+// (2 * travel_, less round-off) for every two tiles (or one) close enough now to hold a pair in range: tiles
+// farther apart than the range hold none, whatever their motion. So the motion a region shares with its
+// neighbours (a cloth falling, swinging, unfolding) does not wear the lists out, only the motion of one
+// region against another that touches it. One tile would be the box of every d (the GPU's test, a single
+// reduction), which a swinging cloth wears out in a few substeps: its free end moves against its pins.
+// Tiles: squares of the grid, or runs of points in index order on a mesh.
 template <class T>
 bool CollisionPairs<T>::stale(const std::vector<vec3>& x) const {
   if (travel_ <= T(0)) return true;
   constexpr T kInf = std::numeric_limits<T>::infinity();
-  vec3 lo(kInf), hi(-kInf);
+  boxes_.assign(tile_count_, TileBox{vec3(kInf), vec3(-kInf), vec3(kInf), vec3(-kInf)});
   bool finite = true;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const vec3 d = x[i] - anchor_[i];
-    // A non-finite position counts as moved (glm::min and max would pass over a NaN).
-    finite = finite && glm::dot(d, d) <= kInf;
-    lo = glm::min(lo, d);
-    hi = glm::max(hi, d);
+  for (const Run& r : runs_) {
+    vec3 dlo(kInf), dhi(-kInf), lo(kInf), hi(-kInf);
+    for (std::uint32_t i = r.begin; i < r.end; ++i) {
+      const vec3 d = x[i] - anchor_[i];
+      // A non-finite position counts as moved (glm::min and max would pass over a NaN).
+      finite = finite && glm::dot(d, d) <= kInf;
+      dlo = glm::min(dlo, d);
+      dhi = glm::max(dhi, d);
+      lo = glm::min(lo, x[i]);
+      hi = glm::max(hi, x[i]);
+    }
+    TileBox& b = boxes_[r.tile];
+    b.dlo = glm::min(b.dlo, dlo);
+    b.dhi = glm::max(b.dhi, dhi);
+    b.lo = glm::min(b.lo, lo);
+    b.hi = glm::max(b.hi, hi);
   }
-  const vec3 box = hi - lo;
+  if (!finite) return true;
   const T limit = T(2) * travel_;
-  return !finite || (!x.empty() && !(glm::dot(box, box) <= limit * limit));
+  // Tiles this far apart hold no pair in range, with room for the round-off of the boxes' differences.
+  const T apart = range_ + travel_;
+  for (std::size_t a = 0; a < boxes_.size(); ++a) {
+    const TileBox& p = boxes_[a];
+    if (!(p.lo.x <= p.hi.x)) continue;  // an empty tile
+    for (std::size_t c = a; c < boxes_.size(); ++c) {
+      const TileBox& q = boxes_[c];
+      if (!(q.lo.x <= q.hi.x)) continue;
+      const vec3 gap = glm::max(vec3(0), glm::max(q.lo - p.hi, p.lo - q.hi));
+      if (glm::dot(gap, gap) >= apart * apart) continue;
+      const vec3 box = glm::max(p.dhi, q.dhi) - glm::min(p.dlo, q.dlo);
+      if (!(glm::dot(box, box) <= limit * limit)) return true;
+    }
+  }
+  return false;
+}
+
+// Tiles of about kTilePoints points, at most kMaxTiles of them (stale() compares every two).
+template <class T>
+void CollisionPairs<T>::makeTiles(std::size_t n) {
+  runs_.clear();
+  tiled_ = n;
+  if (w_ > 0 && u_.size() == n) {  // squares of the grid, each row of a square a run
+    const int edge =
+        std::max({kTileEdge, (w_ + kTilesAcross - 1) / kTilesAcross, (h_ + kTilesAcross - 1) / kTilesAcross});
+    const int across = (w_ + edge - 1) / edge;
+    for (int v = 0; v < h_; ++v)
+      for (int u = 0; u < w_; u += edge)
+        runs_.push_back({std::uint32_t(v * w_ + u), std::uint32_t(v * w_ + std::min(u + edge, w_)),
+                         std::uint32_t(v / edge * across + u / edge)});
+    tile_count_ = std::size_t(across) * std::size_t((h_ + edge - 1) / edge);
+  } else {
+    const std::size_t run = std::max<std::size_t>(
+        std::size_t(kTileEdge) * kTileEdge, (n + kTilesAcross * kTilesAcross - 1) / (kTilesAcross * kTilesAcross));
+    for (std::size_t i = 0; i < n; i += run)
+      runs_.push_back({std::uint32_t(i), std::uint32_t(std::min(n, i + run)), std::uint32_t(i / run)});
+    tile_count_ = runs_.size();
+  }
+}
+
+// PairScanArgs and GridKernels::scanPairs in T, one candidate at a time (double, or float without kernels).
+template <class T>
+int CollisionPairs<T>::scanSlots(const ScanArgs& a, std::uint32_t first, std::uint32_t last, std::uint32_t* out) const {
+  if constexpr (std::is_same_v<T, float>)
+    if (kernels_) {
+      const PairScanArgs k{a.x, a.y, a.z, a.u, a.v, a.px, a.py, a.pz, a.pu, a.pv, a.reach2, a.a2, a.b2, a.near_below};
+      return kernels_->scanPairs(k, first, last, out);
+    }
+  int count = 0;
+  for (std::uint32_t s = first; s < last; ++s) {
+    const T dx = a.px - a.x[s], dy = a.py - a.y[s], dz = a.pz - a.z[s];
+    if (!(dx * dx + dy * dy + dz * dz < a.reach2)) continue;
+    const T du = a.u[s] - a.pu, dv = a.v[s] - a.pv;
+    const T nominal = du * du * a.a2 + dv * dv * a.b2;
+    if (nominal < a.near_below) continue;
+    out[count++] = s;
+  }
+  return count;
 }
 
 template <class T>
@@ -72,6 +256,32 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
   const T reach2 = reach * reach;
   grid_.build(x, reach);  // cells at least as large as the reach, so neighbouring cells hold every candidate
   const std::size_t n = x.size();
+  // The candidates' positions (and on a grid their columns and rows) in the grid's order, so that a point's
+  // buckets are read in sequence, several candidates at once (scanPairs): most are out of reach, held by
+  // the springs, or the stencil's, and only the rest are looked at one by one.
+  const bool by_offset = box_ >= 0 && u_.size() == n;
+  const std::vector<std::uint32_t>& sorted = grid_.sorted();
+  for (std::vector<T>* a : {&sx_, &sy_, &sz_})
+    a->resize(n);
+  su_.assign(n, T(0));
+  sv_.assign(n, T(0));
+  for (std::size_t s = 0; s < n; ++s) {
+    const std::uint32_t j = sorted[s];
+    sx_[s] = x[j].x;
+    sy_[s] = x[j].y;
+    sz_[s] = x[j].z;
+    if (by_offset) {
+      su_[s] = T(u_[j]);
+      sv_[s] = T(v_[j]);
+    }
+  }
+  ScanArgs scan{sx_.data(), sy_.data(), sz_.data(), su_.data(), sv_.data(), 0, 0, 0, 0, 0, reach2, 0, 0, T(-1)};
+  if (by_offset) {
+    scan.a2 = a2_;
+    scan.b2 = b2_;
+    scan.near_below = near_below_;
+  }
+  const int side = 2 * box_ + 1;
   // Each pair once (half the cell lookups), found in parallel; the lists made from them are sorted, so
   // they do not depend on how the points were split between threads.
   const MemoryStage stage("listing the self-collision candidates of " + std::to_string(n) + " points");
@@ -84,15 +294,38 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
   {
     std::vector<Pair>& mine = found_[std::size_t(omp_get_thread_num())];
     mine.clear();
+    std::vector<std::uint32_t> slots;
+    ScanArgs mine_scan = scan;
 #pragma omp for schedule(static)
     for (long long p = 0; p < count; ++p) {
       if (out_of_memory.load(std::memory_order_relaxed)) continue;
       const std::size_t i = std::size_t(p);
       try {
-        grid_.forEachForwardCandidate(i, [&](std::uint32_t j) {
-          const vec3 d = x[i] - x[j];
-          if (glm::dot(d, d) < reach2 && (rest_.empty() || !physics::heldAtRest(rest_[i], rest_[j], range_)))
-            mine.push_back({std::uint32_t(i), j});
+        mine_scan.px = x[i].x;
+        mine_scan.py = x[i].y;
+        mine_scan.pz = x[i].z;
+        if (by_offset) {
+          mine_scan.pu = T(u_[i]);
+          mine_scan.pv = T(v_[i]);
+        }
+        grid_.forEachForwardBucket(i, [&](std::uint32_t first, std::uint32_t last, glm::ivec3 cell) {
+          if (slots.size() < last - first) slots.resize(last - first);
+          const int found = scanSlots(mine_scan, first, last, slots.data());
+          for (int k = 0; k < found; ++k) {
+            const std::uint32_t j = sorted[slots[std::size_t(k)]];
+            if (!grid_.inCell(j, cell)) continue;
+            if (by_offset) {
+              const int du = int(u_[j]) - int(u_[i]), dv = int(v_[j]) - int(v_[i]);
+              // Off the box no pair is held: the box spans the reach.
+              if (du < -box_ || du > box_ || dv < -box_ || dv > box_) {
+                mine.push_back({std::uint32_t(i), j});
+                continue;
+              }
+              if (kind_[std::size_t((dv + box_) * side + du + box_)] != kList) continue;  // held, or stencil
+            }
+            if (rest_.empty() || !physics::heldAtRest(rest_[i], rest_[j], range_))
+              mine.push_back({std::uint32_t(i), j});
+          }
         });
       } catch (const std::bad_alloc&) {
         out_of_memory = true;
@@ -122,12 +355,14 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
   for (long long p = 0; p < count; ++p)
     std::sort(list_.data() + start_[std::size_t(p)], list_.data() + start_[std::size_t(p) + 1]);
   anchor_ = x;
+  if (tiled_ != n) makeTiles(n);
   T extent = reach;
   for (const vec3& p : x)
     extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
   travel_ = safeTravel(margin_, extent + margin_);
   built_ = true;
   ++rebuilds_;
+  entries_built_ += (long long)list_.size();
 }
 
 template class CollisionPairs<float>;

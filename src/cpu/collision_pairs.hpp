@@ -5,12 +5,20 @@
 // ~1 mm a substep at CS184's speeds, mostly together, so a list of a few millimetres of skin serves
 // several substeps instead of rebuilding the hash grid and reading 27 cells every substep.
 //
+// On a grid cloth the pairs just beyond the contact distance at rest are a ring around every point, at the
+// same grid offsets everywhere (the stencil): about 20 a point at 256 x 256 with CS184's thickness, which a
+// list would hold however it was built, because nothing but the cloth's compression brings them in. They
+// are not listed but tested every substep by offset (cheap: no lookups, and rows of points side by side),
+// and the list holds the rest; a list build passes over them and the held pairs by their offset, without
+// reading their positions.
+//
 // The sum of a point's corrections must not depend on when the list was rebuilt, or on the GPU on
 // thread timing: orderedCandidates() yields the pairs in range in the order a 27-cell query of a grid
 // of cell size `range` visits them (cells in z, y, x order around the point's cell, ascending index
 // within a cell), so the result is the same whatever list it comes from.
 #pragma once
 
+#include "cpu/grid_kernels.hpp"
 #include "cpu/hash_grid.hpp"
 
 #include <bit>
@@ -31,15 +39,63 @@ class CollisionPairs {
   void setRest(std::vector<vec3> rest);
   void invalidate() { built_ = false; }
 
+  // The largest box of grid offsets a stencil is made for (a cloth whose contact distance spans more
+  // points than this gets none: its pairs are all listed).
+  static constexpr int kMaxStencilBox = 40;
+  // A grid cloth of w x h points (point (u, v) is index v * w + u), after setRest: the pairs at the grid
+  // offsets whose every pair is unheld at rest and closer than range + margin there form the stencil, tested by
+  // stencilInRange and never listed.
+  void setGrid(int w, int h);
+  // Float: the instruction set's scanPairs for builds (default: one candidate at a time). The same lists.
+  void setKernels(const GridKernels* kernels) { kernels_ = kernels; }
+
   // Makes the list valid for positions x (rebuilding if any point moved too far); returns whether it
   // rebuilt. threads: OpenMP threads for the per-point loops.
   bool update(const std::vector<vec3>& x, int threads);
 
-  // Candidates of point i, ascending: every j with |x_i - x_j| < range + margin at the last build.
+  // Listed candidates of point i, ascending: every j off the stencil with |x_i - x_j| < range + margin at the
+  // last build.
   const std::uint32_t* begin(std::size_t i) const { return list_.data() + start_[i]; }
   const std::uint32_t* end(std::size_t i) const { return list_.data() + start_[i + 1]; }
   std::size_t pairCount() const { return list_.size(); }  // each pair counted from both ends
+
+  // The stencil, for the last update's range and margin: grid offsets (du, dv) in ascending dv * w + du, so
+  // that a point's partners ascend; empty off a grid.
+  struct Offset {
+    int du, dv;
+    std::int64_t step;  // dv * w + du: the partner's index less the point's
+  };
+  const std::vector<Offset>& stencil() const { return stencil_; }
+  const int* stencilDu() const { return du_.data(); }  // the stencil's du and dv as arrays, for the kernels
+  const int* stencilDv() const { return dv_.data(); }
+  // Per stencil offset, 1 where some of its pairs are held at rest (a vertical cloth's jitter): its pairs are
+  // tested for that first.
+  const std::uint8_t* stencilMixed() const { return mixed_.data(); }
+  int gridWidth() const { return w_; }
+  int gridHeight() const { return h_; }
+  // Whether point i has a stencil partner within `range` (a NaN distance counts): false means no stencil pair
+  // adds a term to its sum.
+  bool stencilInRange(const std::vector<vec3>& x, std::size_t i) const;
+
+  // Calls g(j) for every candidate of point i, ascending: its list and its stencil partners, merged.
+  template <class G>
+  void forEachCandidate(std::size_t i, G&& g) const {
+    const std::uint32_t *a = begin(i), *e = end(i);
+    if (!stencil_.empty()) {
+      const int u = int(i % std::size_t(w_)), v = int(i / std::size_t(w_));
+      for (const Offset& o : stencil_) {
+        if (!onGrid(u + o.du, v + o.dv)) continue;
+        const auto j = std::uint32_t(std::int64_t(i) + o.step);
+        for (; a != e && *a < j; ++a)
+          g(*a);
+        if (!mixed_[std::size_t(&o - stencil_.data())] || !physics::heldAtRest(rest_[i], rest_[j], range_)) g(j);
+      }
+    }
+    for (; a != e; ++a)
+      g(*a);
+  }
   long long rebuilds() const { return rebuilds_; }
+  long long entriesBuilt() const { return entries_built_; }  // pairCount summed over the builds
   T range() const { return range_; }
   T margin() const { return margin_; }
 
@@ -50,7 +106,18 @@ class CollisionPairs {
 
  private:
   bool stale(const std::vector<vec3>& x) const;
+  void makeTiles(std::size_t n);
   void build(const std::vector<vec3>& x, int threads);
+  void makeStencil();
+  struct ScanArgs {  // GridKernels' PairScanArgs in T
+    const T *x, *y, *z, *u, *v;
+    T px, py, pz, pu, pv, reach2, a2, b2, near_below;
+  };
+  int scanSlots(const ScanArgs& a, std::uint32_t first, std::uint32_t last, std::uint32_t* out) const;
+  bool onGrid(int u, int v) const { return u >= 0 && u < w_ && v >= 0 && v < h_; }
+  // What a build does with pair {i, j} by its grid offset: kList (test it), or pass over it, held at rest or on
+  // the stencil. Off the box of offsets the table covers, kList.
+  enum OffsetKind : std::uint8_t { kList, kHeld, kStencil };
 
   struct Pair {
     std::uint32_t i, j;
@@ -59,11 +126,35 @@ class CollisionPairs {
   std::vector<std::vector<Pair>> found_;  // per thread, kept to spare the allocations
   std::vector<std::uint32_t> start_, list_, fill_;
   std::vector<vec3> anchor_;  // positions at the last build
+  // stale()'s tiles: each point's, and per tile the box of its displacements since the build and of its points
+  static constexpr int kTileEdge = 8, kTilesAcross = 16;
+  struct Run {
+    std::uint32_t begin, end, tile;  // points [begin, end) of one tile
+  };
+  std::vector<Run> runs_;
+  std::size_t tiled_ = std::size_t(-1);  // the point count runs_ was made for
+  std::size_t tile_count_ = 0;
+  struct TileBox {
+    vec3 dlo, dhi, lo, hi;
+  };
+  mutable std::vector<TileBox> boxes_;
   std::vector<vec3> rest_;
+  int w_ = 0, h_ = 0;                      // the grid, or 0 x 0
+  std::vector<std::uint16_t> u_, v_;       // each point's grid column and row
+  std::vector<std::uint8_t> kind_;         // OffsetKind per offset of the box [-box_, box_]^2
+  std::vector<T> sx_, sy_, sz_, su_, sv_;  // build's scratch: position, column and row of grid_.sorted()[s]
+  T a2_ = 0, b2_ = 0, near_below_ = -1;    // ScanArgs of the stencil's grid
+  const GridKernels* kernels_ = nullptr;
+  int box_ = -1;
+  std::vector<Offset> stencil_;
+  std::vector<int> du_, dv_;
+  std::vector<std::uint8_t> mixed_;             // per stencil offset: some of its pairs are held at rest, some not
+  T stencil_range_ = -1, stencil_margin_ = -1;  // what stencil_ was made for
   T range_ = 0, margin_ = 0;
   T travel_ = 0;  // safeTravel at the last build
   bool built_ = false;
   long long rebuilds_ = 0;
+  long long entries_built_ = 0;
 };
 
 // Where j lies around i in the 27-cell query of a grid of cell size `range` (0..26, z then y then x),
@@ -92,12 +183,12 @@ void forEachOrderedPair(const CollisionPairs<T>& pairs, std::size_t i, const std
   int count = 0;
   std::uint32_t present = 0;
   glm::ivec3 cell_i{};
-  for (const std::uint32_t* j = pairs.begin(i); j != pairs.end(i); ++j) {
-    const vec3 c = physics::selfCollisionCorrection(x[i], x[*j], thickness);
-    if (c == vec3(0)) continue;
+  pairs.forEachCandidate(i, [&](std::uint32_t j) {
+    const vec3 c = physics::selfCollisionCorrection(x[i], x[j], thickness);
+    if (c == vec3(0)) return;
     if (present == 0) cell_i = HashGrid<T>::cellOf(x[i], inv_range);
-    const int order = cellOrder(cell_i, HashGrid<T>::cellOf(x[*j], inv_range));
-    if (order < 0) continue;
+    const int order = cellOrder(cell_i, HashGrid<T>::cellOf(x[j], inv_range));
+    if (order < 0) return;
     present |= 1u << order;
     if (count < kHeld) {
       int k = count;
@@ -106,7 +197,7 @@ void forEachOrderedPair(const CollisionPairs<T>& pairs, std::size_t i, const std
       held[k] = {order, c};
     }
     ++count;
-  }
+  });
   if (count <= kHeld) {
     for (int k = 0; k < count; ++k)
       f(held[k].c);
@@ -115,10 +206,10 @@ void forEachOrderedPair(const CollisionPairs<T>& pairs, std::size_t i, const std
   while (present != 0) {
     const int order = std::countr_zero(present);
     present &= present - 1;
-    for (const std::uint32_t* j = pairs.begin(i); j != pairs.end(i); ++j) {
-      const vec3 c = physics::selfCollisionCorrection(x[i], x[*j], thickness);
-      if (c != vec3(0) && cellOrder(cell_i, HashGrid<T>::cellOf(x[*j], inv_range)) == order) f(c);
-    }
+    pairs.forEachCandidate(i, [&](std::uint32_t j) {
+      const vec3 c = physics::selfCollisionCorrection(x[i], x[j], thickness);
+      if (c != vec3(0) && cellOrder(cell_i, HashGrid<T>::cellOf(x[j], inv_range)) == order) f(c);
+    });
   }
 }
 

@@ -52,14 +52,17 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
   for (const Neighbor& nb : topo_.adjacency)
     rest_adjacent_.push_back(T(nb.rest));
   colouring_ = colourSprings(topo_);
-  if (options.skip_held_pairs)
+  if (options.skip_held_pairs) {
     pairs_.setRest(std::vector<vec3>(topo_.initial_positions.begin(), topo_.initial_positions.end()));
+    if (topo_.W > 0 && options.pair_stencil) pairs_.setGrid(topo_.W, topo_.H);
+  }
   buildFaceContacts();
   const std::size_t n = std::size_t(topo_.pointCount());
   team_ = threads_ > 1 && (long long)n >= options.team_min_points ? threads_ : 1;
   if constexpr (std::is_same_v<T, float>)
     if (options.grid_path) {
       kernels_ = &drape::gridKernels(options.grid_isa);
+      pairs_.setKernels(kernels_);
       if (topo_.W > 0) grid_.emplace(topo_, rest_, options.grid_isa);
     }
   f_.resize(n);
@@ -313,50 +316,6 @@ void CpuSolver<T>::applyCorrections() {
     // x_prev stays where it was: in displacement form that is v += c.
     if (form_ == VerletForm::Displacement) v_[i] += correction_[i];
   });
-}
-
-template <class T>
-void CpuSolver<T>::selfCollide() {
-  const T thickness = T(scene_.cloth.thickness);
-  const T range = T(2) * thickness;
-  // The skin is a share of the contact distance, or of the spacing where the cloth is finer than that: a
-  // skin as thick as the contact distance holds a ring of points that never touch (97 a point at 256^2
-  // with CS184's thickness, 19.5 with the spacing's). The lists' bytes do not depend on it.
-  // The list check and build run on one thread of a team (their own loops fork only outside a team); an
-  // exception (out of memory) is kept for step() to rethrow after the region.
-  teamSingle([&] {
-    try {
-      pairs_.configure(range, T(pair_margin_) * std::min(range, T(shortest_spring_)));
-      pairs_.update(x_, threads_);
-    } catch (...) {
-      failure_ = std::current_exception();
-    }
-  });
-  if (failure_) return;
-  // The cells of a grid of cell size `range` fix the order of each point's sum (see forEachOrderedPair).
-  const T inv_range = T(1) / range;
-  const long long n = (long long)x_.size();
-  const T steps = T(scene_.sim.steps_per_frame);
-  // Jacobi: every correction is computed from the positions before the pass, so the result does not
-  // depend on the order points are visited (nor, on the GPU, on thread order).
-  parallelFor(0, n, threads_, [&](long long p) {
-    const std::size_t i = std::size_t(p);
-    vec3 sum(0);
-    int count = 0;
-    bool candidates = !topo_.pinned[i];
-    // Most points have no pair in range: the vectorised test says so without the ordered sweep.
-    if constexpr (std::is_same_v<T, float>)
-      if (candidates && kernels_)
-        candidates = kernels_->anyInRange(&x_.data()->x, pairs_.begin(i), pairs_.end(i), i, thickness);
-    if (candidates) {
-      forEachOrderedPair(pairs_, i, x_, thickness, inv_range, [&](vec3 c) {
-        sum += c;
-        ++count;
-      });
-    }
-    correction_[i] = count > 0 ? sum / (T(count) * steps) : vec3(0);
-  });
-  applyCorrections();
 }
 
 template <class T>

@@ -37,6 +37,10 @@ struct CpuSolverOptions {
   // Self-collision skips the pairs closer than 2*thickness at rest (physics::heldAtRest); false collides them
   // too, as CS184 does, to measure what skipping changes.
   bool skip_held_pairs = true;
+  // With skip_held_pairs on a grid cloth: the pairs at the grid offsets just beyond the contact distance at rest
+  // are tested by offset every substep instead of listed (CollisionPairs::setGrid); false lists them, to
+  // compare. The same bytes either way.
+  bool pair_stencil = true;
   // Float grid cloths: forces and the Gauss-Seidel stretch limit by the SIMD grid kernels (cpu/grid_path.hpp),
   // the same bytes as the general gathers; false runs the general path (the tests compare the two).
   bool grid_path = true;
@@ -132,6 +136,7 @@ class CpuSolver final : public Solver {
   std::vector<T> rest_;           // per spring, in T
   std::vector<T> rest_adjacent_;  // per adjacency entry, in T
   CollisionPairs<T> pairs_;
+  std::vector<std::uint8_t> near_;  // per point: a stencil partner in range this substep
   SpringColouring colouring_;
   Tethers tethers_;  // empty until the scene asks for tethers
   std::vector<T> tether_rest_;

@@ -49,6 +49,38 @@ struct GridStretchArgs {
   float limit = 1.1f;
 };
 
+// A self-collision list build's candidates of one point, in the order of the build's spatial grid: their
+// positions, and on a grid cloth their column and row (exact small integers as floats) with which the build
+// passes over the pairs the springs hold or the stencil tests.
+struct PairScanArgs {
+  const float *x, *y, *z;  // candidate positions, slot by slot
+  const float *u, *v;      // candidate grid columns and rows (unused where a2 = b2 = 0)
+  float px, py, pz;        // the point's position
+  float pu, pv;            // its column and row
+  float reach2;            // (range + margin)^2
+  float a2, b2;            // the grid's squared steps along u and v at rest
+  // An offset whose nominal squared distance du^2 a2 + dv^2 b2 is under near_below is held or on the stencil.
+  float near_below;
+};
+
+// Self-collision's stencil of a grid cloth (cpu/collision_pairs.hpp): per point, whether a partner at grid
+// offset (du[k], dv[k]), k < count, lies on the grid, is not held at rest where mixed[k] (physics::heldAtRest on
+// the rest positions), and is within sqrt(range2) now (the test of physics::selfCollisionCorrection; a NaN
+// distance counts). symmetric: the offsets are half the stencil (one of each +-pair) and a pair in range flags
+// both its points, whose flags must be 0 before (one thread alone: other rows are written); else each point of
+// the rows is set from the whole stencil, and nothing else is written.
+struct GridStencilArgs {
+  GridShape shape;
+  const float *x, *y, *z;     // positions, padded layout
+  const float *rx, *ry, *rz;  // rest positions, padded layout
+  const int *du, *dv;
+  const std::uint8_t* mixed;
+  int count = 0;
+  float range2 = 0;
+  bool symmetric = false;
+  std::uint8_t* flags;  // per point, in point order
+};
+
 // One instruction set's kernels. Each works on the rows [y0, y1) of the grid (for a stretch colour, the
 // rows where its springs start), so a team of threads can split a pass by rows.
 struct GridKernels {
@@ -71,6 +103,13 @@ struct GridKernels {
   // empty. x is the vec3 array seen as floats. Not grid-specific.
   bool (*anyInRange)(const float* x, const std::uint32_t* begin, const std::uint32_t* end, std::size_t i,
                      float thickness);
+  // Self-collision's stencil (cpu/collision_pairs.hpp) over the points of rows [y0, y1): flags[v * W + u] = 1
+  // where a stencil partner lies on the grid, is not held at rest, and is within range (see GridStencilArgs).
+  void (*stencilFlags)(const GridStencilArgs&, int y0, int y1);
+  // The slots s in [first, last) whose candidate is within reach of the point now (a NaN distance is not) and
+  // not surely held or on the stencil by its offset: written to out in ascending order, their count returned.
+  // What the build must look at pair by pair; a flat cloth's buckets hold almost none.
+  int (*scanPairs)(const PairScanArgs&, std::uint32_t first, std::uint32_t last, std::uint32_t* out);
   // Probes of this machine's peak with these instructions (cpu/machine_peak.hpp); each returns a value that
   // depends on all its work, so that none of it can be left out. Independent chains, so throughput counts:
   // 6 multiplies and 6 adds per lane and rep (no fused multiply-add: the build forbids it)

@@ -298,6 +298,77 @@ struct Kernels {
     return false;
   }
 
+  static void stencilFlags(const GridStencilArgs& a, int y0, int y1) {
+    const GridShape& g = a.shape;
+    const F r2 = V::set1(a.range2);
+    for (int v = y0; v < y1; ++v)
+      for (int u0 = 0; u0 < g.W; u0 += kW) {
+        const std::ptrdiff_t q = at(g, u0, v);
+        const F X = V::load(a.x + q), Y = V::load(a.y + q), Z = V::load(a.z + q);
+        const F us = V::add(V::set1(float(u0)), V::iota());
+        const F own = V::lt(us, V::set1(float(g.W)));
+        const int lanes = g.W - u0 < kW ? g.W - u0 : kW;
+        std::uint8_t* mine = a.flags + std::ptrdiff_t(v) * g.W + u0;
+        F hit = V::set1(0.0f);
+        for (int k = 0; k < a.count; ++k) {
+          if (v + a.dv[k] < 0 || v + a.dv[k] >= g.H) continue;
+          // The padding keeps every partner load inside the arrays (|du| <= kMaxStencilBox < 2 rows)
+          const std::ptrdiff_t p = q + std::ptrdiff_t(a.dv[k]) * g.stride + a.du[k];
+          const F dx = V::sub(X, V::load(a.x + p)), dy = V::sub(Y, V::load(a.y + p)), dz = V::sub(Z, V::load(a.z + p));
+          const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
+          F pair = V::bitAnd(onGrid(us, a.du[k], g.W), V::andNot(V::ge(d2, r2), own));
+          if (a.mixed[k] && V::any(pair)) {  // heldAtRest(rest_i, rest_j, range): d . d < range^2
+            const F ex = V::sub(V::load(a.rx + q), V::load(a.rx + p)),
+                    ey = V::sub(V::load(a.ry + q), V::load(a.ry + p)),
+                    ez = V::sub(V::load(a.rz + q), V::load(a.rz + p));
+            const F e2 = V::add(V::add(V::mul(ex, ex), V::mul(ey, ey)), V::mul(ez, ez));
+            pair = V::andNot(V::lt(e2, r2), pair);
+          }
+          if (a.symmetric && V::any(pair)) {
+            const int bits = V::bits(pair);
+            std::uint8_t* theirs = mine + std::ptrdiff_t(a.dv[k]) * g.W + a.du[k];
+            for (int l = 0; l < lanes; ++l)
+              theirs[l] |= std::uint8_t((bits >> l) & 1);
+          }
+          hit = V::bitOr(hit, pair);
+        }
+        const int bits = V::bits(hit);
+        for (int l = 0; l < lanes; ++l)
+          mine[l] = std::uint8_t(a.symmetric ? mine[l] | ((bits >> l) & 1) : (bits >> l) & 1);
+      }
+  }
+
+  static bool scanOne(const PairScanArgs& a, std::uint32_t s) {
+    const float dx = a.px - a.x[s], dy = a.py - a.y[s], dz = a.pz - a.z[s];
+    if (!(dx * dx + dy * dy + dz * dz < a.reach2)) return false;
+    const float du = a.u[s] - a.pu, dv = a.v[s] - a.pv;
+    const float nominal = du * du * a.a2 + dv * dv * a.b2;
+    return !(nominal < a.near_below);
+  }
+
+  static int scanPairs(const PairScanArgs& a, std::uint32_t first, std::uint32_t last, std::uint32_t* out) {
+    int count = 0;
+    std::uint32_t s = first;
+    const F px = V::set1(a.px), py = V::set1(a.py), pz = V::set1(a.pz), pu = V::set1(a.pu), pv = V::set1(a.pv);
+    const F reach2 = V::set1(a.reach2), a2 = V::set1(a.a2), b2 = V::set1(a.b2);
+    const F near_below = V::set1(a.near_below);
+    for (; s + kW <= last; s += kW) {
+      const F dx = V::sub(px, V::load(a.x + s)), dy = V::sub(py, V::load(a.y + s)), dz = V::sub(pz, V::load(a.z + s));
+      const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
+      const F du = V::sub(V::load(a.u + s), pu), dv = V::sub(V::load(a.v + s), pv);
+      const F nominal = V::add(V::mul(V::mul(du, du), a2), V::mul(V::mul(dv, dv), b2));
+      int bits = V::bits(V::andNot(V::lt(nominal, near_below), V::lt(d2, reach2)));
+      while (bits != 0) {
+        const int l = __builtin_ctz(unsigned(bits));
+        bits &= bits - 1;
+        out[count++] = s + std::uint32_t(l);
+      }
+    }
+    for (; s < last; ++s)
+      if (scanOne(a, s)) out[count++] = s;
+    return count;
+  }
+
   static float sum(F v) {
     float lanes[kW];
     V::store(lanes, v);
@@ -354,8 +425,8 @@ struct Kernels {
   }
 
   static constexpr GridKernels table(const char* name) {
-    return {name,       kW,          &toSoa,       &fromSoa,      &forces,    &stretchColour,
-            &integrate, &anyInRange, &probeAddMul, &probeDivSqrt, &probeTriad};
+    return {name,          kW,         &toSoa,       &fromSoa,      &forces,    &stretchColour, &integrate, &anyInRange,
+            &stencilFlags, &scanPairs, &probeAddMul, &probeDivSqrt, &probeTriad};
   }
 };
 

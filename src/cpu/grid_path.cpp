@@ -3,6 +3,9 @@
 #include "core/colouring.hpp"
 #include "cpu/parallel.hpp"
 
+#include <omp.h>
+
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <limits>
@@ -18,7 +21,7 @@ constexpr SpringType kDirectionType[6] = {SpringType::Structural, SpringType::St
 
 GridPath::GridPath(const Topology& topo, const std::vector<float>& rest, GridIsa isa)
     : shape_(GridShape::of(topo.W, topo.H)), kernels_(&gridKernels(isa)) {
-  for (std::vector<float>* a : {&x_, &y_, &z_, &vx_, &vy_, &vz_, &pinned_, &mass_})
+  for (std::vector<float>* a : {&x_, &y_, &z_, &vx_, &vy_, &vz_, &pinned_, &mass_, &rx_, &ry_, &rz_})
     a->assign(shape_.size, 0.0f);
   for (std::vector<float>& r : rest_)
     r.assign(shape_.size, 0.0f);
@@ -26,6 +29,13 @@ GridPath::GridPath(const Topology& topo, const std::vector<float>& rest, GridIsa
   for (std::size_t s = 0; s < topo.springs.size(); ++s) {
     const Spring& sp = topo.springs[s];
     rest_[gridDirection(topo, sp)][std::size_t(shape_.at(int(sp.a % w), int(sp.a / w)))] = rest[s];
+  }
+  for (std::size_t i = 0; i < topo.initial_positions.size(); ++i) {
+    const glm::vec3 r(topo.initial_positions[i]);
+    const auto k = std::size_t(shape_.at(int(i % w), int(i / w)));
+    rx_[k] = r.x;
+    ry_[k] = r.y;
+    rz_[k] = r.z;
   }
   const float all_bits = std::bit_cast<float>(std::numeric_limits<std::uint32_t>::max());
   for (std::size_t i = 0; i < topo.pinned.size(); ++i)
@@ -65,6 +75,22 @@ void GridPath::forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f
                      springs(k, enabled),
                      &f.data()->x};
   teamRange(0, shape_.H, [&](long long y0, long long y1) { kern.forces(args, int(y0), int(y1)); });
+}
+
+void GridPath::stencilFlags(const std::vector<glm::vec3>& x, const int* du, const int* dv, const std::uint8_t* mixed,
+                            int count, float range2, std::vector<std::uint8_t>& flags) {
+  const GridKernels& kern = *kernels_;
+  teamRange(0, shape_.H, [&](long long y0, long long y1) {
+    kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1));
+  });
+  // One thread tests each pair once and flags both ends; a team's threads write their own rows only, so each
+  // tests its points against the whole stencil.
+  const bool symmetric = omp_get_num_threads() == 1;
+  if (symmetric) std::fill(flags.begin(), flags.end(), std::uint8_t(0));
+  const int half = symmetric ? count / 2 : 0;
+  const GridStencilArgs args{shape_,    x_.data(), y_.data(),    z_.data(),    rx_.data(), ry_.data(), rz_.data(),
+                             du + half, dv + half, mixed + half, count - half, range2,     symmetric,  flags.data()};
+  teamRange(0, shape_.H, [&](long long y0, long long y1) { kern.stencilFlags(args, int(y0), int(y1)); });
 }
 
 void GridPath::limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,

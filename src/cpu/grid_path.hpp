@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <vector>
 
 namespace drape {
@@ -25,6 +26,11 @@ class GridPath {
   // enabled[t] and k[t] per spring type.
   void forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f, glm::vec3 gravity, const float k[3],
               const bool enabled[3]);
+  // Self-collision's stencil over the positions x: flags[i] = 1 where point i has a stencil partner within
+  // sqrt(range2) and not held at rest (GridKernels::stencilFlags). du, dv, mixed: the whole stencil, sorted by dv * W +
+  // du (its second half mirrors its first). Called by every thread of a team, or by one thread alone.
+  void stencilFlags(const std::vector<glm::vec3>& x, const int* du, const int* dv, const std::uint8_t* mixed, int count,
+                    float range2, std::vector<std::uint8_t>& flags);
   // `passes` Gauss-Seidel passes over the 12 colours in order; v nullptr when it is not a displacement.
   void limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,
                     const bool enabled[3]);
@@ -35,7 +41,8 @@ class GridPath {
   GridShape shape_;
   const GridKernels* kernels_;
   std::vector<float> x_, y_, z_, vx_, vy_, vz_, pinned_, mass_;
-  std::vector<float> rest_[6];  // per direction, at each spring's start a
+  std::vector<float> rx_, ry_, rz_;  // rest positions, as the float solver rounds them
+  std::vector<float> rest_[6];       // per direction, at each spring's start a
 };
 
 }  // namespace drape

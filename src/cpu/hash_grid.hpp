@@ -59,6 +59,50 @@ class HashGrid {
     }
   }
 
+  // forEachForwardCandidate a range of slots at a time: f(first, last, n) with [first, last) slots of sorted()
+  // that may hold the points of the forward cells (i's own cell from the point after i). Dense buckets are the
+  // box's cells in x-fastest order, so a row of three cells is one range (n is then its middle cell, and every
+  // slot is a candidate); a hashed bucket is one cell's range and may hold other cells' points too: the caller
+  // keeps the slots s whose point j = sorted()[s] is inCell(j, n), as forEachForwardCandidate does.
+  template <class F>
+  void forEachForwardBucket(std::size_t i, F&& f) const {
+    const glm::ivec3 c = cells_[i];
+    const auto after_i = [&](std::uint32_t s, std::uint32_t e) {  // a bucket lists its points in ascending index
+      return std::uint32_t(std::upper_bound(sorted_.begin() + s, sorted_.begin() + e, std::uint32_t(i)) -
+                           sorted_.begin());
+    };
+    if (dense_) {
+      const glm::ivec3 r = c - box_min_;
+      const auto row = [&](int dy, int dz, int x0, int x1) {  // cells x0..x1 (inclusive) of row (dy, dz)
+        const int y = r.y + dy, z = r.z + dz;
+        if (y < 0 || z < 0 || y >= box_size_.y || z >= box_size_.z) return;
+        const int lo = std::max(r.x + x0, 0), hi = std::min(r.x + x1, box_size_.x - 1);
+        if (lo > hi) return;
+        const std::uint32_t b = std::uint32_t((z * box_size_.y + y) * box_size_.x);
+        std::uint32_t s = start_[b + std::uint32_t(lo)];
+        const std::uint32_t e = start_[b + std::uint32_t(hi) + 1];
+        if (dy == 0 && dz == 0) s = after_i(start_[b + std::uint32_t(r.x)], start_[b + std::uint32_t(r.x) + 1]);
+        if (s < e) f(s, e, c);
+      };
+      row(0, 0, 0, 1);  // i's cell from the point after i, and the next
+      row(1, 0, -1, 1);
+      for (int dy = -1; dy <= 1; ++dy)
+        row(dy, 1, -1, 1);
+      return;
+    }
+    for (int k = 13; k < 27; ++k) {
+      const glm::ivec3 n = c + glm::ivec3(k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1);
+      std::uint32_t b;
+      if (!bucketOf(n, b)) continue;
+      std::uint32_t s = start_[b];
+      const std::uint32_t e = start_[b + 1];
+      if (k == 13) s = after_i(s, e);
+      if (s < e) f(s, e, n);
+    }
+  }
+  bool inCell(std::uint32_t j, glm::ivec3 n) const { return dense_ || cells_[j] == n; }
+  const std::vector<std::uint32_t>& sorted() const { return sorted_; }
+
   // A point's cell, from the reciprocal of the cell edge rounded once on the host. A product is
   // correctly rounded on every GPU while GLSL lets a division be off by 2.5 ulp (NVIDIA's is), so
   // multiplying is what keeps CPU and GPU cells identical at cell borders.

@@ -1,0 +1,76 @@
+// CpuSolver's self-collision (selfCollide): the candidate lists and the grid stencil of
+// cpu/collision_pairs.hpp, then CS184's averaged push between points closer than 2 x thickness, as a Jacobi
+// pass. Kept apart from cpu_solver.cpp for its size.
+#include "cpu/cpu_solver.hpp"
+#include "cpu/parallel.hpp"
+
+#include <exception>
+#include <type_traits>
+
+namespace drape {
+
+template <class T>
+void CpuSolver<T>::selfCollide() {
+  const T thickness = T(scene_.cloth.thickness);
+  const T range = T(2) * thickness;
+  // The skin is a share of the contact distance, or of the spacing where the cloth is finer than that: a
+  // skin as thick as the contact distance holds a ring of points that never touch (97 a point at 256^2
+  // with CS184's thickness, 19.5 with the spacing's). The lists' bytes do not depend on it.
+  // The list check and build run on one thread of a team (their own loops fork only outside a team); an
+  // exception (out of memory) is kept for step() to rethrow after the region.
+  teamSingle([&] {
+    try {
+      pairs_.configure(range, T(pair_margin_) * std::min(range, T(shortest_spring_)));
+      pairs_.update(x_, threads_);
+    } catch (...) {
+      failure_ = std::current_exception();
+    }
+  });
+  if (failure_) return;
+  const std::size_t stencil = pairs_.stencil().size();
+  if (stencil > 0) {
+    near_.resize(x_.size());
+    if constexpr (std::is_same_v<T, float>)
+      if (grid_)
+        grid_->stencilFlags(x_, pairs_.stencilDu(), pairs_.stencilDv(), pairs_.stencilMixed(), int(stencil),
+                            range * range, near_);
+    if (!std::is_same_v<T, float> || !grid_)
+      parallelFor(0, (long long)x_.size(), threads_,
+                  [&](long long p) { near_[std::size_t(p)] = pairs_.stencilInRange(x_, std::size_t(p)); });
+  }
+  // The cells of a grid of cell size `range` fix the order of each point's sum (see forEachOrderedPair).
+  const T inv_range = T(1) / range;
+  const long long n = (long long)x_.size();
+  const T steps = T(scene_.sim.steps_per_frame);
+  // Jacobi: every correction is computed from the positions before the pass, so the result does not
+  // depend on the order points are visited (nor, on the GPU, on thread order).
+  parallelFor(0, n, threads_, [&](long long p) {
+    const std::size_t i = std::size_t(p);
+    vec3 sum(0);
+    int count = 0;
+    bool candidates = false;
+    // Most points have no pair in range: the stencil's test and the vectorised test of the list say so
+    // without the ordered sweep.
+    if (!topo_.pinned[i]) {
+      candidates = stencil > 0 && near_[i];
+      if (!candidates && pairs_.begin(i) != pairs_.end(i)) {
+        candidates = true;
+        if constexpr (std::is_same_v<T, float>)
+          if (kernels_) candidates = kernels_->anyInRange(&x_.data()->x, pairs_.begin(i), pairs_.end(i), i, thickness);
+      }
+    }
+    if (candidates) {
+      forEachOrderedPair(pairs_, i, x_, thickness, inv_range, [&](vec3 c) {
+        sum += c;
+        ++count;
+      });
+    }
+    correction_[i] = count > 0 ? sum / (T(count) * steps) : vec3(0);
+  });
+  applyCorrections();
+}
+
+template void CpuSolver<float>::selfCollide();
+template void CpuSolver<double>::selfCollide();
+
+}  // namespace drape

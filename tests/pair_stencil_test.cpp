@@ -1,0 +1,143 @@
+// The self-collision stencil of a grid cloth (cpu/collision_pairs.hpp): the unheld pairs at the grid offsets
+// just beyond the contact distance at rest are tested by offset every substep instead of listed. Nothing may
+// fall between the stencil and the list, and the bytes are those of the list alone.
+#include "core/scene.hpp"
+#include "cpu/collision_pairs.hpp"
+#include "cpu/cpu_solver.hpp"
+#include "test_paths.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+namespace drape {
+namespace {
+
+using vec3 = glm::vec3;
+
+// CS184's selfCollision scene (a cloth falling flat onto a plane, where it crumples) at n x n points with a
+// contact distance of two spacings: the pairs two apart along a row sit exactly at the range at rest, where
+// each pair's rounding decides whether it is held, and the knight's-move pairs (2.24 spacings) are the ring
+// just beyond it.
+Scene crumplingCloth(int n) {
+  Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/selfCollision.json");
+  scene.sim.self_collision = true;
+  scene.cloth.num_width_points = scene.cloth.num_height_points = n;
+  scene.cloth.thickness = scene.cloth.width / double(n - 1);
+  return scene;
+}
+
+bool onStencil(const CollisionPairs<float>& pairs, std::size_t i, std::size_t j) {
+  const int w = pairs.gridWidth();
+  const int du = int(j % std::size_t(w)) - int(i % std::size_t(w)),
+            dv = int(j / std::size_t(w)) - int(i / std::size_t(w));
+  const auto& s = pairs.stencil();
+  return std::any_of(s.begin(), s.end(), [&](const auto& o) { return o.du == du && o.dv == dv; });
+}
+
+// Every substep of the fall and the crumpling: each pair in range that the springs do not hold at rest is on
+// the stencil or in the list, checked against every pair of points.
+TEST(PairStencil, TheStencilAndTheListHoldEveryUnheldPairInRange) {
+  const Scene scene = crumplingCloth(36);
+  CpuSolver<float> solver(scene, CpuSolverOptions{.threads = 1});
+  const float thickness = float(scene.cloth.thickness), range = 2.0f * thickness;
+  const std::vector<glm::dvec3>& rest = solver.topology().initial_positions;
+  long long on_stencil = 0, listed = 0, held_in_range = 0;
+  for (int s = 0; s < 70 * scene.sim.steps_per_frame; ++s) {
+    solver.accumulateForces();
+    solver.integrate();
+    const std::vector<vec3> x = solver.positions();  // what selfCollide tests
+    solver.selfCollide();
+    const CollisionPairs<float>& pairs = solver.collisionPairs();
+    if (s % 7 == 0)  // every pair of every seventh substep
+      for (std::size_t i = 0; i < x.size(); ++i)
+        for (std::size_t j = i + 1; j < x.size(); ++j) {
+          if (physics::selfCollisionCorrection(x[i], x[j], thickness) == vec3(0)) continue;
+          if (physics::heldAtRest(vec3(rest[i]), vec3(rest[j]), range)) {
+            ++held_in_range;
+            continue;
+          }
+          if (onStencil(pairs, i, j)) {
+            ++on_stencil;
+            continue;
+          }
+          ASSERT_TRUE(std::binary_search(pairs.begin(i), pairs.end(i), std::uint32_t(j)))
+              << "substep " << s << ": pair " << i << "-" << j << " in range, neither on the stencil nor listed";
+          ++listed;
+        }
+    solver.collide();
+    solver.limitStretch();
+  }
+  // The knight's moves, and the pairs two apart along a row or column if rounding holds none of them.
+  EXPECT_GE(solver.collisionPairs().stencil().size(), 8u);
+  EXPECT_GT(on_stencil, 0) << "the case must bring stencil pairs into range";
+  EXPECT_GT(listed, 0) << "the case must bring listed pairs into range (the folds)";
+  EXPECT_GT(held_in_range, 0);
+  std::printf("[ pairs in range ] stencil %lld, list %lld, held %lld\n", on_stencil, listed, held_in_range);
+}
+
+template <class T>
+void expectSameRun(const Scene& scene, CpuSolverOptions a, CpuSolverOptions b, int frames, const char* what) {
+  CpuSolver<T> one(scene, a), two(scene, b);
+  for (int f = 0; f < frames; ++f) {
+    one.stepFrame();
+    two.stepFrame();
+  }
+  EXPECT_EQ(one.readPositions(), two.readPositions()) << what;
+  EXPECT_EQ(one.readDisplacements(), two.readDisplacements()) << what;
+}
+
+// The stencil changes what is listed, never a byte of the result: float (the vectorised test) and double (the
+// scalar one), one thread and a team of two.
+TEST(PairStencil, TheBytesAreTheListsAlone) {
+  const Scene scene = crumplingCloth(36);
+  const CpuSolverOptions list_only{.threads = 1, .pair_stencil = false};
+  expectSameRun<float>(scene, list_only, CpuSolverOptions{.threads = 1}, 60, "float");
+  expectSameRun<double>(scene, list_only, CpuSolverOptions{.threads = 1}, 60, "double");
+  expectSameRun<float>(scene, list_only, CpuSolverOptions{.threads = 2, .team_min_points = 0}, 60, "float, 2 threads");
+  expectSameRun<float>(scene, list_only, CpuSolverOptions{.threads = 1, .grid_isa = GridIsa::Sse2}, 60, "float, SSE2");
+}
+
+// pinned2 refined to 192 x 192 with CS184's thickness (19 mm of contact distance over 5.2 mm spacing): the ring
+// of unheld pairs just beyond 19 mm was most of the list; on the stencil, the list keeps what folds bring in.
+TEST(PairStencil, AFineClothListsAFractionOfWhatItDidWithoutTheStencil) {
+  Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/pinned2.json");
+  scene.sim.self_collision = true;
+  scene.cloth.num_width_points = scene.cloth.num_height_points = 192;
+  scene.cloth.pinned = {{0, 0}, {191, 0}};
+  auto entries = [&](bool stencil) {
+    CpuSolver<float> cpu(scene, CpuSolverOptions{.threads = 1, .pair_stencil = stencil});
+    for (int f = 0; f < 4; ++f)
+      cpu.stepFrame();
+    const auto& p = cpu.collisionPairs();
+    return double(p.entriesBuilt()) / double(p.rebuilds()) / double(cpu.positions().size());
+  };
+  const double with = entries(true), without = entries(false);
+  std::printf("[ list entries a point ] %.2f with the stencil, %.2f without\n", with, without);
+  EXPECT_GT(without, 8.0);
+  EXPECT_LT(with, 0.1 * without);
+}
+
+// stale() by tiles: two clusters of points far apart may move against each other freely; once they come
+// within reach of each other, the lists are rebuilt.
+TEST(PairStencil, ListsOutliveTheMotionOfFarRegionsAgainstEachOther) {
+  CollisionPairs<float> pairs;
+  pairs.configure(0.02f, 0.01f);
+  std::vector<vec3> x;
+  for (int k = 0; k < 512; ++k)  // runs of 64 points a tile: 4 tiles a cluster
+    x.emplace_back(float(k / 256) * 1.0f + 0.001f * float(k % 16), 0.001f * float(k % 256 / 16), 0.0f);
+  ASSERT_TRUE(pairs.update(x, 1));
+  for (std::size_t k = 256; k < x.size(); ++k)
+    x[k] += vec3(-0.3f, 0.05f, 0.0f);  // 30 cm against the other cluster, still far from it
+  EXPECT_FALSE(pairs.update(x, 1)) << "the clusters are far apart: nothing they hold can come into range";
+  for (std::size_t k = 256; k < x.size(); ++k)
+    x[k] += vec3(-0.68f, -0.05f, 0.0f);  // 5 mm beyond the first cluster's last column: within reach
+  EXPECT_TRUE(pairs.update(x, 1));
+  x[0].x += 0.011f;  // one point against its own tile, over the margin
+  EXPECT_TRUE(pairs.update(x, 1));
+}
+
+}  // namespace
+}  // namespace drape
