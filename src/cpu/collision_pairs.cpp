@@ -170,8 +170,16 @@ bool CollisionPairs<T>::stale(const std::vector<vec3>& x) const {
   if (travel_ <= T(0)) return true;
   constexpr T kInf = std::numeric_limits<T>::infinity();
   boxes_.assign(tile_count_, TileBox{vec3(kInf), vec3(-kInf), vec3(kInf), vec3(-kInf)});
-  bool finite = true;
+  bool finite = true, boxed = false;
+  if constexpr (std::is_same_v<T, float>)
+    if (kernels_ && edge_ > 0) {  // a grid's tiles, rows of several points at once
+      static_assert(sizeof(TileBox) == 12 * sizeof(float));
+      const int across = (w_ + edge_ - 1) / edge_;
+      finite = kernels_->tileBoxes({&x.data()->x, &anchor_.data()->x, w_, h_, edge_, across, &boxes_.data()->dlo.x});
+      boxed = true;
+    }
   for (const Run& r : runs_) {
+    if (boxed) break;
     vec3 dlo(kInf), dhi(-kInf), lo(kInf), hi(-kInf);
     for (std::uint32_t i = r.begin; i < r.end; ++i) {
       const vec3 d = x[i] - anchor_[i];
@@ -212,6 +220,7 @@ template <class T>
 void CollisionPairs<T>::makeTiles(std::size_t n) {
   runs_.clear();
   tiled_ = n;
+  edge_ = 0;
   if (w_ > 0 && u_.size() == n) {  // squares of the grid, each row of a square a run
     const int edge =
         std::max({kTileEdge, (w_ + kTilesAcross - 1) / kTilesAcross, (h_ + kTilesAcross - 1) / kTilesAcross});
@@ -221,6 +230,7 @@ void CollisionPairs<T>::makeTiles(std::size_t n) {
         runs_.push_back({std::uint32_t(v * w_ + u), std::uint32_t(v * w_ + std::min(u + edge, w_)),
                          std::uint32_t(v / edge * across + u / edge)});
     tile_count_ = std::size_t(across) * std::size_t((h_ + edge - 1) / edge);
+    edge_ = edge;
   } else {
     const std::size_t run = std::max<std::size_t>(
         std::size_t(kTileEdge) * kTileEdge, (n + kTilesAcross * kTilesAcross - 1) / (kTilesAcross * kTilesAcross));

@@ -133,6 +133,7 @@ class CollisionPairs {
   };
   std::vector<Run> runs_;
   std::size_t tiled_ = std::size_t(-1);  // the point count runs_ was made for
+  int edge_ = 0;                         // a grid's tiles: squares of edge_ points (0: runs of the index)
   std::size_t tile_count_ = 0;
   struct TileBox {
     vec3 dlo, dhi, lo, hi;

@@ -67,6 +67,7 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
     }
   f_.resize(n);
   correction_.resize(n);
+  scratch_.resize(std::size_t(threads_));
   resetTimings();
   refreshDerived();
   reset();
@@ -319,34 +320,66 @@ void CpuSolver<T>::applyCorrections() {
 }
 
 template <class T>
+void CpuSolver<T>::collidePoint(std::size_t i) {
+  if (topo_.pinned[i]) return;
+  vec3 x = x_[i];
+  vec3 v = form_ == VerletForm::Displacement ? v_[i] : x_[i] - v_[i];
+  vec3 c;
+  // Objects in turn, each seeing the result of the previous one (CS184 order: spheres, then planes).
+  for (const SphereSpec& s : scene_.spheres)
+    if (physics::collideSphere(x, v, vec3(s.origin), T(s.radius), T(s.friction), c)) {
+      x += c;
+      v += c;
+    }
+  for (const PlaneSpec& p : scene_.planes)
+    if (physics::collidePlane(x, v, vec3(p.point), vec3(p.normal), T(p.friction), c)) {
+      x += c;
+      v += c;
+    }
+  for (const MeshSpec& m : scene_.meshes)
+    if (physics::collideField(x, v, m.mesh->field, physics::meshOffset(T(meshThickness(scene_.cloth, m))),
+                              T(m.friction), c)) {
+      x += c;
+      v += c;
+    }
+  x_[i] = x;
+  if (form_ == VerletForm::Displacement) v_[i] = v;
+}
+
+template <class T>
 void CpuSolver<T>::collide() {
   const long long n = (long long)x_.size();
-  parallelFor(0, n, threads_, [&](long long k) {
-    const std::size_t i = std::size_t(k);
-    if (topo_.pinned[i]) return;
-    vec3 x = x_[i];
-    vec3 v = form_ == VerletForm::Displacement ? v_[i] : x_[i] - v_[i];
-    vec3 c;
-    // Objects in turn, each seeing the result of the previous one (CS184 order: spheres, then planes).
-    for (const SphereSpec& s : scene_.spheres)
-      if (physics::collideSphere(x, v, vec3(s.origin), T(s.radius), T(s.friction), c)) {
-        x += c;
-        v += c;
+  // Most points touch nothing: the vectorised test finds the few that may (a point that misses every object
+  // is left as it is, which is what collidePoint does to it), and only those run the per-point code.
+  if constexpr (std::is_same_v<T, float>)
+    if (kernels_ && form_ == VerletForm::Displacement && scene_.meshes.empty()) {
+      collide_objects_.clear();
+      for (const SphereSpec& s : scene_.spheres) {
+        const double r = double(float(s.radius));
+        collide_objects_.insert(collide_objects_.end(),
+                                {float(s.origin.x), float(s.origin.y), float(s.origin.z), float(r * r * (1 + 1e-5))});
       }
-    for (const PlaneSpec& p : scene_.planes)
-      if (physics::collidePlane(x, v, vec3(p.point), vec3(p.normal), T(p.friction), c)) {
-        x += c;
-        v += c;
-      }
-    for (const MeshSpec& m : scene_.meshes)
-      if (physics::collideField(x, v, m.mesh->field, physics::meshOffset(T(meshThickness(scene_.cloth, m))),
-                                T(m.friction), c)) {
-        x += c;
-        v += c;
-      }
-    x_[i] = x;
-    if (form_ == VerletForm::Displacement) v_[i] = v;
-  });
+      const std::size_t planes = collide_objects_.size();
+      for (const PlaneSpec& p : scene_.planes)
+        collide_objects_.insert(collide_objects_.end(), {float(p.point.x), float(p.point.y), float(p.point.z),
+                                                         float(p.normal.x), float(p.normal.y), float(p.normal.z)});
+      const CollideArgs args{&x_.data()->x,
+                             &v_.data()->x,
+                             collide_objects_.data(),
+                             int(scene_.spheres.size()),
+                             collide_objects_.data() + planes,
+                             int(scene_.planes.size()),
+                             float(physics::kPlaneEpsilon)};
+      teamRange(0, n, [&](long long lo, long long hi) {
+        std::vector<std::uint32_t>& mine = scratch_[std::size_t(inTeam() ? omp_get_thread_num() : 0)];
+        if (mine.size() < std::size_t(hi - lo)) mine.resize(std::size_t(hi - lo));
+        const int count = kernels_->collideCandidates(args, lo, hi, mine.data());
+        for (int k = 0; k < count; ++k)
+          collidePoint(mine[std::size_t(k)]);
+      });
+      return;
+    }
+  parallelFor(0, n, threads_, [&](long long k) { collidePoint(std::size_t(k)); });
 }
 
 template <class T>

@@ -115,6 +115,7 @@ class CpuSolver final : public Solver {
   template <class F>
   void sweepColours(F&& f);
   vec3 pointNormal(int i) const;
+  void collidePoint(std::size_t i);  // collide()'s work on one point
   bool needsPass(int pass) const;
   template <class F>
   void timed(int pass, F&& f);
@@ -143,7 +144,9 @@ class CpuSolver final : public Solver {
   std::vector<T> mass_, inv_mass_, drag_area_;  // per point (derived::pointMass, dragArea)
   T dt_ = 0, keep_ = 1;
   Stiffness stiffness_{};
-  Stiffness alpha_tilde_{};           // XPBD: compliance / dt^2 per spring type
+  Stiffness alpha_tilde_{};                          // XPBD: compliance / dt^2 per spring type
+  std::vector<float> collide_objects_;               // collide()'s CollideArgs: the spheres, then the planes
+  std::vector<std::vector<std::uint32_t>> scratch_;  // per thread: the points collide() looks at
   std::vector<T> lambda_;             // XPBD: per coloured spring, the multiplier summed over this substep's sweeps
   PointColouring point_colouring_;    // VBD: built the first time the scene asks for VBD
   std::vector<vec3> inertia_target_;  // VBD with iterations > 1: the prediction y, kept by the first sweep

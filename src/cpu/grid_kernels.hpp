@@ -81,6 +81,25 @@ struct GridStencilArgs {
   std::uint8_t* flags;  // per point, in point order
 };
 
+// The spheres and planes of a scene, for a test of which points may touch them (collideCandidates).
+struct CollideArgs {
+  const float* x;                  // positions, vec3 array seen as floats
+  const float* v;                  // displacements (x - x_prev), the same
+  const float* spheres = nullptr;  // per sphere: centre x, y, z and a squared radius at or above radius^2
+  int sphere_count = 0;
+  const float* planes = nullptr;  // per plane: point x, y, z and unit normal x, y, z
+  int plane_count = 0;
+  float plane_epsilon = 0;  // physics::kPlaneEpsilon as float
+};
+
+// The self-collision lists' staleness test on a grid cloth (CollisionPairs::stale): per square tile of
+// edge x edge points (tiles in rows of `across`), the box of the displacements x - anchor and of the positions.
+struct TileBoxArgs {
+  const float *x, *anchor;  // vec3 arrays seen as floats
+  int w = 0, h = 0, edge = 0, across = 0;
+  float* out;  // per tile 12 floats: displacement min xyz, max xyz, position min xyz, max xyz
+};
+
 // One instruction set's kernels. Each works on the rows [y0, y1) of the grid (for a stretch colour, the
 // rows where its springs start), so a team of threads can split a pass by rows.
 struct GridKernels {
@@ -110,6 +129,13 @@ struct GridKernels {
   // not surely held or on the stencil by its offset: written to out in ascending order, their count returned.
   // What the build must look at pair by pair; a flat cloth's buckets hold almost none.
   int (*scanPairs)(const PairScanArgs&, std::uint32_t first, std::uint32_t last, std::uint32_t* out);
+  // The points i in [first, last) that may collide with a sphere or a plane: physics::collidePlane's test of
+  // whether x_prev -> x crossed the plane, exactly, and |x - centre|^2 against a squared radius a little above
+  // the sphere's (the rest surely miss it). Written to out ascending, their count returned. Points that miss
+  // every object are left as they are by CpuSolver::collide, so only these need its per-point code.
+  int (*collideCandidates)(const CollideArgs&, long long first, long long last, std::uint32_t* out);
+  // TileBoxArgs' boxes of every tile; false if a displacement is not finite (the lists must be rebuilt).
+  bool (*tileBoxes)(const TileBoxArgs&);
   // Probes of this machine's peak with these instructions (cpu/machine_peak.hpp); each returns a value that
   // depends on all its work, so that none of it can be left out. Independent chains, so throughput counts:
   // 6 multiplies and 6 adds per lane and rep (no fused multiply-add: the build forbids it)

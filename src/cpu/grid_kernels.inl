@@ -338,6 +338,101 @@ struct Kernels {
       }
   }
 
+  static int collideCandidates(const CollideArgs& a, long long first, long long last, std::uint32_t* out) {
+    int count = 0;
+    const F eps = V::neg(V::set1(a.plane_epsilon)), zero = V::set1(0.0f);
+    long long i = first;
+    for (; i + kW <= last; i += kW) {
+      F X, Y, Z, VX, VY, VZ;
+      V::loadVec3(a.x + 3 * i, X, Y, Z);
+      V::loadVec3(a.v + 3 * i, VX, VY, VZ);
+      F may = zero;
+      for (int s = 0; s < a.sphere_count; ++s) {
+        const float* c = a.spheres + 4 * s;
+        const F dx = V::sub(X, V::set1(c[0])), dy = V::sub(Y, V::set1(c[1])), dz = V::sub(Z, V::set1(c[2]));
+        const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
+        may = V::bitOr(may, V::andNot(V::lt(V::set1(c[3]), d2), V::eq(d2, d2)));  // not surely outside
+        may = V::bitOr(may, V::andNot(V::eq(d2, d2), V::eq(zero, zero)));         // NaN: the scalar code decides
+      }
+      for (int p = 0; p < a.plane_count; ++p) {
+        const float* q = a.planes + 6 * p;
+        const F nx = V::set1(q[3]), ny = V::set1(q[4]), nz = V::set1(q[5]);
+        // dx = dot(x - p, n), vn = dot(v, n), as collidePlane computes them
+        const F dx = V::add(V::add(V::mul(V::sub(X, V::set1(q[0])), nx), V::mul(V::sub(Y, V::set1(q[1])), ny)),
+                            V::mul(V::sub(Z, V::set1(q[2])), nz));
+        const F vn = V::add(V::add(V::mul(VX, nx), V::mul(VY, ny)), V::mul(VZ, nz));
+        const F above = V::ge(V::sub(dx, vn), eps);
+        const F crossed = V::bitOr(V::bitAnd(above, V::le(dx, zero)), V::andNot(above, V::ge(dx, zero)));
+        may = V::bitOr(may, crossed);
+        may = V::bitOr(may, V::andNot(V::eq(dx, dx), V::eq(zero, zero)));  // NaN
+      }
+      int bits = V::bits(may);
+      while (bits != 0) {
+        const int l = __builtin_ctz(unsigned(bits));
+        bits &= bits - 1;
+        out[count++] = std::uint32_t(i + l);
+      }
+    }
+    for (; i < last; ++i)
+      out[count++] = std::uint32_t(i);  // the tail: the per-point code tests them
+    return count;
+  }
+
+  static bool tileBoxes(const TileBoxArgs& a) {
+    const std::ptrdiff_t n = std::ptrdiff_t(a.w) * a.h;
+    const float inf = __builtin_inff();
+    const F big = V::set1(inf), small = V::set1(-inf);
+    F finite = V::eq(big, big);
+    bool finite_tail = true;
+    for (int tv = 0; tv * a.edge < a.h; ++tv)
+      for (int tu = 0; tu * a.edge < a.w; ++tu) {
+        const int u0 = tu * a.edge, u1 = u0 + a.edge < a.w ? u0 + a.edge : a.w;
+        const int v0 = tv * a.edge, v1 = v0 + a.edge < a.h ? v0 + a.edge : a.h;
+        F box[12] = {big, big, big, small, small, small, big, big, big, small, small, small};
+        float tail[12] = {inf, inf, inf, -inf, -inf, -inf, inf, inf, inf, -inf, -inf, -inf};
+        for (int v = v0; v < v1; ++v)
+          for (int u = u0; u < u1; u += kW) {
+            const std::ptrdiff_t i = std::ptrdiff_t(v) * a.w + u;
+            const int lanes = u1 - u < kW ? u1 - u : kW;
+            if (i + kW > n) {  // the loads would leave the arrays
+              for (int l = 0; l < lanes; ++l)
+                for (int c = 0; c < 3; ++c) {
+                  const float p = a.x[3 * (i + l) + c], d = p - a.anchor[3 * (i + l) + c];
+                  finite_tail = finite_tail && d - d == 0.0f;
+                  tail[c] = d < tail[c] ? d : tail[c];
+                  tail[3 + c] = d > tail[3 + c] ? d : tail[3 + c];
+                  tail[6 + c] = p < tail[6 + c] ? p : tail[6 + c];
+                  tail[9 + c] = p > tail[9 + c] ? p : tail[9 + c];
+                }
+              continue;
+            }
+            F P[3], A[3];
+            V::loadVec3(a.x + 3 * i, P[0], P[1], P[2]);
+            V::loadVec3(a.anchor + 3 * i, A[0], A[1], A[2]);
+            const F live = V::lt(V::iota(), V::set1(float(lanes)));
+            for (int c = 0; c < 3; ++c) {
+              const F d = V::sub(P[c], A[c]);
+              finite =
+                  V::bitAnd(finite, V::bitOr(V::eq(V::sub(d, d), V::set1(0.0f)), V::andNot(live, V::eq(big, big))));
+              box[c] = V::select(live, V::min(box[c], d), box[c]);
+              box[3 + c] = V::select(live, V::max(box[3 + c], d), box[3 + c]);
+              box[6 + c] = V::select(live, V::min(box[6 + c], P[c]), box[6 + c]);
+              box[9 + c] = V::select(live, V::max(box[9 + c], P[c]), box[9 + c]);
+            }
+          }
+        float* out = a.out + 12 * (std::ptrdiff_t(tv) * a.across + tu);
+        for (int k = 0; k < 12; ++k) {
+          float lanes[kW];
+          V::store(lanes, box[k]);
+          float r = tail[k];
+          for (float l : lanes)
+            r = (k / 3) % 2 == 0 ? (l < r ? l : r) : (l > r ? l : r);
+          out[k] = r;
+        }
+      }
+    return finite_tail && V::bits(finite) == (1 << kW) - 1;
+  }
+
   static bool scanOne(const PairScanArgs& a, std::uint32_t s) {
     const float dx = a.px - a.x[s], dy = a.py - a.y[s], dz = a.pz - a.z[s];
     if (!(dx * dx + dy * dy + dz * dz < a.reach2)) return false;
@@ -425,8 +520,21 @@ struct Kernels {
   }
 
   static constexpr GridKernels table(const char* name) {
-    return {name,          kW,         &toSoa,       &fromSoa,      &forces,    &stretchColour, &integrate, &anyInRange,
-            &stencilFlags, &scanPairs, &probeAddMul, &probeDivSqrt, &probeTriad};
+    return {name,
+            kW,
+            &toSoa,
+            &fromSoa,
+            &forces,
+            &stretchColour,
+            &integrate,
+            &anyInRange,
+            &stencilFlags,
+            &scanPairs,
+            &collideCandidates,
+            &tileBoxes,
+            &probeAddMul,
+            &probeDivSqrt,
+            &probeTriad};
   }
 };
 

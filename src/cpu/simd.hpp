@@ -39,7 +39,9 @@ struct Sse2 {
   static F bitOr(F a, F b) { return _mm_or_ps(a, b); }
   static F ge(F a, F b) { return _mm_cmpge_ps(a, b); }  // false where either is NaN
   static bool any(F m) { return _mm_movemask_ps(m) != 0; }
-  static int bits(F m) { return _mm_movemask_ps(m); }                                          // lane l's mask in bit l
+  static int bits(F m) { return _mm_movemask_ps(m); }  // lane l's mask in bit l
+  static F min(F a, F b) { return _mm_min_ps(a, b); }  // b where either is NaN
+  static F max(F a, F b) { return _mm_max_ps(a, b); }
   static F select(F m, F a, F b) { return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b)); }  // m ? a : b
   // The vec3s x[idx[l]] of the first `count` lanes (count <= kWidth), and those lanes' mask. No gather
   // instruction before AVX2: loaded one by one.
@@ -135,6 +137,8 @@ struct Avx2 {
   static F ge(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
   static bool any(F m) { return _mm256_movemask_ps(m) != 0; }
   static int bits(F m) { return _mm256_movemask_ps(m); }
+  static F min(F a, F b) { return _mm256_min_ps(a, b); }
+  static F max(F a, F b) { return _mm256_max_ps(a, b); }
   static F select(F m, F a, F b) { return _mm256_blendv_ps(b, a, m); }
   // Masked loads and gathers: nothing is read for the lanes past `count`.
   static void gatherVec3(const float* x, const std::uint32_t* idx, int count, F& gx, F& gy, F& gz, F& live) {
