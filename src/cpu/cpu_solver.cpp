@@ -67,7 +67,6 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
     }
   f_.resize(n);
   correction_.resize(n);
-  scratch_.resize(std::size_t(threads_));
   resetTimings();
   refreshDerived();
   reset();
@@ -97,12 +96,25 @@ void CpuSolver<T>::refreshDerived() {
       const float pin = std::bit_cast<float>(~std::uint32_t(0));
       inv_mass3_.resize(3 * n);
       pinned3_.resize(3 * n);
+      pinned1_.resize(n);
+      for (std::size_t i = 0; i < n; ++i)
+        pinned1_[i] = topo_.pinned[i] ? pin : 0.0f;
       for (std::size_t e = 0; e < 3 * n; ++e) {
         inv_mass3_[e] = inv_mass_[e / 3];
         pinned3_[e] = topo_.pinned[e / 3] ? pin : 0.0f;
       }
     }
   }
+  // collide()'s objects for the vectorised spheres and planes (cpu/grid_kernels.hpp, CollideArgs), made here
+  // because a team's threads all run collide()
+  collide_objects_.clear();
+  for (const SphereSpec& s : scene_.spheres)
+    collide_objects_.insert(collide_objects_.end(), {float(s.origin.x), float(s.origin.y), float(s.origin.z),
+                                                     float(s.radius), float(s.friction)});
+  for (const PlaneSpec& p : scene_.planes)
+    collide_objects_.insert(collide_objects_.end(),
+                            {float(p.point.x), float(p.point.y), float(p.point.z), float(p.normal.x), float(p.normal.y),
+                             float(p.normal.z), float(p.friction)});
   dt_ = T(scene_.sim.dt());
   keep_ = T(1.0 - c.damping / 100.0);
   // A disabled spring type exerts no force: stiffness 0 is never used, the gather skips the type.
@@ -135,6 +147,7 @@ void CpuSolver<T>::reset() {
   // At rest: zero displacement, or x_prev = x in the CS184 form.
   v_ = form_ == VerletForm::Displacement ? std::vector<vec3>(n, vec3(0)) : x_;
   substeps_ = 0;
+  pair_terms_ = 0;
   pairs_.invalidate();
 }
 
@@ -349,33 +362,22 @@ void CpuSolver<T>::collidePoint(std::size_t i) {
 template <class T>
 void CpuSolver<T>::collide() {
   const long long n = (long long)x_.size();
-  // Most points touch nothing: the vectorised test finds the few that may (a point that misses every object
-  // is left as it is, which is what collidePoint does to it), and only those run the per-point code.
+  // Spheres and planes lane by lane, several points at once; meshes (the baked field) point by point.
   if constexpr (std::is_same_v<T, float>)
     if (kernels_ && form_ == VerletForm::Displacement && scene_.meshes.empty()) {
-      collide_objects_.clear();
-      for (const SphereSpec& s : scene_.spheres) {
-        const double r = double(float(s.radius));
-        collide_objects_.insert(collide_objects_.end(),
-                                {float(s.origin.x), float(s.origin.y), float(s.origin.z), float(r * r * (1 + 1e-5))});
-      }
-      const std::size_t planes = collide_objects_.size();
-      for (const PlaneSpec& p : scene_.planes)
-        collide_objects_.insert(collide_objects_.end(), {float(p.point.x), float(p.point.y), float(p.point.z),
-                                                         float(p.normal.x), float(p.normal.y), float(p.normal.z)});
+      const std::size_t planes = 5 * scene_.spheres.size();  // refreshDerived lays them out
       const CollideArgs args{&x_.data()->x,
                              &v_.data()->x,
+                             pinned1_.data(),
                              collide_objects_.data(),
                              int(scene_.spheres.size()),
                              collide_objects_.data() + planes,
                              int(scene_.planes.size()),
-                             float(physics::kPlaneEpsilon)};
+                             float(physics::kPlaneEpsilon),
+                             float(physics::kSurfaceOffset)};
       teamRange(0, n, [&](long long lo, long long hi) {
-        std::vector<std::uint32_t>& mine = scratch_[std::size_t(inTeam() ? omp_get_thread_num() : 0)];
-        if (mine.size() < std::size_t(hi - lo)) mine.resize(std::size_t(hi - lo));
-        const int count = kernels_->collideCandidates(args, lo, hi, mine.data());
-        for (int k = 0; k < count; ++k)
-          collidePoint(mine[std::size_t(k)]);
+        for (long long k = kernels_->collideObjects(args, lo, hi); k < hi; ++k)
+          collidePoint(std::size_t(k));
       });
       return;
     }

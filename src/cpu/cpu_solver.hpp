@@ -99,7 +99,8 @@ class CpuSolver final : public Solver {
   const FaceAdjacency& faceAdjacency() const { return faces_; }
   // The grid kernels' instruction set ("sse2", "avx2"), or "" where the general path runs.
   std::string gridKernels() const { return grid_ ? grid_->kernels().name : ""; }
-  int teamThreads() const { return team_; }  // threads step() runs its passes on
+  int teamThreads() const { return team_; }            // threads step() runs its passes on
+  long long pairTerms() const { return pair_terms_; }  // self-collision: pairs in range summed, both ends
 
  private:
   struct Stiffness {
@@ -115,7 +116,8 @@ class CpuSolver final : public Solver {
   template <class F>
   void sweepColours(F&& f);
   vec3 pointNormal(int i) const;
-  void collidePoint(std::size_t i);  // collide()'s work on one point
+  void collidePoint(std::size_t i);                                                     // collide()'s work on one point
+  int sumPairs(std::size_t i, std::size_t stencil, T thickness, T inv_range, T steps);  // selfCollide()'s
   bool needsPass(int pass) const;
   template <class F>
   void timed(int pass, F&& f);
@@ -130,6 +132,7 @@ class CpuSolver final : public Solver {
   std::optional<GridPath> grid_;            // float grid cloths, unless the options turn it off (copyable)
   const GridKernels* kernels_ = nullptr;    // float: the SIMD integrate (any cloth)
   std::vector<float> inv_mass3_, pinned3_;  // float: per coordinate, its point's 1/m and pin mask
+  std::vector<float> pinned1_;              // float: per point, its pin mask
   std::exception_ptr failure_;              // thrown inside step()'s team, rethrown once it is over
   double pair_margin_ = kDefaultPairMargin;
   double shortest_spring_ = 0;  // m, the shortest structural spring's rest length
@@ -168,6 +171,7 @@ class CpuSolver final : public Solver {
   std::vector<FaceContacts> face_contacts_;  // one per mesh, in scene order; empty if no mesh has features
   FaceAdjacency faces_;
   long long substeps_ = 0;
+  long long pair_terms_ = 0;
   std::vector<PassTiming> timings_;
 };
 

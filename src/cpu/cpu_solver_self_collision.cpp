@@ -4,6 +4,7 @@
 #include "cpu/cpu_solver.hpp"
 #include "cpu/parallel.hpp"
 
+#include <atomic>
 #include <exception>
 #include <type_traits>
 
@@ -13,15 +14,17 @@ template <class T>
 void CpuSolver<T>::selfCollide() {
   const T thickness = T(scene_.cloth.thickness);
   const T range = T(2) * thickness;
-  // The skin is a share of the contact distance, or of the spacing where the cloth is finer than that: a
-  // skin as thick as the contact distance holds a ring of points that never touch (97 a point at 256^2
-  // with CS184's thickness, 19.5 with the spacing's). The lists' bytes do not depend on it.
+  // The skin is a share of the contact distance, or of the spacing where the cloth is finer than that. On a
+  // grid the stencil tests the ring of unheld pairs within range + skin at rest every substep (20 offsets at
+  // 256^2 with CS184's thickness), so the skin sets both its width and how long the lists last. The bytes do
+  // not depend on it.
   // The list check and build run on one thread of a team (their own loops fork only outside a team); an
   // exception (out of memory) is kept for step() to rethrow after the region.
   teamSingle([&] {
     try {
       pairs_.configure(range, T(pair_margin_) * std::min(range, T(shortest_spring_)));
       pairs_.update(x_, threads_);
+      near_.resize(x_.size());
     } catch (...) {
       failure_ = std::current_exception();
     }
@@ -29,7 +32,6 @@ void CpuSolver<T>::selfCollide() {
   if (failure_) return;
   const std::size_t stencil = pairs_.stencil().size();
   if (stencil > 0) {
-    near_.resize(x_.size());
     if constexpr (std::is_same_v<T, float>)
       if (grid_)
         grid_->stencilFlags(x_, pairs_.stencilDu(), pairs_.stencilDv(), pairs_.stencilMixed(), int(stencil),
@@ -44,8 +46,24 @@ void CpuSolver<T>::selfCollide() {
   const T steps = T(scene_.sim.steps_per_frame);
   // Jacobi: every correction is computed from the positions before the pass, so the result does not
   // depend on the order points are visited (nor, on the GPU, on thread order).
-  parallelFor(0, n, threads_, [&](long long p) {
-    const std::size_t i = std::size_t(p);
+  std::atomic<long long> terms = 0;  // pairs in range, counted for `drape simulate -v`
+  teamRange(0, n, [&](long long lo, long long hi) {
+    long long mine = 0;
+    for (long long p = lo; p < hi; ++p) {
+      const std::size_t i = std::size_t(p);
+      const int count = sumPairs(i, stencil, thickness, inv_range, steps);
+      mine += count;
+    }
+    terms += mine;
+  });
+  teamSingle([&] { pair_terms_ += terms; });
+  applyCorrections();
+}
+
+// One point's self-collision correction, into correction_[i]; returns how many pairs were in range.
+template <class T>
+int CpuSolver<T>::sumPairs(std::size_t i, std::size_t stencil, T thickness, T inv_range, T steps) {
+  {
     vec3 sum(0);
     int count = 0;
     bool candidates = false;
@@ -66,11 +84,13 @@ void CpuSolver<T>::selfCollide() {
       });
     }
     correction_[i] = count > 0 ? sum / (T(count) * steps) : vec3(0);
-  });
-  applyCorrections();
+    return count;
+  }
 }
 
 template void CpuSolver<float>::selfCollide();
 template void CpuSolver<double>::selfCollide();
+template int CpuSolver<float>::sumPairs(std::size_t, std::size_t, float, float, float);
+template int CpuSolver<double>::sumPairs(std::size_t, std::size_t, double, double, double);
 
 }  // namespace drape

@@ -81,15 +81,16 @@ struct GridStencilArgs {
   std::uint8_t* flags;  // per point, in point order
 };
 
-// The spheres and planes of a scene, for a test of which points may touch them (collideCandidates).
+// The spheres and planes of a scene and the points they act on (collideObjects).
 struct CollideArgs {
-  const float* x;                  // positions, vec3 array seen as floats
-  const float* v;                  // displacements (x - x_prev), the same
-  const float* spheres = nullptr;  // per sphere: centre x, y, z and a squared radius at or above radius^2
+  float* x;              // positions, vec3 array seen as floats
+  float* v;              // displacements (x - x_prev), the same
+  const float* pinned;   // per point: all bits set where pinned
+  const float* spheres;  // per sphere: centre x, y, z, radius, friction
   int sphere_count = 0;
-  const float* planes = nullptr;  // per plane: point x, y, z and unit normal x, y, z
+  const float* planes;  // per plane: point x, y, z, unit normal x, y, z, friction
   int plane_count = 0;
-  float plane_epsilon = 0;  // physics::kPlaneEpsilon as float
+  float plane_epsilon = 0, surface_offset = 0;  // physics::kPlaneEpsilon, kSurfaceOffset as float
 };
 
 // The self-collision lists' staleness test on a grid cloth (CollisionPairs::stale): per square tile of
@@ -129,11 +130,10 @@ struct GridKernels {
   // not surely held or on the stencil by its offset: written to out in ascending order, their count returned.
   // What the build must look at pair by pair; a flat cloth's buckets hold almost none.
   int (*scanPairs)(const PairScanArgs&, std::uint32_t first, std::uint32_t last, std::uint32_t* out);
-  // The points i in [first, last) that may collide with a sphere or a plane: physics::collidePlane's test of
-  // whether x_prev -> x crossed the plane, exactly, and |x - centre|^2 against a squared radius a little above
-  // the sphere's (the rest surely miss it). Written to out ascending, their count returned. Points that miss
-  // every object are left as they are by CpuSolver::collide, so only these need its per-point code.
-  int (*collideCandidates)(const CollideArgs&, long long first, long long last, std::uint32_t* out);
+  // CpuSolver::collide on the points [first, last) without meshes: each sphere, then each plane, as
+  // physics::collideSphere and collidePlane compute them, lane by lane. Returns where it stopped: the last
+  // points, fewer than a vector, are the caller's.
+  long long (*collideObjects)(const CollideArgs&, long long first, long long last);
   // TileBoxArgs' boxes of every tile; false if a displacement is not finite (the lists must be rebuilt).
   bool (*tileBoxes)(const TileBoxArgs&);
   // Probes of this machine's peak with these instructions (cpu/machine_peak.hpp); each returns a value that

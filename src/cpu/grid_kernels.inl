@@ -285,6 +285,16 @@ struct Kernels {
   static bool anyInRange(const float* x, const std::uint32_t* begin, const std::uint32_t* end, std::size_t i,
                          float thickness) {
     const float range = 2.0f * thickness;  // selfCollisionCorrection's range * range, in its order
+    if (end - begin < 4) {                 // a gather costs more than a few scalar tests
+      const float r2 = range * range, px = x[3 * i], py = x[3 * i + 1], pz = x[3 * i + 2];
+      for (const std::uint32_t* p = begin; p < end; ++p) {
+        const float dx = px - x[3 * std::size_t(*p)], dy = py - x[3 * std::size_t(*p) + 1],
+                    dz = pz - x[3 * std::size_t(*p) + 2];
+        const float d2 = dx * dx + dy * dy + dz * dz;
+        if (!(d2 >= r2 || d2 <= 0.0f)) return true;
+      }
+      return false;
+    }
     const F range2 = V::set1(range * range), zero = V::set1(0.0f);
     const F xi = V::set1(x[3 * i]), yi = V::set1(x[3 * i + 1]), zi = V::set1(x[3 * i + 2]);
     for (const std::uint32_t* p = begin; p < end; p += kW) {
@@ -338,44 +348,79 @@ struct Kernels {
       }
   }
 
-  static int collideCandidates(const CollideArgs& a, long long first, long long last, std::uint32_t* out) {
-    int count = 0;
-    const F eps = V::neg(V::set1(a.plane_epsilon)), zero = V::set1(0.0f);
+  static long long collideObjects(const CollideArgs& a, long long first, long long last) {
+    const F zero = V::set1(0.0f), one = V::set1(1.0f), all = V::eq(zero, zero);
     long long i = first;
     for (; i + kW <= last; i += kW) {
       F X, Y, Z, VX, VY, VZ;
       V::loadVec3(a.x + 3 * i, X, Y, Z);
       V::loadVec3(a.v + 3 * i, VX, VY, VZ);
-      F may = zero;
-      for (int s = 0; s < a.sphere_count; ++s) {
-        const float* c = a.spheres + 4 * s;
-        const F dx = V::sub(X, V::set1(c[0])), dy = V::sub(Y, V::set1(c[1])), dz = V::sub(Z, V::set1(c[2]));
-        const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
-        may = V::bitOr(may, V::andNot(V::lt(V::set1(c[3]), d2), V::eq(d2, d2)));  // not surely outside
-        may = V::bitOr(may, V::andNot(V::eq(d2, d2), V::eq(zero, zero)));         // NaN: the scalar code decides
+      const F free = V::andNot(V::load(a.pinned + i), all);
+      F moved = zero;
+      // c is added to x and to v where `hit` (collidePoint: x += c, v += c)
+      const auto apply = [&](F hit, F cx, F cy, F cz) {
+        X = V::select(hit, V::add(X, cx), X);
+        Y = V::select(hit, V::add(Y, cy), Y);
+        Z = V::select(hit, V::add(Z, cz), Z);
+        VX = V::select(hit, V::add(VX, cx), VX);
+        VY = V::select(hit, V::add(VY, cy), VY);
+        VZ = V::select(hit, V::add(VZ, cz), VZ);
+        moved = V::bitOr(moved, hit);
+      };
+      // frictionCorrection(t, v, f) = (1 - f) t - f v
+      const auto friction = [&](F f, F tx, F ty, F tz, F& cx, F& cy, F& cz) {
+        const F keep = V::sub(one, f);
+        cx = V::sub(V::mul(keep, tx), V::mul(f, VX));
+        cy = V::sub(V::mul(keep, ty), V::mul(f, VY));
+        cz = V::sub(V::mul(keep, tz), V::mul(f, VZ));
+      };
+      for (int s = 0; s < a.sphere_count; ++s) {  // collideSphere
+        const float* o = a.spheres + 5 * s;
+        const F r = V::set1(o[3]);
+        const F dx = V::sub(X, V::set1(o[0])), dy = V::sub(Y, V::set1(o[1])), dz = V::sub(Z, V::set1(o[2]));
+        const F dist = V::sqrt(V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz)));
+        const F hit = V::andNot(V::lt(r, dist), free);  // not (dist > radius)
+        if (!V::any(hit)) continue;
+        const F up = V::lt(zero, dist);  // dist > 0: d / dist, else (0, 1, 0)
+        const F ux = V::select(up, V::div(dx, dist), zero), uy = V::select(up, V::div(dy, dist), one),
+                uz = V::select(up, V::div(dz, dist), zero);
+        const F depth = V::sub(r, dist);
+        F cx, cy, cz;
+        friction(V::set1(o[4]), V::mul(depth, ux), V::mul(depth, uy), V::mul(depth, uz), cx, cy, cz);
+        apply(hit, cx, cy, cz);
       }
-      for (int p = 0; p < a.plane_count; ++p) {
-        const float* q = a.planes + 6 * p;
-        const F nx = V::set1(q[3]), ny = V::set1(q[4]), nz = V::set1(q[5]);
-        // dx = dot(x - p, n), vn = dot(v, n), as collidePlane computes them
-        const F dx = V::add(V::add(V::mul(V::sub(X, V::set1(q[0])), nx), V::mul(V::sub(Y, V::set1(q[1])), ny)),
-                            V::mul(V::sub(Z, V::set1(q[2])), nz));
+      for (int p = 0; p < a.plane_count; ++p) {  // collidePlane
+        const float* o = a.planes + 7 * p;
+        const F nx = V::set1(o[3]), ny = V::set1(o[4]), nz = V::set1(o[5]);
+        const F dx = V::add(V::add(V::mul(V::sub(X, V::set1(o[0])), nx), V::mul(V::sub(Y, V::set1(o[1])), ny)),
+                            V::mul(V::sub(Z, V::set1(o[2])), nz));
         const F vn = V::add(V::add(V::mul(VX, nx), V::mul(VY, ny)), V::mul(VZ, nz));
-        const F above = V::ge(V::sub(dx, vn), eps);
+        const F above = V::ge(V::sub(dx, vn), V::neg(V::set1(a.plane_epsilon)));
         const F crossed = V::bitOr(V::bitAnd(above, V::le(dx, zero)), V::andNot(above, V::ge(dx, zero)));
-        may = V::bitOr(may, crossed);
-        may = V::bitOr(may, V::andNot(V::eq(dx, dx), V::eq(zero, zero)));  // NaN
+        const F hit = V::bitAnd(crossed, free);
+        if (!V::any(hit)) continue;
+        // vn != 0: -clamp(dx / vn, 0, 1) v; else -dx n
+        F t = V::div(dx, vn);
+        t = V::select(V::lt(t, zero), zero, t);
+        t = V::neg(V::select(V::lt(one, t), one, t));
+        const F along = V::eq(vn, zero), ndx = V::neg(dx);
+        F tx = V::select(along, V::mul(ndx, nx), V::mul(t, VX));
+        F ty = V::select(along, V::mul(ndx, ny), V::mul(t, VY));
+        F tz = V::select(along, V::mul(ndx, nz), V::mul(t, VZ));
+        const F offset = V::select(above, V::set1(a.surface_offset), V::neg(V::set1(a.surface_offset)));
+        tx = V::add(tx, V::mul(offset, nx));
+        ty = V::add(ty, V::mul(offset, ny));
+        tz = V::add(tz, V::mul(offset, nz));
+        F cx, cy, cz;
+        friction(V::set1(o[6]), tx, ty, tz, cx, cy, cz);
+        apply(hit, cx, cy, cz);
       }
-      int bits = V::bits(may);
-      while (bits != 0) {
-        const int l = __builtin_ctz(unsigned(bits));
-        bits &= bits - 1;
-        out[count++] = std::uint32_t(i + l);
+      if (V::any(moved)) {
+        V::storeVec3(a.x + 3 * i, X, Y, Z);
+        V::storeVec3(a.v + 3 * i, VX, VY, VZ);
       }
     }
-    for (; i < last; ++i)
-      out[count++] = std::uint32_t(i);  // the tail: the per-point code tests them
-    return count;
+    return i;
   }
 
   static bool tileBoxes(const TileBoxArgs& a) {
@@ -520,21 +565,9 @@ struct Kernels {
   }
 
   static constexpr GridKernels table(const char* name) {
-    return {name,
-            kW,
-            &toSoa,
-            &fromSoa,
-            &forces,
-            &stretchColour,
-            &integrate,
-            &anyInRange,
-            &stencilFlags,
-            &scanPairs,
-            &collideCandidates,
-            &tileBoxes,
-            &probeAddMul,
-            &probeDivSqrt,
-            &probeTriad};
+    return {
+        name,          kW,         &toSoa,          &fromSoa,   &forces,      &stretchColour, &integrate, &anyInRange,
+        &stencilFlags, &scanPairs, &collideObjects, &tileBoxes, &probeAddMul, &probeDivSqrt,  &probeTriad};
   }
 };
 
