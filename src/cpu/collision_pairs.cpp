@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <new>
 #include <string>
@@ -149,9 +150,14 @@ T CollisionPairs<T>::safeTravel(T margin, T extent) {
 }
 
 template <class T>
-bool CollisionPairs<T>::update(const std::vector<vec3>& x, int threads) {
+bool CollisionPairs<T>::needsBuild(const std::vector<vec3>& x) {
   if (range_ != stencil_range_ || margin_ != stencil_margin_) makeStencil();
-  if (built_ && anchor_.size() == x.size() && !stale(x)) return false;
+  return !built_ || anchor_.size() != x.size() || stale(x);
+}
+
+template <class T>
+bool CollisionPairs<T>::update(const std::vector<vec3>& x, int threads) {
+  if (!needsBuild(x)) return false;
   build(x, threads);
   return true;
 }
@@ -260,16 +266,72 @@ int CollisionPairs<T>::scanSlots(const ScanArgs& a, std::uint32_t first, std::ui
   return count;
 }
 
+// In a team every thread calls build(): the serial steps run on one of them (teamSingle), the points and the
+// lists' sorting are split between them (teamRange). Outside a team the point loops fork their own (teamFor).
+// An exception may not leave an OpenMP region: a step that fails keeps it, the rest are skipped, and the
+// caller rethrows it (failure()), outside a team at once.
 template <class T>
 void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
+  const bool team = inTeam();
+  teamSingle([&] { guarded([&] { prepareBuild(x, team ? omp_get_num_threads() : threads); }); });
+  if (failure_) return rethrowOutsideTeam();
+  const long long count = (long long)x.size();
+  if (team) {
+    teamRange(0, count, [&](long long lo, long long hi) { findPairs(x, omp_get_thread_num(), lo, hi); });
+  } else {
+#pragma omp parallel num_threads(teamFor(threads, count))
+    {
+      long long lo = 0, hi = count;
+      const int t = omp_get_thread_num(), n = omp_get_num_threads();
+      lo = count * t / n;
+      hi = count * (t + 1) / n;
+      findPairs(x, t, lo, hi);
+    }
+  }
+  teamSingle([&] {
+    guarded([&] {
+      if (out_of_memory_.set) {
+        found_.clear();
+        failAllocation();
+      }
+      assembleLists(x.size());
+    });
+  });
+  if (failure_) return rethrowOutsideTeam();
+  parallelFor(0, count, threads, [&](long long p) {
+    std::sort(list_.data() + start_[std::size_t(p)], list_.data() + start_[std::size_t(p) + 1]);
+  });
+  teamSingle([&] { guarded([&] { finishBuild(x); }); });
+  rethrowOutsideTeam();
+}
+
+template <class T>
+template <class F>
+void CollisionPairs<T>::guarded(F&& f) {
+  try {
+    f();
+  } catch (...) {
+    failure_ = std::current_exception();
+  }
+}
+
+template <class T>
+void CollisionPairs<T>::rethrowOutsideTeam() {
+  if (!failure_ || inTeam()) return;
+  std::exception_ptr e = failure_;
+  failure_ = nullptr;
+  std::rethrow_exception(e);
+}
+
+// The grid, and the candidates' positions (and on a grid their columns and rows) in the grid's order, so that
+// a point's buckets are read in sequence, several candidates at once (scanPairs): most are out of reach, held
+// by the springs, or the stencil's, and only the rest are looked at one by one.
+template <class T>
+void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
   const T reach = range_ + margin_;
-  const T reach2 = reach * reach;
   grid_.build(x, reach);  // cells at least as large as the reach, so neighbouring cells hold every candidate
   const std::size_t n = x.size();
-  // The candidates' positions (and on a grid their columns and rows) in the grid's order, so that a point's
-  // buckets are read in sequence, several candidates at once (scanPairs): most are out of reach, held by
-  // the springs, or the stencil's, and only the rest are looked at one by one.
-  const bool by_offset = box_ >= 0 && u_.size() == n;
+  by_offset_ = box_ >= 0 && u_.size() == n;
   const std::vector<std::uint32_t>& sorted = grid_.sorted();
   for (std::vector<T>* a : {&sx_, &sy_, &sz_})
     a->resize(n);
@@ -280,72 +342,70 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
     sx_[s] = x[j].x;
     sy_[s] = x[j].y;
     sz_[s] = x[j].z;
-    if (by_offset) {
+    if (by_offset_) {
       su_[s] = T(u_[j]);
       sv_[s] = T(v_[j]);
     }
   }
-  ScanArgs scan{sx_.data(), sy_.data(), sz_.data(), su_.data(), sv_.data(), 0, 0, 0, 0, 0, reach2, 0, 0, T(-1)};
-  if (by_offset) {
-    scan.a2 = a2_;
-    scan.b2 = b2_;
-    scan.near_below = near_below_;
+  scan_ =
+      ScanArgs{sx_.data(), sy_.data(), sz_.data(), su_.data(), sv_.data(), 0, 0, 0, 0, 0, reach * reach, 0, 0, T(-1)};
+  if (by_offset_) {
+    scan_.a2 = a2_;
+    scan_.b2 = b2_;
+    scan_.near_below = near_below_;
   }
+  found_.resize(std::size_t(std::max(threads, 1)));
+  out_of_memory_.set = false;
+}
+
+// Each pair once (half the cell lookups), points [lo, hi) into thread t's share; the lists made from them are
+// sorted, so they do not depend on how the points were split between threads.
+template <class T>
+void CollisionPairs<T>::findPairs(const std::vector<vec3>& x, int t, long long lo, long long hi) {
+  const MemoryStage stage("listing the self-collision candidates of " + std::to_string(x.size()) + " points");
+  std::vector<Pair>& mine = found_[std::size_t(t)];
+  mine.clear();
+  std::vector<std::uint32_t> slots;
+  ScanArgs scan = scan_;
+  const std::vector<std::uint32_t>& sorted = grid_.sorted();
   const int side = 2 * box_ + 1;
-  // Each pair once (half the cell lookups), found in parallel; the lists made from them are sorted, so
-  // they do not depend on how the points were split between threads.
-  const MemoryStage stage("listing the self-collision candidates of " + std::to_string(n) + " points");
-  found_.resize(std::size_t(threads));
-  const long long count = (long long)n;
-  // An exception may not leave an OpenMP region: a thread that runs out of memory says so, and the
-  // caller's thread throws once the region is over.
-  std::atomic<bool> out_of_memory = false;
-#pragma omp parallel num_threads(teamFor(threads, count))
-  {
-    std::vector<Pair>& mine = found_[std::size_t(omp_get_thread_num())];
-    mine.clear();
-    std::vector<std::uint32_t> slots;
-    ScanArgs mine_scan = scan;
-#pragma omp for schedule(static)
-    for (long long p = 0; p < count; ++p) {
-      if (out_of_memory.load(std::memory_order_relaxed)) continue;
-      const std::size_t i = std::size_t(p);
-      try {
-        mine_scan.px = x[i].x;
-        mine_scan.py = x[i].y;
-        mine_scan.pz = x[i].z;
-        if (by_offset) {
-          mine_scan.pu = T(u_[i]);
-          mine_scan.pv = T(v_[i]);
-        }
-        grid_.forEachForwardBucket(i, [&](std::uint32_t first, std::uint32_t last, glm::ivec3 cell) {
-          if (slots.size() < last - first) slots.resize(last - first);
-          const int found = scanSlots(mine_scan, first, last, slots.data());
-          for (int k = 0; k < found; ++k) {
-            const std::uint32_t j = sorted[slots[std::size_t(k)]];
-            if (!grid_.inCell(j, cell)) continue;
-            if (by_offset) {
-              const int du = int(u_[j]) - int(u_[i]), dv = int(v_[j]) - int(v_[i]);
-              // Off the box no pair is held: the box spans the reach.
-              if (du < -box_ || du > box_ || dv < -box_ || dv > box_) {
-                mine.push_back({std::uint32_t(i), j});
-                continue;
-              }
-              if (kind_[std::size_t((dv + box_) * side + du + box_)] != kList) continue;  // held, or stencil
-            }
-            if (rest_.empty() || !physics::heldAtRest(rest_[i], rest_[j], range_))
-              mine.push_back({std::uint32_t(i), j});
-          }
-        });
-      } catch (const std::bad_alloc&) {
-        out_of_memory = true;
+  for (long long p = lo; p < hi; ++p) {
+    if (out_of_memory_.set.load(std::memory_order_relaxed)) return;
+    const std::size_t i = std::size_t(p);
+    try {
+      scan.px = x[i].x;
+      scan.py = x[i].y;
+      scan.pz = x[i].z;
+      if (by_offset_) {
+        scan.pu = T(u_[i]);
+        scan.pv = T(v_[i]);
       }
+      grid_.forEachForwardBucket(i, [&](std::uint32_t first, std::uint32_t last, glm::ivec3 cell) {
+        if (slots.size() < last - first) slots.resize(last - first);
+        const int found = scanSlots(scan, first, last, slots.data());
+        for (int k = 0; k < found; ++k) {
+          const std::uint32_t j = sorted[slots[std::size_t(k)]];
+          if (!grid_.inCell(j, cell)) continue;
+          if (by_offset_) {
+            const int du = int(u_[j]) - int(u_[i]), dv = int(v_[j]) - int(v_[i]);
+            // Off the box no pair is held: the box spans the reach.
+            if (du < -box_ || du > box_ || dv < -box_ || dv > box_) {
+              mine.push_back({std::uint32_t(i), j});
+              continue;
+            }
+            if (kind_[std::size_t((dv + box_) * side + du + box_)] != kList) continue;  // held, or stencil
+          }
+          if (rest_.empty() || !physics::heldAtRest(rest_[i], rest_[j], range_)) mine.push_back({std::uint32_t(i), j});
+        }
+      });
+    } catch (const std::bad_alloc&) {
+      out_of_memory_.set = true;
     }
   }
-  if (out_of_memory) {
-    found_.clear();
-    failAllocation();
-  }
+}
+
+template <class T>
+void CollisionPairs<T>::assembleLists(std::size_t n) {
   start_.assign(n + 1, 0);
   for (const std::vector<Pair>& part : found_)
     for (const Pair& pair : part) {
@@ -361,12 +421,14 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
       list_[fill_[pair.i]++] = pair.j;
       list_[fill_[pair.j]++] = pair.i;
     }
-#pragma omp parallel for schedule(static) num_threads(teamFor(threads, count))
-  for (long long p = 0; p < count; ++p)
-    std::sort(list_.data() + start_[std::size_t(p)], list_.data() + start_[std::size_t(p) + 1]);
+}
+
+template <class T>
+void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
+  const std::size_t n = x.size();
   anchor_ = x;
   if (tiled_ != n) makeTiles(n);
-  T extent = reach;
+  T extent = range_ + margin_;
   for (const vec3& p : x)
     extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
   travel_ = safeTravel(margin_, extent + margin_);

@@ -21,8 +21,11 @@
 #include "cpu/grid_kernels.hpp"
 #include "cpu/hash_grid.hpp"
 
+#include <atomic>
 #include <bit>
 #include <cstdint>
+#include <exception>
+#include <utility>
 #include <vector>
 
 namespace drape {
@@ -50,8 +53,15 @@ class CollisionPairs {
   void setKernels(const GridKernels* kernels) { kernels_ = kernels; }
 
   // Makes the list valid for positions x (rebuilding if any point moved too far); returns whether it
-  // rebuilt. threads: OpenMP threads for the per-point loops.
+  // rebuilt. threads: OpenMP threads for the per-point loops. Outside a team.
   bool update(const std::vector<vec3>& x, int threads);
+  // update() in two steps, for a team (cpu/parallel.hpp): whether the lists must be rebuilt for x (one
+  // thread), then the build, which every thread of the team calls and shares. Outside a team build() forks
+  // its own threads for long loops and throws what fails; in a team it keeps it for takeFailure().
+  bool needsBuild(const std::vector<vec3>& x);
+  void build(const std::vector<vec3>& x, int threads);
+  // What a build in a team failed with (out of memory), once the team is done with it; cleared by taking it.
+  std::exception_ptr takeFailure() { return std::exchange(failure_, nullptr); }
 
   // Listed candidates of point i, ascending: every j off the stencil with |x_i - x_j| < range + margin at the
   // last build.
@@ -107,7 +117,6 @@ class CollisionPairs {
  private:
   bool stale(const std::vector<vec3>& x) const;
   void makeTiles(std::size_t n);
-  void build(const std::vector<vec3>& x, int threads);
   void makeStencil();
   struct ScanArgs {  // GridKernels' PairScanArgs in T
     const T *x, *y, *z, *u, *v;
@@ -140,9 +149,29 @@ class CollisionPairs {
   };
   mutable std::vector<TileBox> boxes_;
   std::vector<vec3> rest_;
-  int w_ = 0, h_ = 0;                      // the grid, or 0 x 0
-  std::vector<std::uint16_t> u_, v_;       // each point's grid column and row
-  std::vector<std::uint8_t> kind_;         // OffsetKind per offset of the box [-box_, box_]^2
+  int w_ = 0, h_ = 0;                 // the grid, or 0 x 0
+  std::vector<std::uint16_t> u_, v_;  // each point's grid column and row
+  std::vector<std::uint8_t> kind_;    // OffsetKind per offset of the box [-box_, box_]^2
+  void prepareBuild(const std::vector<vec3>& x, int threads);
+  void findPairs(const std::vector<vec3>& x, int thread, long long first, long long last);
+  void assembleLists(std::size_t n);
+  void finishBuild(const std::vector<vec3>& x);
+  template <class F>
+  void guarded(F&& f);
+  void rethrowOutsideTeam();
+  ScanArgs scan_{};         // the build's, for every thread
+  bool by_offset_ = false;  // the build passes over pairs by their grid offset
+  struct Flag {             // an atomic flag that copies with the lists (a CpuSolver is copied in the tests)
+    std::atomic<bool> set{false};
+    Flag() = default;
+    Flag(const Flag& o) : set(o.set.load()) {}
+    Flag& operator=(const Flag& o) {
+      set = o.set.load();
+      return *this;
+    }
+  };
+  Flag out_of_memory_;
+  std::exception_ptr failure_;
   std::vector<T> sx_, sy_, sz_, su_, sv_;  // build's scratch: position, column and row of grid_.sorted()[s]
   T a2_ = 0, b2_ = 0, near_below_ = -1;    // ScanArgs of the stencil's grid
   const GridKernels* kernels_ = nullptr;

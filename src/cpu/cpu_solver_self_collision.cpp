@@ -18,18 +18,29 @@ void CpuSolver<T>::selfCollide() {
   // grid the stencil tests the ring of unheld pairs within range + skin at rest every substep (20 offsets at
   // 256^2 with CS184's thickness), so the skin sets both its width and how long the lists last. The bytes do
   // not depend on it.
-  // The list check and build run on one thread of a team (their own loops fork only outside a team); an
-  // exception (out of memory) is kept for step() to rethrow after the region.
+  // The list check runs on one thread of a team and the build on all of them; an exception (out of memory)
+  // is kept for step() to rethrow after the region.
   teamSingle([&] {
     try {
       pairs_.configure(range, T(pair_margin_) * std::min(range, T(shortest_spring_)));
-      pairs_.update(x_, threads_);
+      rebuild_ = pairs_.needsBuild(x_);
       near_.resize(x_.size());
     } catch (...) {
       failure_ = std::current_exception();
     }
   });
   if (failure_) return;
+  if (rebuild_) {  // every thread of a team shares the build
+    try {
+      pairs_.build(x_, threads_);
+    } catch (...) {  // outside a team
+      failure_ = std::current_exception();
+    }
+    teamSingle([&] {
+      if (std::exception_ptr e = pairs_.takeFailure()) failure_ = e;
+    });
+    if (failure_) return;
+  }
   const std::size_t stencil = pairs_.stencil().size();
   if (stencil > 0) {
     if constexpr (std::is_same_v<T, float>)

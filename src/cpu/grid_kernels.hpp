@@ -66,9 +66,8 @@ struct PairScanArgs {
 // Self-collision's stencil of a grid cloth (cpu/collision_pairs.hpp): per point, whether a partner at grid
 // offset (du[k], dv[k]), k < count, lies on the grid, is not held at rest where mixed[k] (physics::heldAtRest on
 // the rest positions), and is within sqrt(range2) now (the test of physics::selfCollisionCorrection; a NaN
-// distance counts). symmetric: the offsets are half the stencil (one of each +-pair) and a pair in range flags
-// both its points, whose flags must be 0 before (one thread alone: other rows are written); else each point of
-// the rows is set from the whole stencil, and nothing else is written.
+// distance counts). The offsets are half the stencil (one of each +-pair) and a pair in range flags both its
+// points, which may lie in another thread's rows: the flags must be 0 before, and are set by atomic ORs.
 struct GridStencilArgs {
   GridShape shape;
   const float *x, *y, *z;     // positions, padded layout
@@ -77,7 +76,6 @@ struct GridStencilArgs {
   const std::uint8_t* mixed;
   int count = 0;
   float range2 = 0;
-  bool symmetric = false;
   std::uint8_t* flags;  // per point, in point order
 };
 

@@ -317,7 +317,6 @@ struct Kernels {
         const F X = V::load(a.x + q), Y = V::load(a.y + q), Z = V::load(a.z + q);
         const F us = V::add(V::set1(float(u0)), V::iota());
         const F own = V::lt(us, V::set1(float(g.W)));
-        const int lanes = g.W - u0 < kW ? g.W - u0 : kW;
         std::uint8_t* mine = a.flags + std::ptrdiff_t(v) * g.W + u0;
         F hit = V::set1(0.0f);
         for (int k = 0; k < a.count; ++k) {
@@ -334,17 +333,15 @@ struct Kernels {
             const F e2 = V::add(V::add(V::mul(ex, ex), V::mul(ey, ey)), V::mul(ez, ez));
             pair = V::andNot(V::lt(e2, r2), pair);
           }
-          if (a.symmetric && V::any(pair)) {
-            const int bits = V::bits(pair);
+          if (int bits = V::bits(pair); bits != 0) {
             std::uint8_t* theirs = mine + std::ptrdiff_t(a.dv[k]) * g.W + a.du[k];
-            for (int l = 0; l < lanes; ++l)
-              theirs[l] |= std::uint8_t((bits >> l) & 1);
+            for (; bits != 0; bits &= bits - 1)
+              __atomic_fetch_or(theirs + __builtin_ctz(unsigned(bits)), std::uint8_t(1), __ATOMIC_RELAXED);
           }
           hit = V::bitOr(hit, pair);
         }
-        const int bits = V::bits(hit);
-        for (int l = 0; l < lanes; ++l)
-          mine[l] = std::uint8_t(a.symmetric ? mine[l] | ((bits >> l) & 1) : (bits >> l) & 1);
+        for (int bits = V::bits(hit); bits != 0; bits &= bits - 1)
+          __atomic_fetch_or(mine + __builtin_ctz(unsigned(bits)), std::uint8_t(1), __ATOMIC_RELAXED);
       }
   }
 

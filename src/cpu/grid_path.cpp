@@ -3,8 +3,6 @@
 #include "core/colouring.hpp"
 #include "cpu/parallel.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <bit>
 #include <cstdint>
@@ -83,13 +81,14 @@ void GridPath::stencilFlags(const std::vector<glm::vec3>& x, const int* du, cons
   teamRange(0, shape_.H, [&](long long y0, long long y1) {
     kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1));
   });
-  // One thread tests each pair once and flags both ends; a team's threads write their own rows only, so each
-  // tests its points against the whole stencil.
-  const bool symmetric = omp_get_num_threads() == 1;
-  if (symmetric) std::fill(flags.begin(), flags.end(), std::uint8_t(0));
-  const int half = symmetric ? count / 2 : 0;
-  const GridStencilArgs args{shape_,    x_.data(), y_.data(),    z_.data(),    rx_.data(), ry_.data(), rz_.data(),
-                             du + half, dv + half, mixed + half, count - half, range2,     symmetric,  flags.data()};
+  // Each pair once, from the end whose index is lower (the stencil's second half), flagging both ends: the
+  // flags are cleared first, each thread its rows, and then only ever OR'ed.
+  teamRange(0, shape_.H, [&](long long y0, long long y1) {
+    std::fill(flags.begin() + y0 * shape_.W, flags.begin() + y1 * shape_.W, std::uint8_t(0));
+  });
+  const int half = count / 2;
+  const GridStencilArgs args{shape_,    x_.data(), y_.data(),    z_.data(),    rx_.data(), ry_.data(),  rz_.data(),
+                             du + half, dv + half, mixed + half, count - half, range2,     flags.data()};
   teamRange(0, shape_.H, [&](long long y0, long long y1) { kern.stencilFlags(args, int(y0), int(y1)); });
 }
 
