@@ -333,58 +333,6 @@ void CpuSolver<T>::applyCorrections() {
 }
 
 template <class T>
-void CpuSolver<T>::collidePoint(std::size_t i) {
-  if (topo_.pinned[i]) return;
-  vec3 x = x_[i];
-  vec3 v = form_ == VerletForm::Displacement ? v_[i] : x_[i] - v_[i];
-  vec3 c;
-  // Objects in turn, each seeing the result of the previous one (CS184 order: spheres, then planes).
-  for (const SphereSpec& s : scene_.spheres)
-    if (physics::collideSphere(x, v, vec3(s.origin), T(s.radius), T(s.friction), c)) {
-      x += c;
-      v += c;
-    }
-  for (const PlaneSpec& p : scene_.planes)
-    if (physics::collidePlane(x, v, vec3(p.point), vec3(p.normal), T(p.friction), c)) {
-      x += c;
-      v += c;
-    }
-  for (const MeshSpec& m : scene_.meshes)
-    if (physics::collideField(x, v, m.mesh->field, physics::meshOffset(T(meshThickness(scene_.cloth, m))),
-                              T(m.friction), c)) {
-      x += c;
-      v += c;
-    }
-  x_[i] = x;
-  if (form_ == VerletForm::Displacement) v_[i] = v;
-}
-
-template <class T>
-void CpuSolver<T>::collide() {
-  const long long n = (long long)x_.size();
-  // Spheres and planes lane by lane, several points at once; meshes (the baked field) point by point.
-  if constexpr (std::is_same_v<T, float>)
-    if (kernels_ && form_ == VerletForm::Displacement && scene_.meshes.empty()) {
-      const std::size_t planes = 5 * scene_.spheres.size();  // refreshDerived lays them out
-      const CollideArgs args{&x_.data()->x,
-                             &v_.data()->x,
-                             pinned1_.data(),
-                             collide_objects_.data(),
-                             int(scene_.spheres.size()),
-                             collide_objects_.data() + planes,
-                             int(scene_.planes.size()),
-                             float(physics::kPlaneEpsilon),
-                             float(physics::kSurfaceOffset)};
-      teamRange(0, n, [&](long long lo, long long hi) {
-        for (long long k = kernels_->collideObjects(args, lo, hi); k < hi; ++k)
-          collidePoint(std::size_t(k));
-      });
-      return;
-    }
-  parallelFor(0, n, threads_, [&](long long k) { collidePoint(std::size_t(k)); });
-}
-
-template <class T>
 void CpuSolver<T>::limitStretch() {
   if (scene_.sim.stretch_scheme == StretchScheme::GaussSeidel)
     limitStretchColoured();

@@ -1,10 +1,65 @@
-// CpuSolver's contact between the cloth's faces and the mesh obstacles' sharp features (collideFaces), kept
-// apart from cpu_solver.cpp for its size. The data and the order of the work: docs/contact.md.
+// CpuSolver's contact with the obstacles: each point against the spheres, planes and meshes (collide), and the
+// cloth's faces against the mesh obstacles' sharp features (collideFaces); kept apart from cpu_solver.cpp for
+// its size. The data and the order of the work: docs/contact.md.
 #include "cpu/cpu_solver.hpp"
 #include "cpu/mesh_physics.hpp"
 #include "cpu/parallel.hpp"
 
+#include <type_traits>
+
 namespace drape {
+
+template <class T>
+void CpuSolver<T>::collidePoint(std::size_t i) {
+  if (topo_.pinned[i]) return;
+  vec3 x = x_[i];
+  vec3 v = form_ == VerletForm::Displacement ? v_[i] : x_[i] - v_[i];
+  vec3 c;
+  // Objects in turn, each seeing the result of the previous one (CS184 order: spheres, then planes).
+  for (const SphereSpec& s : scene_.spheres)
+    if (physics::collideSphere(x, v, vec3(s.origin), T(s.radius), T(s.friction), c)) {
+      x += c;
+      v += c;
+    }
+  for (const PlaneSpec& p : scene_.planes)
+    if (physics::collidePlane(x, v, vec3(p.point), vec3(p.normal), T(p.friction), c)) {
+      x += c;
+      v += c;
+    }
+  for (const MeshSpec& m : scene_.meshes)
+    if (physics::collideField(x, v, m.mesh->field, physics::meshOffset(T(meshThickness(scene_.cloth, m))),
+                              T(m.friction), c)) {
+      x += c;
+      v += c;
+    }
+  x_[i] = x;
+  if (form_ == VerletForm::Displacement) v_[i] = v;
+}
+
+template <class T>
+void CpuSolver<T>::collide() {
+  const long long n = (long long)x_.size();
+  // Spheres and planes lane by lane, several points at once; meshes (the baked field) point by point.
+  if constexpr (std::is_same_v<T, float>)
+    if (kernels_ && form_ == VerletForm::Displacement && scene_.meshes.empty()) {
+      const std::size_t planes = 5 * scene_.spheres.size();  // refreshDerived lays them out
+      const CollideArgs args{&x_.data()->x,
+                             &v_.data()->x,
+                             pinned1_.data(),
+                             collide_objects_.data(),
+                             int(scene_.spheres.size()),
+                             collide_objects_.data() + planes,
+                             int(scene_.planes.size()),
+                             float(physics::kPlaneEpsilon),
+                             float(physics::kSurfaceOffset)};
+      teamRange(0, n, [&](long long lo, long long hi) {
+        for (long long k = kernels_->collideObjects(args, lo, hi); k < hi; ++k)
+          collidePoint(std::size_t(k));
+      });
+      return;
+    }
+  parallelFor(0, n, threads_, [&](long long k) { collidePoint(std::size_t(k)); });
+}
 
 template <class T>
 void CpuSolver<T>::buildFaceContacts() {
@@ -110,6 +165,10 @@ void CpuSolver<T>::collideFaces() {
 // The members defined here; cpu_solver.cpp instantiates the rest of the class.
 template void CpuSolver<float>::buildFaceContacts();
 template void CpuSolver<float>::collideFaces();
+template void CpuSolver<float>::collide();
+template void CpuSolver<double>::collide();
+template void CpuSolver<float>::collidePoint(std::size_t);
+template void CpuSolver<double>::collidePoint(std::size_t);
 template void CpuSolver<double>::buildFaceContacts();
 template void CpuSolver<double>::collideFaces();
 
