@@ -52,6 +52,16 @@ TEST(Resample, KeepsSizeMassAndCornerPins) {
   }
 }
 
+// bench --keep-thickness: a CS184 file refined as it is, its thickness kept, so that neighbours are held at rest.
+TEST(Resample, KeepsTheThicknessWhenAsked) {
+  const Scene scene = loadScene(scenePath("pinned2.json"));
+  const Scene kept = resampleCloth(scene, 256, true), thinned = resampleCloth(scene, 256);
+  EXPECT_EQ(kept.cloth.thickness, scene.cloth.thickness);
+  EXPECT_GT(2.0 * kept.cloth.thickness, kept.cloth.width / 255) << "a 256 x 256 pinned2 holds its neighbours";
+  EXPECT_LT(thinned.cloth.thickness, scene.cloth.thickness);
+  EXPECT_EQ(resampleCloth(scene, 50, true).cloth.thickness, scene.cloth.thickness);
+}
+
 TEST(Resample, MergesPinsThatLandOnOnePoint) {
   Scene scene = loadScene(scenePath("pinned2.json"));
   scene.cloth.pinned = {{0, 0}, {1, 0}, {2, 0}, {49, 0}};
