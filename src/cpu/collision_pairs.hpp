@@ -45,9 +45,9 @@ class CollisionPairs {
   // The largest box of grid offsets a stencil is made for (a cloth whose contact distance spans more
   // points than this gets none: its pairs are all listed).
   static constexpr int kMaxStencilBox = 40;
-  // A grid cloth of w x h points (point (u, v) is index v * w + u), after setRest: the pairs at the grid
-  // offsets whose every pair is unheld at rest and closer than range + margin there form the stencil, tested by
-  // stencilInRange and never listed.
+  // A grid cloth of w x h points (point (u, v) is index v * w + u), after setRest: the grid offsets whose pairs
+  // may lie within range + margin at rest and are not all held form the stencil (makeStencil), tested every
+  // substep and never listed.
   void setGrid(int w, int h);
   // Float: the instruction set's scanPairs for builds (default: one candidate at a time). The same lists.
   void setKernels(const GridKernels* kernels) { kernels_ = kernels; }
@@ -135,7 +135,8 @@ class CollisionPairs {
   std::vector<std::vector<Pair>> found_;  // per thread, kept to spare the allocations
   std::vector<std::uint32_t> start_, list_, fill_;
   std::vector<vec3> anchor_;  // positions at the last build
-  // stale()'s tiles: each point's, and per tile the box of its displacements since the build and of its points
+  // stale()'s tiles, as runs of consecutive points, and per tile the box of its displacements since the build
+  // and the box of its points
   static constexpr int kTileEdge = 8, kTilesAcross = 16;
   struct Run {
     std::uint32_t begin, end, tile;  // points [begin, end) of one tile
