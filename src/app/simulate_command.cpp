@@ -135,7 +135,7 @@ void runSimulate(const SimulateOptions& o) {
   if (!o.out.empty()) writePositionsJson(o.out, x);
   if (exporter) exporter->finish();
   printSummary(scene, *solver, o.frames, ms);
-  if (o.verbose) fmt::print(stderr, "{}", describeSelfCollision(*solver));
+  if (o.verbose) fmt::print(stderr, "{}{}", describeSelfCollision(*solver), describeThreads(*solver));
   if (std::fflush(stdout) != 0 || std::ferror(stdout))
     throw CommandError(kExitFailure,
                        fmt::format("simulate: cannot write the summary to standard output: {}", std::strerror(errno)));

@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 namespace drape {
 
 const std::vector<SolverKind>& solverKinds() {
@@ -113,7 +115,30 @@ std::string describePairs(const CpuSolver<T>& cpu) {
       p.stencil().size(), double(cpu.pairTerms()) / n / double(cpu.substeps()));
 }
 
+template <class T>
+std::string describeTeam(const CpuSolver<T>& cpu) {
+  if (cpu.teamThreads() <= 1 || cpu.substeps() == 0) return "";
+  std::string out =
+      fmt::format("threads: a team of {} ran {} of {} substeps", cpu.teamThreads(), cpu.teamSubsteps(), cpu.substeps());
+  if (const TeamTrial* trial = cpu.teamTrial()) {
+    if (std::isnan(trial->teamOverSolo()))
+      out += ", one thread the others (the team was not tried: the load average left no core for it)";
+    else
+      out += fmt::format(
+          ", one thread the others (timed as it ran: at its last probe the team took {:.2f}x one "
+          "thread's time)",
+          trial->teamOverSolo());
+  }
+  return out + "\n";
+}
+
 }  // namespace
+
+std::string describeThreads(const Solver& solver) {
+  if (const auto* f = dynamic_cast<const CpuSolver<float>*>(&solver)) return describeTeam(*f);
+  if (const auto* d = dynamic_cast<const CpuSolver<double>*>(&solver)) return describeTeam(*d);
+  return "";
+}
 
 std::string describeSelfCollision(const Solver& solver) {
   if (const auto* f = dynamic_cast<const CpuSolver<float>*>(&solver)) return describePairs(*f);

@@ -98,5 +98,8 @@ std::string describePasses(const Solver& solver);
 // The CPU solvers' self-collision candidates after a run: list entries a point, builds, the stencil's offsets
 // (cpu/collision_pairs.hpp); "" for a solver without them or a scene without self-collision.
 std::string describeSelfCollision(const Solver& solver);
+// The CPU solvers' threads after a run: the substeps a team ran, and for a mid-sized cloth what its trial
+// measured (cpu/team_trial.hpp); "" where one thread ran every substep by design.
+std::string describeThreads(const Solver& solver);
 
 }  // namespace drape

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 #include <type_traits>
 
@@ -33,6 +34,15 @@ enum PassId {
 const char* const kPassNames[kPassCount] = {"forces",        "integrate",   "xpbd_solve",    "vbd_solve",
                                             "self_collide",  "collide",     kTetherPassName, "limit_stretch",
                                             "collide_faces", "collide_last"};
+
+// Whether the machine has a core for each of a team's other threads: the 1-minute load average, which
+// counts this process's one running thread, leaves them free. A team probed on busy cores waits a time
+// slice at each barrier (cpu/team_trial.hpp).
+bool roomForTeam(int team) {
+  double load = 0;
+  if (getloadavg(&load, 1) != 1) return true;
+  return load + double(team - 1) <= double(omp_get_num_procs()) + 0.5;
+}
 
 }  // namespace
 
@@ -58,7 +68,9 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
   }
   buildFaceContacts();
   const std::size_t n = std::size_t(topo_.pointCount());
-  team_ = threads_ > 1 && (long long)n >= options.team_min_points ? threads_ : 1;
+  team_ =
+      threads_ > 1 && (long long)n >= std::min(options.team_min_points, options.team_trial_min_points) ? threads_ : 1;
+  if (team_ > 1 && (long long)n < options.team_min_points) trial_.emplace([team = team_] { return roomForTeam(team); });
   if constexpr (std::is_same_v<T, float>)
     if (options.grid_path) {
       kernels_ = &drape::gridKernels(options.grid_isa);
@@ -147,6 +159,7 @@ void CpuSolver<T>::reset() {
   // At rest: zero displacement, or x_prev = x in the CS184 form.
   v_ = form_ == VerletForm::Displacement ? std::vector<vec3>(n, vec3(0)) : x_;
   substeps_ = 0;
+  team_substeps_ = 0;
   pair_terms_ = 0;
   pairs_.invalidate();
 }
@@ -194,20 +207,24 @@ void CpuSolver<T>::timed(int pass, F&& f) {
   ++timings_[pass].calls;
 }
 
-// One OpenMP region a substep when the cloth is large enough for a team (team_min_points): every thread
-// runs every pass, each loop split between them and closed by a barrier (cpu/parallel.hpp), so the passes
-// cost a barrier each rather than a fork and a join per loop.
+// One OpenMP region a substep when the cloth runs on a team: every thread runs every pass, each loop split
+// between them and closed by a barrier (cpu/parallel.hpp), so the passes cost a barrier each rather than a
+// fork and a join per loop. A mid-sized cloth's trial times each substep to decide the next one's way.
 template <class T>
 void CpuSolver<T>::step() {
   failure_ = nullptr;
-  if (team_ > 1) {
+  const bool team = team_ > 1 && (!trial_ || trial_->useTeam());
+  const auto start = std::chrono::steady_clock::now();
+  if (team) {
 #pragma omp parallel num_threads(team_)
     runPasses();
   } else {
     runPasses();
   }
+  if (trial_) trial_->record(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   if (failure_) std::rethrow_exception(failure_);
   ++substeps_;
+  team_substeps_ += team;
 }
 
 template <class T>

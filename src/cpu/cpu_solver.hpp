@@ -10,6 +10,7 @@
 #include "cpu/collision_pairs.hpp"
 #include "cpu/grid_path.hpp"
 #include "cpu/physics.hpp"
+#include "cpu/team_trial.hpp"
 
 #include <chrono>
 #include <exception>
@@ -20,10 +21,13 @@
 namespace drape {
 
 // A barrier costs well under a microsecond when both threads have a core and up to a time slice when other
-// load on the machine has descheduled one (docs/results/cpu_speed.md): a cloth gets a team only where its
-// loops are long enough to pay for that, the size from which loops forked a team of their own before
-// (kParallelItems). On this shared 2-core machine, busy, a team on a 50x50 cloth measured 12x slower.
+// load on the machine has descheduled one (docs/results/cpu_speed.md). From kTeamMinPoints a substep's loops
+// are long enough to pay for that under load too (the size from which loops forked a team of their own,
+// kParallelItems), and the cloth always gets a team. From kTeamTrialMinPoints up to there, whether a team
+// pays depends on the machine's load (on this 2-core machine a team ran a 50x50 substep 1.3x faster when it
+// was quiet, 12x slower when it was busy): the solver times both ways as it runs (cpu/team_trial.hpp).
 inline constexpr long long kTeamMinPoints = 32768;
+inline constexpr long long kTeamTrialMinPoints = 1024;
 
 // How Verlet keeps the previous position: the displacement v = x - x_prev (default, precise) or
 // x_prev itself (CS184's form, kept to measure the round-off it costs).
@@ -45,10 +49,13 @@ struct CpuSolverOptions {
   // the same bytes as the general gathers; false runs the general path (the tests compare the two).
   bool grid_path = true;
   GridIsa grid_isa = GridIsa::Auto;  // the grid kernels' instruction set; Auto: AVX2 where the CPU has it
-  // The fewest points for which step() runs its passes on a team of `threads` (one OpenMP region a substep,
-  // a barrier between passes); below, one thread. Tests set 0 to run a small cloth on a team. Measured:
+  // The fewest points for which step() always runs its passes on a team of `threads` (one OpenMP region a
+  // substep, a barrier between passes). Tests set 0 to run a small cloth on a team. Measured:
   // docs/results/cpu_speed.md.
   long long team_min_points = kTeamMinPoints;
+  // From this many points up to team_min_points, each substep runs on the team or on one thread, whichever
+  // the solver measured faster (TeamTrial); below, one thread.
+  long long team_trial_min_points = kTeamTrialMinPoints;
 };
 
 template <class T>
@@ -99,7 +106,9 @@ class CpuSolver final : public Solver {
   const FaceAdjacency& faceAdjacency() const { return faces_; }
   // The grid kernels' instruction set ("sse2", "avx2"), or "" where the general path runs.
   std::string gridKernels() const { return grid_ ? grid_->kernels().name : ""; }
-  int teamThreads() const { return team_; }            // threads step() runs its passes on
+  int teamThreads() const { return team_; }                  // threads step() runs its passes on when on a team
+  long long teamSubsteps() const { return team_substeps_; }  // substeps run on the team since reset()
+  const TeamTrial* teamTrial() const { return trial_ ? &*trial_ : nullptr; }  // where a trial decides
   long long pairTerms() const { return pair_terms_; }  // self-collision: pairs in range summed, both ends
 
  private:
@@ -128,7 +137,8 @@ class CpuSolver final : public Solver {
   Topology topo_;
   VerletForm form_;
   int threads_ = 1;
-  int team_ = 1;                            // threads step() runs on (team_min_points)
+  int team_ = 1;                            // threads a team has (team_min_points, team_trial_min_points)
+  std::optional<TeamTrial> trial_;          // mid-sized cloths: whether this substep runs on the team
   std::optional<GridPath> grid_;            // float grid cloths, unless the options turn it off (copyable)
   const GridKernels* kernels_ = nullptr;    // float: the SIMD integrate (any cloth)
   std::vector<float> inv_mass3_, pinned3_;  // float: per coordinate, its point's 1/m and pin mask
@@ -172,6 +182,7 @@ class CpuSolver final : public Solver {
   std::vector<FaceContacts> face_contacts_;  // one per mesh, in scene order; empty if no mesh has features
   FaceAdjacency faces_;
   long long substeps_ = 0;
+  long long team_substeps_ = 0;
   long long pair_terms_ = 0;
   std::vector<PassTiming> timings_;
 };

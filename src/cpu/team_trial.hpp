@@ -1,0 +1,120 @@
+// Whether a substep of a mid-sized cloth runs on a team of threads or on one, decided by timing both.
+//
+// Below kTeamMinPoints a substep's loops are short (a 50x50 cloth's take 5-50 us each) and a team pays only
+// when every thread has a core of its own: measured on the 2-core development machine, a team of two ran
+// a 50x50 substep 1.3x faster when the machine was quiet, and up to a thousand times slower when other
+// jobs held both cores (each of a substep's barriers waits for a descheduled thread's next time slice;
+// docs/results/cpu_speed.md). Neither choice is right on a shared machine, so the solver measures: it runs
+// one way, now and then times a few substeps the other way, and keeps the faster. A probe costs at most
+// kProbeShare of the run: the more the other way lost by, the longer until it is tried again, and a probe
+// that has already lost stops at once. The team is not tried at all while the machine has no core for its
+// other threads (the caller's `room`, from the load average). The bytes are the same either way: what is
+// decided here is only how long they take.
+#pragma once
+
+#include <algorithm>
+#include <functional>
+#include <limits>
+#include <utility>
+
+namespace drape {
+
+class TeamTrial {
+ public:
+  static constexpr int kSamples = 16;  // substeps a probe counts (it runs one more: its slowest is not counted)
+  static constexpr long long kMinInterval = 64;  // substeps between probes, after a switch
+  static constexpr long long kMaxInterval = 1 << 20;
+  static constexpr double kProbeShare = 0.02;  // of the run's time, what probing may cost at the most
+  // The other way must take at most this fraction of the current way's time to be taken: noise of a few
+  // percent does not flip the choice back and forth.
+  static constexpr double kHysteresis = 0.95;
+  // A team whose last kMinInterval substeps took this many times what it measured is probed against one
+  // thread at once.
+  static constexpr double kSlowdown = 1.5;
+
+  // `room`: whether the machine has a core for each of the team's other threads now (asked before a probe
+  // of the team, not every substep).
+  explicit TeamTrial(std::function<bool()> room = [] { return true; }) : room_(std::move(room)) {}
+
+  bool useTeam() const { return probing_ ? !team_ : team_; }
+
+  // The substep just run (the way useTeam() said) took `seconds` of wall-clock time.
+  void record(double seconds) {
+    if (!probing_) {
+      // Means, not medians: a team's time on a busy machine is mostly short substeps and a few that wait a
+      // whole time slice, and those few are the cost.
+      if (substeps_++ > 0) {  // the very first substep builds what the run keeps (lists, caches)
+        sum_ += seconds;
+        ++count_;
+        window_sum_ += seconds;
+        if (++window_count_ == kMinInterval) {
+          // A team that has become much slower than it measured (another job took a core) tries one thread
+          // now rather than at its next probe; one thread is never that costly to try.
+          if (team_ && window_sum_ / double(kMinInterval) > kSlowdown * typical_) countdown_ = 1;
+          window_sum_ = 0;
+          window_count_ = 0;
+        }
+      }
+      if (--countdown_ > 0) return;
+      if (team_ || room_())
+        startProbe();
+      else
+        countdown_ = interval_;  // no core for a team now: run alone, ask again later
+      return;
+    }
+    probe_sum_ += seconds;
+    probe_max_ = std::max(probe_max_, seconds);
+    ++probe_runs_;
+    const double current = count_ > 0 ? sum_ / double(count_) : seconds;
+    // The probe's time less its slowest substep (the first, where a team's threads wake, or one interrupted)
+    // is what decides; once it exceeds what kSamples substeps may take to win, the other way has lost,
+    // however the rest would go.
+    const double limit = kHysteresis * current * double(kSamples);
+    const bool lost = probe_sum_ - probe_max_ > limit;
+    if (!lost && probe_runs_ < kSamples + 1) return;
+    const double other = (probe_sum_ - probe_max_) / double(std::max(probe_runs_ - 1, 1));
+    const double ratio = other / current;  // the other way's time over this way's
+    team_over_solo_ = team_ ? 1 / ratio : ratio;
+    probing_ = false;
+    if (!lost && ratio <= kHysteresis) {
+      team_ = !team_;
+      typical_ = other;
+      interval_ = kMinInterval;
+    } else {
+      typical_ = current;
+      // Lost: try again when this probe's cost is kProbeShare of the time run in between.
+      const double cost = probe_sum_ / (kProbeShare * current);
+      interval_ = (long long)std::min(double(kMaxInterval), std::max(2.0 * double(interval_), cost));
+    }
+    countdown_ = interval_;
+    sum_ = window_sum_ = 0;
+    count_ = window_count_ = 0;
+  }
+
+  // The team's time over one thread's, at the last probe (NaN before the first).
+  double teamOverSolo() const { return team_over_solo_; }
+
+ private:
+  void startProbe() {
+    probing_ = true;
+    probe_sum_ = probe_max_ = 0;
+    probe_runs_ = 0;
+  }
+
+  std::function<bool()> room_;
+  bool team_ = false;  // the way substeps run between probes: one thread until the team has measured faster
+  bool probing_ = false;
+  long long substeps_ = 0;
+  long long interval_ = kMinInterval;
+  long long countdown_ = kSamples;  // the first probe: as soon as one thread has a mean
+  double sum_ = 0;                  // this way's time since the last probe, over count_ substeps
+  long long count_ = 0;
+  double typical_ = 0;     // this way's time a substep when it was last measured against the other
+  double window_sum_ = 0;  // over the last window_count_ substeps (up to kMinInterval)
+  long long window_count_ = 0;
+  double probe_sum_ = 0, probe_max_ = 0;
+  int probe_runs_ = 0;
+  double team_over_solo_ = std::numeric_limits<double>::quiet_NaN();
+};
+
+}  // namespace drape

@@ -1,0 +1,164 @@
+// A substep run by a team of threads gives one thread's bytes in every bundled scene, with every integrator,
+// in float and double; and the team trial (cpu/team_trial.hpp) that decides whether a cloth below
+// kTeamMinPoints gets a team picks the faster way by its measurements, probes again, and follows the
+// machine when it changes.
+#include "cpu/cpu_solver.hpp"
+#include "cpu/team_trial.hpp"
+#include "test_paths.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace drape {
+namespace {
+
+template <class V>
+bool sameBytes(const std::vector<V>& a, const std::vector<V>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(V)) == 0;
+}
+
+std::vector<std::string> bundledScenes() {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(drape::test::sourceDir()) + "/scenes"))
+    if (entry.path().extension() == ".json") names.push_back(entry.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+struct TeamCase {
+  std::string scene;
+  Integrator integrator;
+};
+
+std::vector<TeamCase> teamCases() {
+  std::vector<TeamCase> cases;
+  for (const std::string& name : bundledScenes())
+    for (Integrator integrator : kIntegrators)
+      cases.push_back({name, integrator});
+  return cases;
+}
+
+class TeamBytes : public ::testing::TestWithParam<TeamCase> {};
+
+template <class T>
+void expectTeamGivesOneThreadsBytes(const Scene& scene, const char* what) {
+  CpuSolver<T> one(scene, CpuSolverOptions{.threads = 1});
+  CpuSolver<T> team(scene, CpuSolverOptions{.threads = 2, .team_min_points = 0});
+  ASSERT_EQ(one.teamThreads(), 1);
+  ASSERT_EQ(team.teamThreads(), 2);
+  // Frames rather than substeps: a frame's passes (the flag's wind, the stretch limit's last pass) run too.
+  for (int f = 0; f < 4; ++f) {
+    one.stepFrame();
+    team.stepFrame();
+  }
+  ASSERT_EQ(team.teamSubsteps(), team.substeps()) << what << ": every substep ran on the team";
+  EXPECT_TRUE(sameBytes(one.positions(), team.positions())) << what;
+  EXPECT_TRUE(sameBytes(one.displacements(), team.displacements())) << what;
+}
+
+TEST_P(TeamBytes, TwoThreadsGiveOneThreadsBytes) {
+  Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/" + GetParam().scene + ".json");
+  scene.sim.integrator = GetParam().integrator;
+  expectTeamGivesOneThreadsBytes<float>(scene, "float");
+  expectTeamGivesOneThreadsBytes<double>(scene, "double");
+  // And self-collision the other way round from the file: its lists, stencil and sums on a team in every scene.
+  scene.sim.self_collision = !scene.sim.self_collision;
+  expectTeamGivesOneThreadsBytes<float>(scene, scene.sim.self_collision ? "float, self-collision on" : "float, off");
+}
+
+INSTANTIATE_TEST_SUITE_P(Bundled, TeamBytes, ::testing::ValuesIn(teamCases()),
+                         [](const ::testing::TestParamInfo<TeamCase>& p) {
+                           return p.param.scene + "_" + integratorName(p.param.integrator);
+                         });
+
+// What a trial sees when one way takes `solo` seconds a substep and the other `team`: it runs n substeps
+// and returns how many of them ran on the team.
+long long runTrial(TeamTrial& trial, long long n, double solo, double team) {
+  long long on_team = 0;
+  for (long long s = 0; s < n; ++s) {
+    const bool use = trial.useTeam();
+    on_team += use;
+    trial.record(use ? team : solo);
+  }
+  return on_team;
+}
+
+TEST(TeamTrial, KeepsTheTeamWhereItIsFaster) {
+  TeamTrial trial;
+  const long long n = 3000, on_team = runTrial(trial, n, 1.0, 0.75);
+  EXPECT_TRUE(trial.useTeam());
+  // Only the first substeps and the probes of one thread run alone.
+  EXPECT_GT(on_team, n - 100);
+  EXPECT_NEAR(trial.teamOverSolo(), 0.75, 1e-12);
+}
+
+TEST(TeamTrial, DropsTheTeamWhereItIsSlowerAndProbesItRarely) {
+  TeamTrial trial;
+  // A team twelve times slower: the 2-core machine with another job on a core.
+  const long long n = 3000, on_team = runTrial(trial, n, 1.0, 12.0);
+  EXPECT_FALSE(trial.useTeam());
+  EXPECT_GT(on_team, 0);
+  // A probe that has lost stops: a few substeps each, not kSamples.
+  EXPECT_LT(on_team, 2 * 4);
+  // What the probes cost, over the run's time: within kProbeShare once the run is long.
+  const long long later = runTrial(trial, 20000, 1.0, 12.0);
+  EXPECT_LT(double(later) * 11.0, 1.5 * TeamTrial::kProbeShare * 20000.0);
+}
+
+TEST(TeamTrial, AThousandTimesSlowerCostsLittleMoreThanTwelve) {
+  TeamTrial trial;
+  // Busy cores: each barrier waits a time slice. The intervals between probes grow with what they lost.
+  const long long n = 200000, on_team = runTrial(trial, n, 1.0, 1000.0);
+  EXPECT_FALSE(trial.useTeam());
+  EXPECT_LT(double(on_team) * 999.0, 3 * TeamTrial::kProbeShare * double(n) + 3 * 1000.0);
+}
+
+TEST(TeamTrial, FollowsTheMachineWhenItChanges) {
+  TeamTrial trial;
+  runTrial(trial, 3000, 1.0, 12.0);  // busy: one thread
+  ASSERT_FALSE(trial.useTeam());
+  // Quiet again: the team is back at the next probe.
+  const long long quiet = runTrial(trial, 10000, 1.0, 0.75);
+  EXPECT_TRUE(trial.useTeam());
+  EXPECT_GT(quiet, 10000 - 4000);
+  // Busy again: noticed within two windows of kMinInterval substeps, not at the next scheduled probe.
+  runTrial(trial, 2 * TeamTrial::kMinInterval + TeamTrial::kSamples + 2, 1.0, 3.0);
+  EXPECT_FALSE(trial.useTeam());
+}
+
+TEST(TeamTrial, AMarginSmallerThanTheHysteresisDoesNotFlip) {
+  TeamTrial trial;
+  runTrial(trial, 1000, 1.0, 0.8);
+  ASSERT_TRUE(trial.useTeam());
+  // One thread now measures 2.5% faster than the team: not enough to switch back and forth on noise.
+  runTrial(trial, 10000, 0.78, 0.8);
+  EXPECT_TRUE(trial.useTeam());
+}
+
+TEST(TeamTrial, OneOutlierDoesNotDecide) {
+  TeamTrial trial;
+  // The team is faster, but one substep of its first probe is interrupted (a time slice lost): its slowest
+  // substep is not counted.
+  for (int s = 0; s < 200; ++s) {
+    const bool use = trial.useTeam();
+    trial.record(use ? (s == TeamTrial::kSamples + 5 ? 50.0 : 0.75) : 1.0);
+  }
+  EXPECT_TRUE(trial.useTeam());
+}
+
+TEST(TeamTrial, NoCoreForTheTeamNoProbe) {
+  bool room = false;
+  TeamTrial trial([&] { return room; });
+  EXPECT_EQ(runTrial(trial, 5000, 1.0, 0.75), 0) << "the machine had no core for the team: never tried";
+  room = true;
+  runTrial(trial, 2 * TeamTrial::kMinInterval + TeamTrial::kSamples + 2, 1.0, 0.75);
+  EXPECT_TRUE(trial.useTeam());
+}
+
+}  // namespace
+}  // namespace drape
