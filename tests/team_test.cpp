@@ -160,5 +160,30 @@ TEST(TeamTrial, NoCoreForTheTeamNoProbe) {
   EXPECT_TRUE(trial.useTeam());
 }
 
+// Which cloths get a trial: from kTeamTrialMinPoints to kTeamMinPoints, with more than one thread; and
+// whatever way each substep took, the bytes are one thread's.
+TEST(TeamTrial, AMidSizedClothRunsOneAndKeepsItsBytes) {
+  Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/selfCollision.json");
+  ASSERT_GE(scene.cloth.num_width_points * scene.cloth.num_height_points, kTeamTrialMinPoints);
+  CpuSolver<float> one(scene, CpuSolverOptions{.threads = 1});
+  CpuSolver<float> trial(scene, CpuSolverOptions{.threads = 2});
+  EXPECT_EQ(one.teamTrial(), nullptr);
+  ASSERT_NE(trial.teamTrial(), nullptr);
+  EXPECT_EQ(trial.teamThreads(), 2);
+  EXPECT_EQ(CpuSolver<float>(scene, CpuSolverOptions{.threads = 2, .team_min_points = 0}).teamTrial(), nullptr)
+      << "a team from 0 points: always";
+  for (int f = 0; f < 4; ++f) {
+    one.stepFrame();
+    trial.stepFrame();
+  }
+  EXPECT_TRUE(sameBytes(one.positions(), trial.positions()));
+  EXPECT_TRUE(sameBytes(one.displacements(), trial.displacements()));
+  scene.cloth.num_width_points = scene.cloth.num_height_points = 20;
+  scene.cloth.pinned.clear();
+  const CpuSolver<float> small(scene, CpuSolverOptions{.threads = 2});
+  EXPECT_EQ(small.teamThreads(), 1) << "400 points: one thread";
+  EXPECT_EQ(small.teamTrial(), nullptr);
+}
+
 }  // namespace
 }  // namespace drape
