@@ -120,7 +120,7 @@ TEST(PairStencil, AFineClothListsAFractionOfWhatItDidWithoutTheStencil) {
   EXPECT_LT(with, 0.1 * without);
 }
 
-// stale() by tiles: two clusters of points far apart may move against each other freely; once they come
+// needsBuild() by tiles: two clusters of points far apart may move against each other freely; once they come
 // within reach of each other, the lists are rebuilt.
 TEST(PairStencil, ListsOutliveTheMotionOfFarRegionsAgainstEachOther) {
   CollisionPairs<float> pairs;

@@ -76,6 +76,24 @@ INSTANTIATE_TEST_SUITE_P(Bundled, TeamBytes, ::testing::ValuesIn(teamCases()),
                            return p.param.scene + "_" + integratorName(p.param.integrator);
                          });
 
+// From kSplitTiles tiles a team splits the lists' check (boxes and comparisons of the tiles) between its
+// threads: the same builds at the same substeps, so the same bytes.
+TEST(TeamBytesLarge, ATeamSharesTheListCheckOfALargeCloth) {
+  Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/selfCollision.json");
+  scene.cloth.num_width_points = scene.cloth.num_height_points = 128;  // 16 x 16 tiles
+  CpuSolver<float> one(scene, CpuSolverOptions{.threads = 1});
+  CpuSolver<float> team(scene, CpuSolverOptions{.threads = 2, .team_min_points = 0});
+  for (int s = 0; s < 150; ++s) {
+    one.step();
+    team.step();
+    ASSERT_EQ(one.collisionPairs().rebuilds(), team.collisionPairs().rebuilds()) << "substep " << s;
+  }
+  EXPECT_GT(one.collisionPairs().rebuilds(), 1) << "the check found the lists stale at least once after the first";
+  EXPECT_LT(one.collisionPairs().rebuilds(), 150) << "and valid at least once";
+  EXPECT_TRUE(sameBytes(one.positions(), team.positions()));
+  EXPECT_TRUE(sameBytes(one.displacements(), team.displacements()));
+}
+
 // What a trial sees when one way takes `solo` seconds a substep and the other `team`: it runs n substeps
 // and returns how many of them ran on the team.
 long long runTrial(TeamTrial& trial, long long n, double solo, double team) {

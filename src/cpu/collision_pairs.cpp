@@ -149,19 +149,6 @@ T CollisionPairs<T>::safeTravel(T margin, T extent) {
   return T(0.5) * margin - T(16) * std::numeric_limits<T>::epsilon() * extent;
 }
 
-template <class T>
-bool CollisionPairs<T>::needsBuild(const std::vector<vec3>& x) {
-  if (range_ != stencil_range_ || margin_ != stencil_margin_) makeStencil();
-  return !built_ || anchor_.size() != x.size() || stale(x);
-}
-
-template <class T>
-bool CollisionPairs<T>::update(const std::vector<vec3>& x, int threads) {
-  if (!needsBuild(x)) return false;
-  build(x, threads);
-  return true;
-}
-
 // A pair not listed was at least range + margin apart at the build, and its distance has changed since by at
 // most |d_i - d_j|, d being each point's displacement from its anchor: at most the diagonal of the box
 // around the d of i's tile and j's tile together. The lists hold while that diagonal is under the margin
@@ -172,20 +159,67 @@ bool CollisionPairs<T>::update(const std::vector<vec3>& x, int threads) {
 // reduction), which a swinging cloth wears out in a few substeps: its free end moves against its pins.
 // Tiles: squares of the grid, or runs of points in index order on a mesh.
 template <class T>
-bool CollisionPairs<T>::stale(const std::vector<vec3>& x) const {
-  if (travel_ <= T(0)) return true;
-  constexpr T kInf = std::numeric_limits<T>::infinity();
-  boxes_.assign(tile_count_, TileBox{vec3(kInf), vec3(-kInf), vec3(kInf), vec3(-kInf)});
-  bool finite = true, boxed = false;
+void CollisionPairs<T>::startCheck(const std::vector<vec3>& x) {
+  if (range_ != stencil_range_ || margin_ != stencil_margin_) makeStencil();
+  moved_.set = !built_ || anchor_.size() != x.size() || travel_ <= T(0);
+  if (!moved_.set) boxes_.resize(tile_count_);
+}
+
+// Every thread of a team gets the same answer. A large grid's tiles are boxed and compared by all of the
+// team's threads; a small cloth's by one, where splitting costs more barriers than it saves.
+template <class T>
+bool CollisionPairs<T>::finishCheck(const std::vector<vec3>& x) {
+  if (moved_.set) return true;
+  bool split = false;
+  if constexpr (std::is_same_v<T, float>) split = inTeam() && kernels_ && edge_ > 0 && tile_count_ >= kSplitTiles;
+  if (split) {
+    boxTiles(x, true);
+    if (!moved_.set) compareTiles(true);
+  } else {
+    teamSingle([&] {
+      boxTiles(x, false);
+      if (!moved_.set) compareTiles(false);
+    });
+  }
+  return moved_.set;
+}
+
+template <class T>
+bool CollisionPairs<T>::needsBuild(const std::vector<vec3>& x) {
+  teamSingle([&] { startCheck(x); });
+  return finishCheck(x);
+}
+
+template <class T>
+bool CollisionPairs<T>::update(const std::vector<vec3>& x, int threads) {
+  if (!needsBuild(x)) return false;
+  build(x, threads);
+  return true;
+}
+
+// Each tile's boxes into boxes_ (moved_ set where a displacement is not finite). split: this thread's share
+// of the rows of tiles, in a team (a float grid with the kernels).
+template <class T>
+void CollisionPairs<T>::boxTiles(const std::vector<vec3>& x, bool split) {
   if constexpr (std::is_same_v<T, float>)
     if (kernels_ && edge_ > 0) {  // a grid's tiles, rows of several points at once
       static_assert(sizeof(TileBox) == 12 * sizeof(float));
-      const int across = (w_ + edge_ - 1) / edge_;
-      finite = kernels_->tileBoxes({&x.data()->x, &anchor_.data()->x, w_, h_, edge_, across, &boxes_.data()->dlo.x});
-      boxed = true;
+      const int across = (w_ + edge_ - 1) / edge_, down = (h_ + edge_ - 1) / edge_;
+      const auto rows = [&](long long first, long long last) {
+        if (!kernels_->tileBoxes({&x.data()->x, &anchor_.data()->x, w_, h_, edge_, across, &boxes_.data()->dlo.x,
+                                  int(first), int(last)}))
+          moved_.set = true;
+      };
+      if (split)
+        teamRange(0, down, rows);
+      else
+        rows(0, down);
+      return;
     }
+  constexpr T kInf = std::numeric_limits<T>::infinity();
+  std::fill(boxes_.begin(), boxes_.end(), TileBox{vec3(kInf), vec3(-kInf), vec3(kInf), vec3(-kInf)});
+  bool finite = true;
   for (const Run& r : runs_) {
-    if (boxed) break;
     vec3 dlo(kInf), dhi(-kInf), lo(kInf), hi(-kInf);
     for (std::uint32_t i = r.begin; i < r.end; ++i) {
       const vec3 d = x[i] - anchor_[i];
@@ -202,11 +236,25 @@ bool CollisionPairs<T>::stale(const std::vector<vec3>& x) const {
     b.lo = glm::min(b.lo, lo);
     b.hi = glm::max(b.hi, hi);
   }
-  if (!finite) return true;
+  if (!finite) moved_.set = true;
+}
+
+// Sets moved_ if two tiles close enough to hold a pair in range have moved apart by the margin (see above).
+// split: this thread takes every count-th first tile (the later a tile, the fewer partners it has after it:
+// interleaving evens the shares), then the team waits.
+template <class T>
+void CollisionPairs<T>::compareTiles(bool split) {
   const T limit = T(2) * travel_;
   // Tiles this far apart hold no pair in range, with room for the round-off of the boxes' differences.
   const T apart = range_ + travel_;
-  for (std::size_t a = 0; a < boxes_.size(); ++a) {
+  std::size_t first = 0, step = 1;
+#ifdef _OPENMP
+  if (split) {
+    first = std::size_t(omp_get_thread_num());
+    step = std::size_t(omp_get_num_threads());
+  }
+#endif
+  for (std::size_t a = first; a < boxes_.size() && !moved_.set.load(std::memory_order_relaxed); a += step) {
     const TileBox& p = boxes_[a];
     if (!(p.lo.x <= p.hi.x)) continue;  // an empty tile
     for (std::size_t c = a; c < boxes_.size(); ++c) {
@@ -215,13 +263,16 @@ bool CollisionPairs<T>::stale(const std::vector<vec3>& x) const {
       const vec3 gap = glm::max(vec3(0), glm::max(q.lo - p.hi, p.lo - q.hi));
       if (glm::dot(gap, gap) >= apart * apart) continue;
       const vec3 box = glm::max(p.dhi, q.dhi) - glm::min(p.dlo, q.dlo);
-      if (!(glm::dot(box, box) <= limit * limit)) return true;
+      if (!(glm::dot(box, box) <= limit * limit)) {
+        moved_.set = true;
+        break;
+      }
     }
   }
-  return false;
+  if (split) teamBarrier();
 }
 
-// Tiles of about kTilePoints points, at most kMaxTiles of them (stale() compares every two).
+// Tiles of about kTilePoints points, at most kMaxTiles of them (compareTiles() compares every two).
 template <class T>
 void CollisionPairs<T>::makeTiles(std::size_t n) {
   runs_.clear();

@@ -1,6 +1,6 @@
 // Self-collision candidates kept across substeps: a neighbour list with a skin (Verlet 1967). Every
 // pair closer than range + margin when the list is built is listed; the list stays valid while the
-// points' displacements since the build all fit in a box whose diagonal is under the margin (stale()),
+// points' displacements since the build all fit in a box whose diagonal is under the margin (needsBuild()),
 // because no pair then approaches by the margin and every pair within range is still listed. Points move
 // ~1 mm a substep at CS184's speeds, mostly together, so a list of a few millimetres of skin serves
 // several substeps instead of rebuilding the hash grid and reading 27 cells every substep.
@@ -55,10 +55,14 @@ class CollisionPairs {
   // Makes the list valid for positions x (rebuilding if any point moved too far); returns whether it
   // rebuilt. threads: OpenMP threads for the per-point loops. Outside a team.
   bool update(const std::vector<vec3>& x, int threads);
-  // update() in two steps, for a team (cpu/parallel.hpp): whether the lists must be rebuilt for x (one
-  // thread), then the build, which every thread of the team calls and shares. Outside a team build() forks
-  // its own threads for long loops and throws what fails; in a team it keeps it for takeFailure().
+  // update() in two steps, for a team (cpu/parallel.hpp): whether the lists must be rebuilt for x, then the
+  // build; every thread of the team calls both and shares their work. Outside a team build() forks its own
+  // threads for long loops and throws what fails; in a team it keeps it for takeFailure().
   bool needsBuild(const std::vector<vec3>& x);
+  // needsBuild in two steps, for a team that has a serial step of its own to share: startCheck on one thread
+  // (it allocates, and may throw), then finishCheck on every thread, which returns needsBuild's answer.
+  void startCheck(const std::vector<vec3>& x);
+  bool finishCheck(const std::vector<vec3>& x);
   void build(const std::vector<vec3>& x, int threads);
   // What a build in a team failed with (out of memory), once the team is done with it; cleared by taking it.
   std::exception_ptr takeFailure() { return std::exchange(failure_, nullptr); }
@@ -115,7 +119,8 @@ class CollisionPairs {
   static T safeTravel(T margin, T extent);
 
  private:
-  bool stale(const std::vector<vec3>& x) const;
+  void boxTiles(const std::vector<vec3>& x, bool split);  // needsBuild's two steps: a team may split each
+  void compareTiles(bool split);
   void makeTiles(std::size_t n);
   void makeStencil();
   struct ScanArgs {  // GridKernels' PairScanArgs in T
@@ -135,7 +140,7 @@ class CollisionPairs {
   std::vector<std::vector<Pair>> found_;  // per thread, kept to spare the allocations
   std::vector<std::uint32_t> start_, list_, fill_;
   std::vector<vec3> anchor_;  // positions at the last build
-  // stale()'s tiles, as runs of consecutive points, and per tile the box of its displacements since the build
+  // needsBuild()'s tiles, as runs of consecutive points, and per tile the box of its displacements since the build
   // and the box of its points
   static constexpr int kTileEdge = 8, kTilesAcross = 16;
   struct Run {
@@ -148,7 +153,8 @@ class CollisionPairs {
   struct TileBox {
     vec3 dlo, dhi, lo, hi;
   };
-  mutable std::vector<TileBox> boxes_;
+  std::vector<TileBox> boxes_;
+  static constexpr std::size_t kSplitTiles = 128;  // from this many tiles a team splits needsBuild's work
   std::vector<vec3> rest_;
   int w_ = 0, h_ = 0;                 // the grid, or 0 x 0
   std::vector<std::uint16_t> u_, v_;  // each point's grid column and row
@@ -172,6 +178,7 @@ class CollisionPairs {
     }
   };
   Flag out_of_memory_;
+  Flag moved_;  // needsBuild's answer, shared by a team
   std::exception_ptr failure_;
   std::vector<T> sx_, sy_, sz_, su_, sv_;  // build's scratch: position, column and row of grid_.sorted()[s]
   T a2_ = 0, b2_ = 0, near_below_ = -1;    // ScanArgs of the stencil's grid

@@ -151,7 +151,6 @@ class CpuSolver final : public Solver {
   std::vector<T> rest_adjacent_;  // per adjacency entry, in T
   CollisionPairs<T> pairs_;
   std::vector<std::uint8_t> near_;  // per point: a stencil partner in range this substep
-  bool rebuild_ = false;            // selfCollide: the lists are rebuilt this substep (shared by a team)
   SpringColouring colouring_;
   Tethers tethers_;  // empty until the scene asks for tethers
   std::vector<T> tether_rest_;

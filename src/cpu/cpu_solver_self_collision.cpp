@@ -18,19 +18,19 @@ void CpuSolver<T>::selfCollide() {
   // grid the stencil tests the ring of unheld pairs within range + skin at rest every substep (20 offsets at
   // 256^2 with CS184's thickness), so the skin sets both its width and how long the lists last. The bytes do
   // not depend on it.
-  // The list check runs on one thread of a team and the build on all of them; an exception (out of memory)
-  // is kept for step() to rethrow after the region.
+  // Every thread of a team shares the list check and the build; an exception (out of memory) is kept for
+  // step() to rethrow after the region.
   teamSingle([&] {
     try {
       pairs_.configure(range, T(pair_margin_) * std::min(range, T(shortest_spring_)));
-      rebuild_ = pairs_.needsBuild(x_);
       near_.resize(x_.size());
+      pairs_.startCheck(x_);
     } catch (...) {
       failure_ = std::current_exception();
     }
   });
   if (failure_) return;
-  if (rebuild_) {  // every thread of a team shares the build
+  if (pairs_.finishCheck(x_)) {
     try {
       pairs_.build(x_, threads_);
     } catch (...) {  // outside a team

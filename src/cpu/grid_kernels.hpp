@@ -91,12 +91,13 @@ struct CollideArgs {
   float plane_epsilon = 0, surface_offset = 0;  // physics::kPlaneEpsilon, kSurfaceOffset as float
 };
 
-// The self-collision lists' staleness test on a grid cloth (CollisionPairs::stale): per square tile of
+// The self-collision lists' staleness test on a grid cloth (CollisionPairs::needsBuild): per square tile of
 // edge x edge points (tiles in rows of `across`), the box of the displacements x - anchor and of the positions.
 struct TileBoxArgs {
   const float *x, *anchor;  // vec3 arrays seen as floats
   int w = 0, h = 0, edge = 0, across = 0;
-  float* out;  // per tile 12 floats: displacement min xyz, max xyz, position min xyz, max xyz
+  float* out;            // per tile 12 floats: displacement min xyz, max xyz, position min xyz, max xyz
+  int tv0 = 0, tv1 = 0;  // the rows of tiles [tv0, tv1) to box
 };
 
 // One instruction set's kernels. Each works on the rows [y0, y1) of the grid (for a stretch colour, the
@@ -132,7 +133,7 @@ struct GridKernels {
   // physics::collideSphere and collidePlane compute them, lane by lane. Returns where it stopped: the last
   // points, fewer than a vector, are the caller's.
   long long (*collideObjects)(const CollideArgs&, long long first, long long last);
-  // TileBoxArgs' boxes of every tile; false if a displacement is not finite (the lists must be rebuilt).
+  // TileBoxArgs' boxes of the tiles in its rows; false if a displacement is not finite (the lists must be rebuilt).
   bool (*tileBoxes)(const TileBoxArgs&);
   // Probes of this machine's peak with these instructions (cpu/machine_peak.hpp); each returns a value that
   // depends on all its work, so that none of it can be left out. Independent chains, so throughput counts:

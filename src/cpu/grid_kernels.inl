@@ -426,7 +426,7 @@ struct Kernels {
     const F big = V::set1(inf), small = V::set1(-inf);
     F finite = V::eq(big, big);
     bool finite_tail = true;
-    for (int tv = 0; tv * a.edge < a.h; ++tv)
+    for (int tv = a.tv0; tv < a.tv1 && tv * a.edge < a.h; ++tv)
       for (int tu = 0; tu * a.edge < a.w; ++tu) {
         const int u0 = tu * a.edge, u1 = u0 + a.edge < a.w ? u0 + a.edge : a.w;
         const int v0 = tv * a.edge, v1 = v0 + a.edge < a.h ? v0 + a.edge : a.h;
