@@ -158,30 +158,35 @@ T CollisionPairs<T>::safeTravel(T margin, T extent) {
 // region against another that touches it. One tile would be the box of every d (the GPU's test, a single
 // reduction), which a swinging cloth wears out in a few substeps: its free end moves against its pins.
 // Tiles: squares of the grid, or runs of points in index order on a mesh.
+// The serial part of the check; on a cloth too small to split it, all of it (one barrier a substep in a team).
 template <class T>
 void CollisionPairs<T>::startCheck(const std::vector<vec3>& x) {
   if (range_ != stencil_range_ || margin_ != stencil_margin_) makeStencil();
   moved_.set = !built_ || anchor_.size() != x.size() || travel_ <= T(0);
-  if (!moved_.set) boxes_.resize(tile_count_);
+  split_ = !moved_.set && splitCheck();
+  if (moved_.set) return;
+  boxes_.resize(tile_count_);
+  if (split_) return;
+  boxTiles(x, false);
+  if (!moved_.set) compareTiles(false);
 }
 
 // Every thread of a team gets the same answer. A large grid's tiles are boxed and compared by all of the
-// team's threads; a small cloth's by one, where splitting costs more barriers than it saves.
+// team's threads; a small cloth's by one, in startCheck, where splitting costs more barriers than it saves.
+// A thread of the team may set moved_ while another has yet to read it, so which barriers a thread passes
+// must not depend on moved_: it follows split_, which only startCheck writes.
 template <class T>
 bool CollisionPairs<T>::finishCheck(const std::vector<vec3>& x) {
-  if (moved_.set) return true;
-  bool split = false;
-  if constexpr (std::is_same_v<T, float>) split = inTeam() && kernels_ && edge_ > 0 && tile_count_ >= kSplitTiles;
-  if (split) {
-    boxTiles(x, true);
-    if (!moved_.set) compareTiles(true);
-  } else {
-    teamSingle([&] {
-      boxTiles(x, false);
-      if (!moved_.set) compareTiles(false);
-    });
-  }
+  if (!split_) return moved_.set;
+  boxTiles(x, true);
+  compareTiles(true);  // stops at once where a tile's displacements were not finite
   return moved_.set;
+}
+
+template <class T>
+bool CollisionPairs<T>::splitCheck() const {
+  if constexpr (std::is_same_v<T, float>) return inTeam() && kernels_ && edge_ > 0 && tile_count_ >= kSplitTiles;
+  return false;
 }
 
 template <class T>

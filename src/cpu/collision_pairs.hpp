@@ -121,6 +121,7 @@ class CollisionPairs {
  private:
   void boxTiles(const std::vector<vec3>& x, bool split);  // needsBuild's two steps: a team may split each
   void compareTiles(bool split);
+  bool splitCheck() const;  // whether finishCheck splits the check between a team's threads
   void makeTiles(std::size_t n);
   void makeStencil();
   struct ScanArgs {  // GridKernels' PairScanArgs in T
@@ -178,7 +179,8 @@ class CollisionPairs {
     }
   };
   Flag out_of_memory_;
-  Flag moved_;  // needsBuild's answer, shared by a team
+  Flag moved_;          // needsBuild's answer, shared by a team
+  bool split_ = false;  // this check is split between a team's threads (written by startCheck only)
   std::exception_ptr failure_;
   std::vector<T> sx_, sy_, sz_, su_, sv_;  // build's scratch: position, column and row of grid_.sorted()[s]
   T a2_ = 0, b2_ = 0, near_below_ = -1;    // ScanArgs of the stencil's grid
