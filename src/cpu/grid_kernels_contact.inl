@@ -1,0 +1,242 @@
+// The grid kernels of self-collision and collisions, over the vector type V: part of cpu/grid_kernels.inl
+// (which includes this file once, inside the same rules: nothing here may be a non-inline symbol shared with
+// other units), kept apart for its size. Each lane follows the scalar code it names operation for operation.
+#pragma once
+
+namespace drape {
+namespace {
+
+template <class V>
+struct ContactKernels : Lanes<V> {
+  using F = typename V::F;
+  static constexpr int kW = V::kWidth;
+  using Lanes<V>::onGrid;
+  using Lanes<V>::sum;
+
+  static bool anyInRange(const float* x, const std::uint32_t* begin, const std::uint32_t* end, std::size_t i,
+                         float thickness) {
+    const float range = 2.0f * thickness;  // selfCollisionCorrection's range * range, in its order
+    if (end - begin < 4) {                 // a gather costs more than a few scalar tests
+      const float r2 = range * range, px = x[3 * i], py = x[3 * i + 1], pz = x[3 * i + 2];
+      for (const std::uint32_t* p = begin; p < end; ++p) {
+        const float dx = px - x[3 * std::size_t(*p)], dy = py - x[3 * std::size_t(*p) + 1],
+                    dz = pz - x[3 * std::size_t(*p) + 2];
+        const float d2 = dx * dx + dy * dy + dz * dz;
+        if (!(d2 >= r2 || d2 <= 0.0f)) return true;
+      }
+      return false;
+    }
+    const F range2 = V::set1(range * range), zero = V::set1(0.0f);
+    const F xi = V::set1(x[3 * i]), yi = V::set1(x[3 * i + 1]), zi = V::set1(x[3 * i + 2]);
+    for (const std::uint32_t* p = begin; p < end; p += kW) {
+      F gx, gy, gz, live;
+      V::gatherVec3(x, p, int(end - p < kW ? end - p : kW), gx, gy, gz, live);
+      const F dx = V::sub(xi, gx), dy = V::sub(yi, gy), dz = V::sub(zi, gz);
+      const F dist2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
+      // Not (dist2 >= range^2 or dist2 <= 0): a NaN distance is a term there too.
+      if (V::any(V::andNot(V::bitOr(V::ge(dist2, range2), V::le(dist2, zero)), live))) return true;
+    }
+    return false;
+  }
+
+  static void stencilFlags(const GridStencilArgs& a, int y0, int y1) {
+    const GridShape& g = a.shape;
+    const F r2 = V::set1(a.range2);
+    for (int v = y0; v < y1; ++v)
+      for (int u0 = 0; u0 < g.W; u0 += kW) {
+        const std::ptrdiff_t q = at(g, u0, v);
+        const F X = V::load(a.x + q), Y = V::load(a.y + q), Z = V::load(a.z + q);
+        const F us = V::add(V::set1(float(u0)), V::iota());
+        const F own = V::lt(us, V::set1(float(g.W)));
+        std::uint8_t* mine = a.flags + std::ptrdiff_t(v) * g.W + u0;
+        F hit = V::set1(0.0f);
+        for (int k = 0; k < a.count; ++k) {
+          if (v + a.dv[k] < 0 || v + a.dv[k] >= g.H) continue;
+          // The padding keeps every partner load inside the arrays (|du| <= kMaxStencilBox < 2 rows)
+          const std::ptrdiff_t p = q + std::ptrdiff_t(a.dv[k]) * g.stride + a.du[k];
+          const F dx = V::sub(X, V::load(a.x + p)), dy = V::sub(Y, V::load(a.y + p)), dz = V::sub(Z, V::load(a.z + p));
+          const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
+          F pair = V::bitAnd(onGrid(us, a.du[k], g.W), V::andNot(V::ge(d2, r2), own));
+          if (a.mixed[k] && V::any(pair)) {  // heldAtRest(rest_i, rest_j, range): d . d < range^2
+            const F ex = V::sub(V::load(a.rx + q), V::load(a.rx + p)),
+                    ey = V::sub(V::load(a.ry + q), V::load(a.ry + p)),
+                    ez = V::sub(V::load(a.rz + q), V::load(a.rz + p));
+            const F e2 = V::add(V::add(V::mul(ex, ex), V::mul(ey, ey)), V::mul(ez, ez));
+            pair = V::andNot(V::lt(e2, r2), pair);
+          }
+          if (int bits = V::bits(pair); bits != 0) {
+            std::uint8_t* theirs = mine + std::ptrdiff_t(a.dv[k]) * g.W + a.du[k];
+            for (; bits != 0; bits &= bits - 1)
+              __atomic_fetch_or(theirs + __builtin_ctz(unsigned(bits)), std::uint8_t(1), __ATOMIC_RELAXED);
+          }
+          hit = V::bitOr(hit, pair);
+        }
+        for (int bits = V::bits(hit); bits != 0; bits &= bits - 1)
+          __atomic_fetch_or(mine + __builtin_ctz(unsigned(bits)), std::uint8_t(1), __ATOMIC_RELAXED);
+      }
+  }
+
+  static long long collideObjects(const CollideArgs& a, long long first, long long last) {
+    const F zero = V::set1(0.0f), one = V::set1(1.0f), all = V::eq(zero, zero);
+    long long i = first;
+    for (; i + kW <= last; i += kW) {
+      F X, Y, Z, VX, VY, VZ;
+      V::loadVec3(a.x + 3 * i, X, Y, Z);
+      V::loadVec3(a.v + 3 * i, VX, VY, VZ);
+      const F free = V::andNot(V::load(a.pinned + i), all);
+      F moved = zero;
+      // c is added to x and to v where `hit` (collidePoint: x += c, v += c)
+      const auto apply = [&](F hit, F cx, F cy, F cz) {
+        X = V::select(hit, V::add(X, cx), X);
+        Y = V::select(hit, V::add(Y, cy), Y);
+        Z = V::select(hit, V::add(Z, cz), Z);
+        VX = V::select(hit, V::add(VX, cx), VX);
+        VY = V::select(hit, V::add(VY, cy), VY);
+        VZ = V::select(hit, V::add(VZ, cz), VZ);
+        moved = V::bitOr(moved, hit);
+      };
+      // frictionCorrection(t, v, f) = (1 - f) t - f v
+      const auto friction = [&](F f, F tx, F ty, F tz, F& cx, F& cy, F& cz) {
+        const F keep = V::sub(one, f);
+        cx = V::sub(V::mul(keep, tx), V::mul(f, VX));
+        cy = V::sub(V::mul(keep, ty), V::mul(f, VY));
+        cz = V::sub(V::mul(keep, tz), V::mul(f, VZ));
+      };
+      for (int s = 0; s < a.sphere_count; ++s) {  // collideSphere
+        const float* o = a.spheres + 5 * s;
+        const F r = V::set1(o[3]);
+        const F dx = V::sub(X, V::set1(o[0])), dy = V::sub(Y, V::set1(o[1])), dz = V::sub(Z, V::set1(o[2]));
+        const F dist = V::sqrt(V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz)));
+        const F hit = V::andNot(V::lt(r, dist), free);  // not (dist > radius)
+        if (!V::any(hit)) continue;
+        const F up = V::lt(zero, dist);  // dist > 0: d / dist, else (0, 1, 0)
+        const F ux = V::select(up, V::div(dx, dist), zero), uy = V::select(up, V::div(dy, dist), one),
+                uz = V::select(up, V::div(dz, dist), zero);
+        const F depth = V::sub(r, dist);
+        F cx, cy, cz;
+        friction(V::set1(o[4]), V::mul(depth, ux), V::mul(depth, uy), V::mul(depth, uz), cx, cy, cz);
+        apply(hit, cx, cy, cz);
+      }
+      for (int p = 0; p < a.plane_count; ++p) {  // collidePlane
+        const float* o = a.planes + 7 * p;
+        const F nx = V::set1(o[3]), ny = V::set1(o[4]), nz = V::set1(o[5]);
+        const F dx = V::add(V::add(V::mul(V::sub(X, V::set1(o[0])), nx), V::mul(V::sub(Y, V::set1(o[1])), ny)),
+                            V::mul(V::sub(Z, V::set1(o[2])), nz));
+        const F vn = V::add(V::add(V::mul(VX, nx), V::mul(VY, ny)), V::mul(VZ, nz));
+        const F above = V::ge(V::sub(dx, vn), V::neg(V::set1(a.plane_epsilon)));
+        const F crossed = V::bitOr(V::bitAnd(above, V::le(dx, zero)), V::andNot(above, V::ge(dx, zero)));
+        const F hit = V::bitAnd(crossed, free);
+        if (!V::any(hit)) continue;
+        // vn != 0: -clamp(dx / vn, 0, 1) v; else -dx n
+        F t = V::div(dx, vn);
+        t = V::select(V::lt(t, zero), zero, t);
+        t = V::neg(V::select(V::lt(one, t), one, t));
+        const F along = V::eq(vn, zero), ndx = V::neg(dx);
+        F tx = V::select(along, V::mul(ndx, nx), V::mul(t, VX));
+        F ty = V::select(along, V::mul(ndx, ny), V::mul(t, VY));
+        F tz = V::select(along, V::mul(ndx, nz), V::mul(t, VZ));
+        const F offset = V::select(above, V::set1(a.surface_offset), V::neg(V::set1(a.surface_offset)));
+        tx = V::add(tx, V::mul(offset, nx));
+        ty = V::add(ty, V::mul(offset, ny));
+        tz = V::add(tz, V::mul(offset, nz));
+        F cx, cy, cz;
+        friction(V::set1(o[6]), tx, ty, tz, cx, cy, cz);
+        apply(hit, cx, cy, cz);
+      }
+      if (V::any(moved)) {
+        V::storeVec3(a.x + 3 * i, X, Y, Z);
+        V::storeVec3(a.v + 3 * i, VX, VY, VZ);
+      }
+    }
+    return i;
+  }
+
+  static bool tileBoxes(const TileBoxArgs& a) {
+    const std::ptrdiff_t n = std::ptrdiff_t(a.w) * a.h;
+    const float inf = __builtin_inff();
+    const F big = V::set1(inf), small = V::set1(-inf);
+    F finite = V::eq(big, big);
+    bool finite_tail = true;
+    for (int tv = a.tv0; tv < a.tv1 && tv * a.edge < a.h; ++tv)
+      for (int tu = 0; tu * a.edge < a.w; ++tu) {
+        const int u0 = tu * a.edge, u1 = u0 + a.edge < a.w ? u0 + a.edge : a.w;
+        const int v0 = tv * a.edge, v1 = v0 + a.edge < a.h ? v0 + a.edge : a.h;
+        F box[12] = {big, big, big, small, small, small, big, big, big, small, small, small};
+        float tail[12] = {inf, inf, inf, -inf, -inf, -inf, inf, inf, inf, -inf, -inf, -inf};
+        for (int v = v0; v < v1; ++v)
+          for (int u = u0; u < u1; u += kW) {
+            const std::ptrdiff_t i = std::ptrdiff_t(v) * a.w + u;
+            const int lanes = u1 - u < kW ? u1 - u : kW;
+            if (i + kW > n) {  // the loads would leave the arrays
+              for (int l = 0; l < lanes; ++l)
+                for (int c = 0; c < 3; ++c) {
+                  const float p = a.x[3 * (i + l) + c], d = p - a.anchor[3 * (i + l) + c];
+                  finite_tail = finite_tail && d - d == 0.0f;
+                  tail[c] = d < tail[c] ? d : tail[c];
+                  tail[3 + c] = d > tail[3 + c] ? d : tail[3 + c];
+                  tail[6 + c] = p < tail[6 + c] ? p : tail[6 + c];
+                  tail[9 + c] = p > tail[9 + c] ? p : tail[9 + c];
+                }
+              continue;
+            }
+            F P[3], A[3];
+            V::loadVec3(a.x + 3 * i, P[0], P[1], P[2]);
+            V::loadVec3(a.anchor + 3 * i, A[0], A[1], A[2]);
+            const F live = V::lt(V::iota(), V::set1(float(lanes)));
+            for (int c = 0; c < 3; ++c) {
+              const F d = V::sub(P[c], A[c]);
+              finite =
+                  V::bitAnd(finite, V::bitOr(V::eq(V::sub(d, d), V::set1(0.0f)), V::andNot(live, V::eq(big, big))));
+              box[c] = V::select(live, V::min(box[c], d), box[c]);
+              box[3 + c] = V::select(live, V::max(box[3 + c], d), box[3 + c]);
+              box[6 + c] = V::select(live, V::min(box[6 + c], P[c]), box[6 + c]);
+              box[9 + c] = V::select(live, V::max(box[9 + c], P[c]), box[9 + c]);
+            }
+          }
+        float* out = a.out + 12 * (std::ptrdiff_t(tv) * a.across + tu);
+        for (int k = 0; k < 12; ++k) {
+          float lanes[kW];
+          V::store(lanes, box[k]);
+          float r = tail[k];
+          for (float l : lanes)
+            r = (k / 3) % 2 == 0 ? (l < r ? l : r) : (l > r ? l : r);
+          out[k] = r;
+        }
+      }
+    return finite_tail && V::bits(finite) == (1 << kW) - 1;
+  }
+
+  static bool scanOne(const PairScanArgs& a, std::uint32_t s) {
+    const float dx = a.px - a.x[s], dy = a.py - a.y[s], dz = a.pz - a.z[s];
+    if (!(dx * dx + dy * dy + dz * dz < a.reach2)) return false;
+    const float du = a.u[s] - a.pu, dv = a.v[s] - a.pv;
+    const float nominal = du * du * a.a2 + dv * dv * a.b2;
+    return !(nominal < a.near_below);
+  }
+
+  static int scanPairs(const PairScanArgs& a, std::uint32_t first, std::uint32_t last, std::uint32_t* out) {
+    int count = 0;
+    std::uint32_t s = first;
+    const F px = V::set1(a.px), py = V::set1(a.py), pz = V::set1(a.pz), pu = V::set1(a.pu), pv = V::set1(a.pv);
+    const F reach2 = V::set1(a.reach2), a2 = V::set1(a.a2), b2 = V::set1(a.b2);
+    const F near_below = V::set1(a.near_below);
+    for (; s + kW <= last; s += kW) {
+      const F dx = V::sub(px, V::load(a.x + s)), dy = V::sub(py, V::load(a.y + s)), dz = V::sub(pz, V::load(a.z + s));
+      const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
+      const F du = V::sub(V::load(a.u + s), pu), dv = V::sub(V::load(a.v + s), pv);
+      const F nominal = V::add(V::mul(V::mul(du, du), a2), V::mul(V::mul(dv, dv), b2));
+      int bits = V::bits(V::andNot(V::lt(nominal, near_below), V::lt(d2, reach2)));
+      while (bits != 0) {
+        const int l = __builtin_ctz(unsigned(bits));
+        bits &= bits - 1;
+        out[count++] = s + std::uint32_t(l);
+      }
+    }
+    for (; s < last; ++s)
+      if (scanOne(a, s)) out[count++] = s;
+    return count;
+  }
+};
+
+}  // namespace
+}  // namespace drape
