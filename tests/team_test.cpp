@@ -136,6 +136,19 @@ TEST(TeamTrial, AThousandTimesSlowerCostsLittleMoreThanTwelve) {
   EXPECT_LT(double(on_team) * 999.0, 3 * TeamTrial::kProbeShare * double(n) + 3 * 1000.0);
 }
 
+TEST(TeamTrial, ASubstepThousandsOfTimesSlowerEndsTheProbeAtOnce) {
+  TeamTrial trial;
+  EXPECT_EQ(runTrial(trial, 200, 1.0, 1600.0), 1) << "one substep on the team, not two";
+  EXPECT_FALSE(trial.useTeam());
+  TeamTrial quiet;
+  // A substep interrupted for 50 times its time, on a team that is faster: not enough to end the probe.
+  for (int s = 0; s < 200; ++s) {
+    const bool use = quiet.useTeam();
+    quiet.record(use ? (s == TeamTrial::kSamples ? 50.0 : 0.75) : 1.0);
+  }
+  EXPECT_TRUE(quiet.useTeam());
+}
+
 TEST(TeamTrial, FollowsTheMachineWhenItChanges) {
   TeamTrial trial;
   runTrial(trial, 3000, 1.0, 12.0);  // busy: one thread

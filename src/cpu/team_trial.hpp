@@ -31,6 +31,11 @@ class TeamTrial {
   // A team whose last kMinInterval substeps took this many times what it measured is probed against one
   // thread at once.
   static constexpr double kSlowdown = 1.5;
+  // One substep of a probe this many times the current way's mean ends it, lost: a team whose barriers each
+  // wait for a time slice (both cores busy) takes a thousand times one thread's substep, 0.1 s at 50 x 50,
+  // and a second such substep would double the probe's cost. An interrupted substep on a quiet machine (a
+  // few milliseconds) stays under it.
+  static constexpr double kAbsurd = 200;
 
   // `room`: whether the machine has a core for each of the team's other threads now (asked before a probe
   // of the team, not every substep).
@@ -70,7 +75,7 @@ class TeamTrial {
     // is what decides; once it exceeds what kSamples substeps may take to win, the other way has lost,
     // however the rest would go.
     const double limit = kHysteresis * current * double(kSamples);
-    const bool lost = probe_sum_ - probe_max_ > limit;
+    const bool lost = probe_sum_ - probe_max_ > limit || seconds > kAbsurd * current;
     if (!lost && probe_runs_ < kSamples + 1) return;
     const double other = (probe_sum_ - probe_max_) / double(std::max(probe_runs_ - 1, 1));
     const double ratio = other / current;  // the other way's time over this way's
