@@ -128,18 +128,19 @@ void CollisionPairs<T>::makeStencil() {
 }
 
 template <class T>
-bool CollisionPairs<T>::stencilInRange(const std::vector<vec3>& x, std::size_t i) const {
+std::uint32_t CollisionPairs<T>::stencilMask(const std::vector<vec3>& x, std::size_t i) const {
   const int u = u_[i], v = v_[i];
   const T range2 = range_ * range_;
+  std::uint32_t mask = 0;
   for (std::size_t k = 0; k < stencil_.size(); ++k) {
     const Offset& o = stencil_[k];
     if (!onGrid(u + o.du, v + o.dv)) continue;
     const std::size_t j = std::size_t(std::int64_t(i) + o.step);
     if (mixed_[k] && physics::heldAtRest(rest_[i], rest_[j], range_)) continue;
     const vec3 d = x[i] - x[j];
-    if (!(glm::dot(d, d) >= range2)) return true;  // selfCollisionCorrection's test; NaN counts
+    if (!(glm::dot(d, d) >= range2)) mask |= stencilBit(int(k));  // selfCollisionCorrection's test; NaN counts
   }
-  return false;
+  return mask;
 }
 
 template <class T>

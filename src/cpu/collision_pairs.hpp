@@ -21,6 +21,7 @@
 #include "cpu/grid_kernels.hpp"
 #include "cpu/hash_grid.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <bit>
 #include <cstdint>
@@ -87,26 +88,40 @@ class CollisionPairs {
   const std::uint8_t* stencilMixed() const { return mixed_.data(); }
   int gridWidth() const { return w_; }
   int gridHeight() const { return h_; }
-  // Whether point i has a stencil partner within `range` (a NaN distance counts): false means no stencil pair
-  // adds a term to its sum.
-  bool stencilInRange(const std::vector<vec3>& x, std::size_t i) const;
+  // Which of point i's stencil partners are within `range` and not held (a NaN distance counts): bit
+  // stencilBit(k) for offset k (GridKernels::stencilFlags computes the same on a float grid). A partner whose
+  // bit is clear adds no term to the point's sum.
+  std::uint32_t stencilMask(const std::vector<vec3>& x, std::size_t i) const;
+  // Offset k's bit in a stencil mask; every offset from 31 on shares the last (the set is looked at whole).
+  static std::uint32_t stencilBit(int k) { return std::uint32_t(1) << (k < 31 ? k : 31); }
 
-  // Calls g(j) for every candidate of point i, ascending: its list and its stencil partners, merged.
+  // Calls g(j) for every candidate of point i, ascending: its list and its stencil partners, merged; of the
+  // stencil, only the offsets whose bits `mask` has (stencilMask), as the others add no term.
   template <class G>
-  void forEachCandidate(std::size_t i, G&& g) const {
+  void forEachCandidate(std::size_t i, std::uint32_t mask, G&& g) const {
     const std::uint32_t *a = begin(i), *e = end(i);
-    if (!stencil_.empty()) {
+    if (!stencil_.empty() && mask != 0) {
       const int u = int(i % std::size_t(w_)), v = int(i / std::size_t(w_));
-      for (const Offset& o : stencil_) {
-        if (!onGrid(u + o.du, v + o.dv)) continue;
-        const auto j = std::uint32_t(std::int64_t(i) + o.step);
-        for (; a != e && *a < j; ++a)
-          g(*a);
-        if (!mixed_[std::size_t(&o - stencil_.data())] || !physics::heldAtRest(rest_[i], rest_[j], range_)) g(j);
+      // The set bits in ascending order are the offsets in ascending step: the merge stays ascending.
+      for (std::uint32_t m = mask; m != 0; m &= m - 1) {
+        const std::size_t bit = std::size_t(std::countr_zero(m));
+        const std::size_t last = std::min(bit < 31 ? bit + 1 : stencil_.size(), stencil_.size());
+        for (std::size_t k = bit; k < last; ++k) {
+          const Offset& o = stencil_[k];
+          if (!onGrid(u + o.du, v + o.dv)) continue;
+          const auto j = std::uint32_t(std::int64_t(i) + o.step);
+          for (; a != e && *a < j; ++a)
+            g(*a);
+          if (!mixed_[k] || !physics::heldAtRest(rest_[i], rest_[j], range_)) g(j);
+        }
       }
     }
     for (; a != e; ++a)
       g(*a);
+  }
+  template <class G>
+  void forEachCandidate(std::size_t i, G&& g) const {
+    forEachCandidate(i, ~std::uint32_t(0), g);
   }
   long long rebuilds() const { return rebuilds_; }
   long long entriesBuilt() const { return entries_built_; }  // pairCount summed over the builds
@@ -210,9 +225,10 @@ inline int cellOrder(glm::ivec3 cell_i, glm::ivec3 cell_j) {
 // over the short candidate list computes each term once and inserts it by its cell order (stably, so one
 // order's terms stay in list order, ascending j); cells are computed only for pairs in range, which most
 // points have none of. A point with more terms than are held (a deep fold) sweeps once per order present.
+// stencil_mask: the point's stencilMask (all bits: every stencil partner is looked at).
 template <class T, class F>
 void forEachOrderedPair(const CollisionPairs<T>& pairs, std::size_t i, const std::vector<glm::vec<3, T>>& x,
-                        T thickness, T inv_range, F&& f) {
+                        T thickness, T inv_range, F&& f, std::uint32_t stencil_mask = ~std::uint32_t(0)) {
   using vec3 = glm::vec<3, T>;
   constexpr int kHeld = 24;  // the folded selfCollision scene has at most 5 terms a point
   struct Term {
@@ -223,7 +239,7 @@ void forEachOrderedPair(const CollisionPairs<T>& pairs, std::size_t i, const std
   int count = 0;
   std::uint32_t present = 0;
   glm::ivec3 cell_i{};
-  pairs.forEachCandidate(i, [&](std::uint32_t j) {
+  pairs.forEachCandidate(i, stencil_mask, [&](std::uint32_t j) {
     const vec3 c = physics::selfCollisionCorrection(x[i], x[j], thickness);
     if (c == vec3(0)) return;
     if (present == 0) cell_i = HashGrid<T>::cellOf(x[i], inv_range);
@@ -246,7 +262,7 @@ void forEachOrderedPair(const CollisionPairs<T>& pairs, std::size_t i, const std
   while (present != 0) {
     const int order = std::countr_zero(present);
     present &= present - 1;
-    pairs.forEachCandidate(i, [&](std::uint32_t j) {
+    pairs.forEachCandidate(i, stencil_mask, [&](std::uint32_t j) {
       const vec3 c = physics::selfCollisionCorrection(x[i], x[j], thickness);
       if (c != vec3(0) && cellOrder(cell_i, HashGrid<T>::cellOf(x[j], inv_range)) == order) f(c);
     });

@@ -150,7 +150,7 @@ class CpuSolver final : public Solver {
   std::vector<T> rest_;           // per spring, in T
   std::vector<T> rest_adjacent_;  // per adjacency entry, in T
   CollisionPairs<T> pairs_;
-  std::vector<std::uint8_t> near_;  // per point: a stencil partner in range this substep
+  std::vector<std::uint32_t> near_;  // per point: its stencil partners in range this substep (stencilMask)
   SpringColouring colouring_;
   Tethers tethers_;  // empty until the scene asks for tethers
   std::vector<T> tether_rest_;

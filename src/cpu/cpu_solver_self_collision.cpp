@@ -49,7 +49,7 @@ void CpuSolver<T>::selfCollide() {
                             range * range, near_);
     if (!std::is_same_v<T, float> || !grid_)
       parallelFor(0, (long long)x_.size(), threads_,
-                  [&](long long p) { near_[std::size_t(p)] = pairs_.stencilInRange(x_, std::size_t(p)); });
+                  [&](long long p) { near_[std::size_t(p)] = pairs_.stencilMask(x_, std::size_t(p)); });
   }
   // The cells of a grid of cell size `range` fix the order of each point's sum (see forEachOrderedPair).
   const T inv_range = T(1) / range;
@@ -81,7 +81,7 @@ int CpuSolver<T>::sumPairs(std::size_t i, std::size_t stencil, T thickness, T in
     // Most points have no pair in range: the stencil's test and the vectorised test of the list say so
     // without the ordered sweep.
     if (!topo_.pinned[i]) {
-      candidates = stencil > 0 && near_[i];
+      candidates = stencil > 0 && near_[i] != 0;
       if (!candidates && pairs_.begin(i) != pairs_.end(i)) {
         candidates = true;
         if constexpr (std::is_same_v<T, float>)
@@ -89,10 +89,13 @@ int CpuSolver<T>::sumPairs(std::size_t i, std::size_t stencil, T thickness, T in
       }
     }
     if (candidates) {
-      forEachOrderedPair(pairs_, i, x_, thickness, inv_range, [&](vec3 c) {
-        sum += c;
-        ++count;
-      });
+      forEachOrderedPair(
+          pairs_, i, x_, thickness, inv_range,
+          [&](vec3 c) {
+            sum += c;
+            ++count;
+          },
+          stencil > 0 ? near_[i] : 0);
     }
     correction_[i] = count > 0 ? sum / (T(count) * steps) : vec3(0);
     return count;

@@ -76,7 +76,12 @@ struct GridStencilArgs {
   const std::uint8_t* mixed;
   int count = 0;
   float range2 = 0;
-  std::uint8_t* flags;  // per point, in point order
+  // Per point, in point order: the bit of stencil offset k set where its partner there is in range (bit k,
+  // bit 31 for every k from 31 on: CollisionPairs::stencilBit). The offsets passed are the stencil's second
+  // half (forward); offset k of them is the whole stencil's half + k from the lower point and half - 1 - k
+  // from the higher.
+  std::uint32_t* flags;
+  int half = 0;
 };
 
 // The spheres and planes of a scene and the points they act on (collideObjects).

@@ -6,6 +6,11 @@
 namespace drape {
 namespace {
 
+// CollisionPairs::stencilBit, kept here: the kernels' translation units share no inline function with the rest.
+std::uint32_t stencilBit(int k) {
+  return std::uint32_t(1) << (k < 31 ? k : 31);
+}
+
 template <class V>
 struct ContactKernels : Lanes<V> {
   using F = typename V::F;
@@ -48,8 +53,7 @@ struct ContactKernels : Lanes<V> {
         const F X = V::load(a.x + q), Y = V::load(a.y + q), Z = V::load(a.z + q);
         const F us = V::add(V::set1(float(u0)), V::iota());
         const F own = V::lt(us, V::set1(float(g.W)));
-        std::uint8_t* mine = a.flags + std::ptrdiff_t(v) * g.W + u0;
-        F hit = V::set1(0.0f);
+        std::uint32_t* mine = a.flags + std::ptrdiff_t(v) * g.W + u0;
         for (int k = 0; k < a.count; ++k) {
           if (v + a.dv[k] < 0 || v + a.dv[k] >= g.H) continue;
           // The padding keeps every partner load inside the arrays (|du| <= kMaxStencilBox < 2 rows)
@@ -65,14 +69,15 @@ struct ContactKernels : Lanes<V> {
             pair = V::andNot(V::lt(e2, r2), pair);
           }
           if (int bits = V::bits(pair); bits != 0) {
-            std::uint8_t* theirs = mine + std::ptrdiff_t(a.dv[k]) * g.W + a.du[k];
-            for (; bits != 0; bits &= bits - 1)
-              __atomic_fetch_or(theirs + __builtin_ctz(unsigned(bits)), std::uint8_t(1), __ATOMIC_RELAXED);
+            std::uint32_t* theirs = mine + std::ptrdiff_t(a.dv[k]) * g.W + a.du[k];
+            const std::uint32_t forward = stencilBit(a.half + k), backward = stencilBit(a.half - 1 - k);
+            for (; bits != 0; bits &= bits - 1) {
+              const int l = __builtin_ctz(unsigned(bits));
+              __atomic_fetch_or(mine + l, forward, __ATOMIC_RELAXED);
+              __atomic_fetch_or(theirs + l, backward, __ATOMIC_RELAXED);
+            }
           }
-          hit = V::bitOr(hit, pair);
         }
-        for (int bits = V::bits(hit); bits != 0; bits &= bits - 1)
-          __atomic_fetch_or(mine + __builtin_ctz(unsigned(bits)), std::uint8_t(1), __ATOMIC_RELAXED);
       }
   }
 
