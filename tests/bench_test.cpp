@@ -150,6 +150,31 @@ TEST(Bench, TinyRunHasEveryFigure) {
   EXPECT_EQ(std::count(md.begin(), md.end(), '\n'), 2 + 1 + 2 + 4);  // two lines, blank, header, rule, runs
 }
 
+// A CPU run says how many of its substeps ran on a team: none on one thread; on two, a mid-sized cloth's
+// trial decides (so any share), and team_threads is the way most of them ran.
+TEST(Bench, ACpuRunSaysHowManySubstepsRanOnATeam) {
+  BenchOptions o;
+  o.scenes = {scenePath("pinned4.json")};
+  o.sizes = {40};  // 1600 points: a trial's size
+  o.solvers = {"cpu"};
+  o.threads = {1, 2};
+  o.frames = 2;
+  o.warmup = 1;
+  o.repeats = 1;
+  const BenchReport report = runBench(o);
+  ASSERT_EQ(report.runs.size(), 2u);
+  const nlohmann::json j = benchJson(report);
+  for (std::size_t r = 0; r < 2; ++r) {
+    const BenchRun& run = report.runs[r];
+    ASSERT_EQ(run.threads, int(r) + 1);
+    EXPECT_GE(run.team_share, 0.0);
+    EXPECT_LE(run.team_share, 1.0);
+    EXPECT_EQ(run.team_threads, run.team_share >= 0.5 ? run.threads : 1) << "the way most substeps ran";
+    EXPECT_DOUBLE_EQ(j["runs"][r]["cpu"]["team_share"].get<double>(), run.team_share);
+  }
+  EXPECT_EQ(report.runs[0].team_share, 0.0) << "one thread has no team";
+}
+
 // A bench JSON reads back as the runs it holds, and the before/after table pairs each run with the
 // baseline's run of the same scene, size and solver, pass by pass, with the ratio of the frame times.
 // The share-of-peak column knows a GPU by a name in its renderer string, the more specific name first,

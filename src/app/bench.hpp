@@ -72,6 +72,7 @@ struct BenchRun {
   // team had, and the self-collision lists at the end of the run: entries a point, rebuilds a substep.
   std::string grid_kernels;
   int team_threads = 0;
+  double team_share = 0;  // the share of the substeps that ran on the team (a mid-sized cloth's trial decides)
   double pair_entries_per_point = 0;
   double rebuilds_per_substep = 0;
   // CPU solvers: the process's CPU time over the timed frames' wall time (all threads; below the thread

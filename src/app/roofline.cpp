@@ -36,6 +36,7 @@ void recordCpuDetails(const Solver& solver, const Scene& scene, BenchRun& run) {
     run.grid_kernels = cpu->gridKernels();
     // A mid-sized cloth's trial may have run some substeps on one thread: the way most of them ran.
     run.team_threads = 2 * cpu->teamSubsteps() >= cpu->substeps() ? cpu->teamThreads() : 1;
+    run.team_share = cpu->substeps() > 0 ? double(cpu->teamSubsteps()) / double(cpu->substeps()) : 0;
     if (cpu->substeps() > 0 && run.points > 0) {
       run.pair_entries_per_point = double(cpu->collisionPairs().pairCount()) / double(run.points);
       run.rebuilds_per_substep = double(cpu->collisionPairs().rebuilds()) / double(cpu->substeps());
