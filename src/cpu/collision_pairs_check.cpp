@@ -1,0 +1,185 @@
+// CollisionPairs' check of whether the lists still hold (needsBuild), and the tiles it works by: kept apart
+// from collision_pairs.cpp for its size.
+#include "cpu/collision_pairs.hpp"
+#include "cpu/parallel.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <limits>
+#include <type_traits>
+
+namespace drape {
+
+// A pair not listed was at least range + margin apart at the build, and its distance has changed since by at
+// most |d_i - d_j|, d being each point's displacement from its anchor: at most the diagonal of the box
+// around the d of i's tile and j's tile together. The lists hold while that diagonal is under the margin
+// (2 * travel_, less round-off) for every two tiles (or one) close enough now to hold a pair in range: tiles
+// farther apart than the range hold none, whatever their motion. So the motion a region shares with its
+// neighbours (a cloth falling, swinging, unfolding) does not wear the lists out, only the motion of one
+// region against another that touches it. One tile would be the box of every d (the GPU's test, a single
+// reduction), which a swinging cloth wears out in a few substeps: its free end moves against its pins.
+// Tiles: squares of the grid, or runs of points in index order on a mesh.
+// The serial part of the check; on a cloth too small to split it, all of it (one barrier a substep in a team).
+template <class T>
+void CollisionPairs<T>::startCheck(const std::vector<vec3>& x) {
+  if (range_ != stencil_range_ || margin_ != stencil_margin_) makeStencil();
+  moved_.set = !built_ || anchor_.size() != x.size() || travel_ <= T(0);
+  split_ = !moved_.set && splitCheck();
+  if (moved_.set) return;
+  boxes_.resize(tile_count_);
+  if (split_) return;
+  boxTiles(x, false);
+  if (!moved_.set) compareTiles(false);
+}
+
+// Every thread of a team gets the same answer. A large grid's tiles are boxed and compared by all of the
+// team's threads; a small cloth's by one, in startCheck, where splitting costs more barriers than it saves.
+// A thread of the team may set moved_ while another has yet to read it, so which barriers a thread passes
+// must not depend on moved_: it follows split_, which only startCheck writes.
+template <class T>
+bool CollisionPairs<T>::finishCheck(const std::vector<vec3>& x) {
+  if (!split_) return moved_.set;
+  boxTiles(x, true);
+  compareTiles(true);  // stops at once where a tile's displacements were not finite
+  return moved_.set;
+}
+
+template <class T>
+bool CollisionPairs<T>::splitCheck() const {
+  if constexpr (std::is_same_v<T, float>) return inTeam() && kernels_ && edge_ > 0 && tile_count_ >= kSplitTiles;
+  return false;
+}
+
+template <class T>
+bool CollisionPairs<T>::needsBuild(const std::vector<vec3>& x) {
+  teamSingle([&] { startCheck(x); });
+  return finishCheck(x);
+}
+
+template <class T>
+bool CollisionPairs<T>::update(const std::vector<vec3>& x, int threads) {
+  if (!needsBuild(x)) return false;
+  build(x, threads);
+  return true;
+}
+
+// Each tile's boxes into boxes_ (moved_ set where a displacement is not finite). split: this thread's share
+// of the rows of tiles, in a team (a float grid with the kernels).
+template <class T>
+void CollisionPairs<T>::boxTiles(const std::vector<vec3>& x, bool split) {
+  if constexpr (std::is_same_v<T, float>)
+    if (kernels_ && edge_ > 0) {  // a grid's tiles, rows of several points at once
+      static_assert(sizeof(TileBox) == 12 * sizeof(float));
+      const int across = (w_ + edge_ - 1) / edge_, down = (h_ + edge_ - 1) / edge_;
+      const auto rows = [&](long long first, long long last) {
+        if (!kernels_->tileBoxes({&x.data()->x, &anchor_.data()->x, w_, h_, edge_, across, &boxes_.data()->dlo.x,
+                                  int(first), int(last)}))
+          moved_.set = true;
+      };
+      if (split)
+        teamRange(0, down, rows);
+      else
+        rows(0, down);
+      return;
+    }
+  constexpr T kInf = std::numeric_limits<T>::infinity();
+  std::fill(boxes_.begin(), boxes_.end(), TileBox{vec3(kInf), vec3(-kInf), vec3(kInf), vec3(-kInf)});
+  bool finite = true;
+  for (const Run& r : runs_) {
+    vec3 dlo(kInf), dhi(-kInf), lo(kInf), hi(-kInf);
+    for (std::uint32_t i = r.begin; i < r.end; ++i) {
+      const vec3 d = x[i] - anchor_[i];
+      // A non-finite position counts as moved (glm::min and max would pass over a NaN).
+      finite = finite && glm::dot(d, d) <= kInf;
+      dlo = glm::min(dlo, d);
+      dhi = glm::max(dhi, d);
+      lo = glm::min(lo, x[i]);
+      hi = glm::max(hi, x[i]);
+    }
+    TileBox& b = boxes_[r.tile];
+    b.dlo = glm::min(b.dlo, dlo);
+    b.dhi = glm::max(b.dhi, dhi);
+    b.lo = glm::min(b.lo, lo);
+    b.hi = glm::max(b.hi, hi);
+  }
+  if (!finite) moved_.set = true;
+}
+
+// Sets moved_ if two tiles close enough to hold a pair in range have moved apart by the margin (see above).
+// split: this thread takes every count-th first tile (the later a tile, the fewer partners it has after it:
+// interleaving evens the shares), then the team waits.
+template <class T>
+void CollisionPairs<T>::compareTiles(bool split) {
+  const T limit = T(2) * travel_;
+  // Tiles this far apart hold no pair in range, with room for the round-off of the boxes' differences.
+  const T apart = range_ + travel_;
+  std::size_t first = 0, step = 1;
+#ifdef _OPENMP
+  if (split) {
+    first = std::size_t(omp_get_thread_num());
+    step = std::size_t(omp_get_num_threads());
+  }
+#endif
+  for (std::size_t a = first; a < boxes_.size() && !moved_.set.load(std::memory_order_relaxed); a += step) {
+    const TileBox& p = boxes_[a];
+    if (!(p.lo.x <= p.hi.x)) continue;  // an empty tile
+    for (std::size_t c = a; c < boxes_.size(); ++c) {
+      const TileBox& q = boxes_[c];
+      if (!(q.lo.x <= q.hi.x)) continue;
+      const vec3 gap = glm::max(vec3(0), glm::max(q.lo - p.hi, p.lo - q.hi));
+      if (glm::dot(gap, gap) >= apart * apart) continue;
+      const vec3 box = glm::max(p.dhi, q.dhi) - glm::min(p.dlo, q.dlo);
+      if (!(glm::dot(box, box) <= limit * limit)) {
+        moved_.set = true;
+        break;
+      }
+    }
+  }
+  if (split) teamBarrier();
+}
+
+// Tiles of about kTilePoints points, at most kMaxTiles of them (compareTiles() compares every two).
+template <class T>
+void CollisionPairs<T>::makeTiles(std::size_t n) {
+  runs_.clear();
+  tiled_ = n;
+  edge_ = 0;
+  if (w_ > 0 && u_.size() == n) {  // squares of the grid, each row of a square a run
+    const int edge =
+        std::max({kTileEdge, (w_ + kTilesAcross - 1) / kTilesAcross, (h_ + kTilesAcross - 1) / kTilesAcross});
+    const int across = (w_ + edge - 1) / edge;
+    for (int v = 0; v < h_; ++v)
+      for (int u = 0; u < w_; u += edge)
+        runs_.push_back({std::uint32_t(v * w_ + u), std::uint32_t(v * w_ + std::min(u + edge, w_)),
+                         std::uint32_t(v / edge * across + u / edge)});
+    tile_count_ = std::size_t(across) * std::size_t((h_ + edge - 1) / edge);
+    edge_ = edge;
+  } else {
+    const std::size_t run = std::max<std::size_t>(
+        std::size_t(kTileEdge) * kTileEdge, (n + kTilesAcross * kTilesAcross - 1) / (kTilesAcross * kTilesAcross));
+    for (std::size_t i = 0; i < n; i += run)
+      runs_.push_back({std::uint32_t(i), std::uint32_t(std::min(n, i + run)), std::uint32_t(i / run)});
+    tile_count_ = runs_.size();
+  }
+}
+
+template void CollisionPairs<float>::startCheck(const std::vector<vec3>&);
+template bool CollisionPairs<float>::finishCheck(const std::vector<vec3>&);
+template bool CollisionPairs<float>::splitCheck() const;
+template bool CollisionPairs<float>::needsBuild(const std::vector<vec3>&);
+template bool CollisionPairs<float>::update(const std::vector<vec3>&, int);
+template void CollisionPairs<float>::boxTiles(const std::vector<vec3>&, bool);
+template void CollisionPairs<float>::compareTiles(bool);
+template void CollisionPairs<float>::makeTiles(std::size_t);
+template void CollisionPairs<double>::startCheck(const std::vector<vec3>&);
+template bool CollisionPairs<double>::finishCheck(const std::vector<vec3>&);
+template bool CollisionPairs<double>::splitCheck() const;
+template bool CollisionPairs<double>::needsBuild(const std::vector<vec3>&);
+template bool CollisionPairs<double>::update(const std::vector<vec3>&, int);
+template void CollisionPairs<double>::boxTiles(const std::vector<vec3>&, bool);
+template void CollisionPairs<double>::compareTiles(bool);
+template void CollisionPairs<double>::makeTiles(std::size_t);
+
+}  // namespace drape
