@@ -171,6 +171,13 @@ TEST(Bench, ACpuRunSaysHowManySubstepsRanOnATeam) {
     EXPECT_LE(run.team_share, 1.0);
     EXPECT_EQ(run.team_threads, run.team_share >= 0.5 ? run.threads : 1) << "the way most substeps ran";
     EXPECT_DOUBLE_EQ(j["runs"][r]["cpu"]["team_share"].get<double>(), run.team_share);
+    // The trial's last probe, where one ran: a time ratio, so positive; none on one thread.
+    const nlohmann::json& ratio = j["runs"][r]["cpu"]["team_over_solo"];
+    if (r == 0) {
+      EXPECT_TRUE(ratio.is_null());
+    } else if (!ratio.is_null()) {
+      EXPECT_GT(ratio.get<double>(), 0.0);
+    }
   }
   EXPECT_EQ(report.runs[0].team_share, 0.0) << "one thread has no team";
 }

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,11 @@ struct TeamCase {
   std::string scene;
   Integrator integrator;
 };
+
+// What ctest and a failure print for a case (not its bytes).
+void PrintTo(const TeamCase& c, std::ostream* os) {
+  *os << c.scene << " with " << integratorName(c.integrator);
+}
 
 std::vector<TeamCase> teamCases() {
   std::vector<TeamCase> cases;

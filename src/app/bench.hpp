@@ -72,7 +72,8 @@ struct BenchRun {
   // team had, and the self-collision lists at the end of the run: entries a point, rebuilds a substep.
   std::string grid_kernels;
   int team_threads = 0;
-  double team_share = 0;  // the share of the substeps that ran on the team (a mid-sized cloth's trial decides)
+  double team_share = 0;      // the share of the substeps that ran on the team (a mid-sized cloth's trial decides)
+  double team_over_solo = 0;  // the trial's last measured team time over one thread's (0: no trial or no probe)
   double pair_entries_per_point = 0;
   double rebuilds_per_substep = 0;
   // CPU solvers: the process's CPU time over the timed frames' wall time (all threads; below the thread

@@ -89,12 +89,14 @@ nlohmann::json benchJson(const BenchReport& r) {
     o["gpu_memory_bytes"] = run.gpu_memory_bytes >= 0 ? nlohmann::json(run.gpu_memory_bytes) : nlohmann::json(nullptr);
     o["pass_timing"] = run.pass_timing;
     if (!isGpuSolver(run.solver))
-      o["cpu"] = {{"grid_kernels", run.grid_kernels},
-                  {"team_threads", run.team_threads},
-                  {"team_share", run.team_share},
-                  {"pair_entries_per_point", run.pair_entries_per_point},
-                  {"rebuilds_per_substep", run.rebuilds_per_substep},
-                  {"cpu_share", run.cpu_share}};
+      o["cpu"] = {
+          {"grid_kernels", run.grid_kernels},
+          {"team_threads", run.team_threads},
+          {"team_share", run.team_share},
+          {"team_over_solo", run.team_over_solo > 0 ? nlohmann::json(run.team_over_solo) : nlohmann::json(nullptr)},
+          {"pair_entries_per_point", run.pair_entries_per_point},
+          {"rebuilds_per_substep", run.rebuilds_per_substep},
+          {"cpu_share", run.cpu_share}};
     o["passes"] = nlohmann::json::array();
     for (const BenchPass& p : run.passes)
       o["passes"].push_back(

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 namespace drape {
@@ -37,6 +38,8 @@ void recordCpuDetails(const Solver& solver, const Scene& scene, BenchRun& run) {
     // A mid-sized cloth's trial may have run some substeps on one thread: the way most of them ran.
     run.team_threads = 2 * cpu->teamSubsteps() >= cpu->substeps() ? cpu->teamThreads() : 1;
     run.team_share = cpu->substeps() > 0 ? double(cpu->teamSubsteps()) / double(cpu->substeps()) : 0;
+    if (const TeamTrial* trial = cpu->teamTrial(); trial && std::isfinite(trial->teamOverSolo()))
+      run.team_over_solo = trial->teamOverSolo();
     if (cpu->substeps() > 0 && run.points > 0) {
       run.pair_entries_per_point = double(cpu->collisionPairs().pairCount()) / double(run.points);
       run.rebuilds_per_substep = double(cpu->collisionPairs().rebuilds()) / double(cpu->substeps());
