@@ -146,6 +146,7 @@ TEST(TeamTrial, ASubstepThousandsOfTimesSlowerEndsTheProbeAtOnce) {
   TeamTrial trial;
   EXPECT_EQ(runTrial(trial, 200, 1.0, 1600.0), 1) << "one substep on the team, not two";
   EXPECT_FALSE(trial.useTeam());
+  EXPECT_DOUBLE_EQ(trial.teamOverSolo(), 1600.0) << "what that one substep measured";
   TeamTrial quiet;
   // A substep interrupted for 50 times its time, on a team that is faster: not enough to end the probe.
   for (int s = 0; s < 200; ++s) {

@@ -77,7 +77,8 @@ class TeamTrial {
     const double limit = kHysteresis * current * double(kSamples);
     const bool lost = probe_sum_ - probe_max_ > limit || seconds > kAbsurd * current;
     if (!lost && probe_runs_ < kSamples + 1) return;
-    const double other = (probe_sum_ - probe_max_) / double(std::max(probe_runs_ - 1, 1));
+    // (A probe stopped at its first substep has only that one to say how long the other way takes.)
+    const double other = probe_runs_ > 1 ? (probe_sum_ - probe_max_) / double(probe_runs_ - 1) : probe_sum_;
     const double ratio = other / current;  // the other way's time over this way's
     team_over_solo_ = team_ ? 1 / ratio : ratio;
     probing_ = false;
