@@ -170,6 +170,25 @@ int CollisionPairs<T>::scanSlots(const ScanArgs& a, std::uint32_t first, std::ui
   return count;
 }
 
+// startCheck may throw (it allocates): in a team that is kept, as the build keeps its failures, and the
+// answer is false (no build) until the caller has taken it (takeFailure); outside a team it is thrown.
+template <class T>
+bool CollisionPairs<T>::needsBuild(const std::vector<vec3>& x) {
+  teamSingle([&] { guarded([&] { startCheck(x); }); });
+  if (failure_) {
+    rethrowOutsideTeam();
+    return false;
+  }
+  return finishCheck(x);
+}
+
+template <class T>
+bool CollisionPairs<T>::update(const std::vector<vec3>& x, int threads) {
+  if (!needsBuild(x)) return false;
+  build(x, threads);
+  return true;
+}
+
 // In a team every thread calls build(): the serial steps run on one of them (teamSingle), the points and the
 // lists' sorting are split between them (teamRange). Outside a team the point loops fork their own (teamFor).
 // An exception may not leave an OpenMP region: a step that fails keeps it, the rest are skipped, and the

@@ -52,19 +52,6 @@ bool CollisionPairs<T>::splitCheck() const {
   return false;
 }
 
-template <class T>
-bool CollisionPairs<T>::needsBuild(const std::vector<vec3>& x) {
-  teamSingle([&] { startCheck(x); });
-  return finishCheck(x);
-}
-
-template <class T>
-bool CollisionPairs<T>::update(const std::vector<vec3>& x, int threads) {
-  if (!needsBuild(x)) return false;
-  build(x, threads);
-  return true;
-}
-
 // Each tile's boxes into boxes_ (moved_ set where a displacement is not finite). split: this thread's share
 // of the rows of tiles, in a team (a float grid with the kernels).
 template <class T>
@@ -168,16 +155,12 @@ void CollisionPairs<T>::makeTiles(std::size_t n) {
 template void CollisionPairs<float>::startCheck(const std::vector<vec3>&);
 template bool CollisionPairs<float>::finishCheck(const std::vector<vec3>&);
 template bool CollisionPairs<float>::splitCheck() const;
-template bool CollisionPairs<float>::needsBuild(const std::vector<vec3>&);
-template bool CollisionPairs<float>::update(const std::vector<vec3>&, int);
 template void CollisionPairs<float>::boxTiles(const std::vector<vec3>&, bool);
 template void CollisionPairs<float>::compareTiles(bool);
 template void CollisionPairs<float>::makeTiles(std::size_t);
 template void CollisionPairs<double>::startCheck(const std::vector<vec3>&);
 template bool CollisionPairs<double>::finishCheck(const std::vector<vec3>&);
 template bool CollisionPairs<double>::splitCheck() const;
-template bool CollisionPairs<double>::needsBuild(const std::vector<vec3>&);
-template bool CollisionPairs<double>::update(const std::vector<vec3>&, int);
 template void CollisionPairs<double>::boxTiles(const std::vector<vec3>&, bool);
 template void CollisionPairs<double>::compareTiles(bool);
 template void CollisionPairs<double>::makeTiles(std::size_t);

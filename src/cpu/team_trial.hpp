@@ -48,7 +48,7 @@ class TeamTrial {
     if (!probing_) {
       // Means, not medians: a team's time on a busy machine is mostly short substeps and a few that wait a
       // whole time slice, and those few are the cost.
-      if (substeps_++ > 0) {  // the very first substep builds what the run keeps (lists, caches)
+      if (!first_) {  // the very first substep builds what the run keeps (lists, caches)
         sum_ += seconds;
         ++count_;
         window_sum_ += seconds;
@@ -60,6 +60,7 @@ class TeamTrial {
           window_count_ = 0;
         }
       }
+      first_ = false;
       if (--countdown_ > 0) return;
       if (team_ || room_())
         startProbe();
@@ -110,7 +111,7 @@ class TeamTrial {
   std::function<bool()> room_;
   bool team_ = false;  // the way substeps run between probes: one thread until the team has measured faster
   bool probing_ = false;
-  long long substeps_ = 0;
+  bool first_ = true;
   long long interval_ = kMinInterval;
   long long countdown_ = kSamples;  // the first probe: as soon as one thread has a mean
   double sum_ = 0;                  // this way's time since the last probe, over count_ substeps
