@@ -25,14 +25,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<std::string> bundledScenes() {
-  std::vector<std::string> names;
-  for (const fs::directory_entry& e : fs::directory_iterator(fs::path(drape::test::sourceDir()) / "scenes"))
-    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
-
 constexpr int kLastFrame = 180;
 constexpr int kEvery = 30;
 constexpr float kMarginPx = 2.0f;
@@ -118,7 +110,7 @@ TEST_P(DefaultCamera, KeepsTheClothInViewOverTheRun) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Bundled, DefaultCamera, ::testing::ValuesIn(bundledScenes()),
+INSTANTIATE_TEST_SUITE_P(Bundled, DefaultCamera, ::testing::ValuesIn(drape::test::bundledSceneNames()),
                          [](const auto& row) { return row.param; });
 
 // The viewer's window is wider than `render`'s image: the same camera, showing more at the sides.

@@ -700,11 +700,11 @@ const std::map<std::string, int> kBundledDispatchesPerFrame = {
     {"box_drop.json", 22 * 30 + 1},
 };
 
+// The bundled scenes' file names (pinned2.json, ...).
 Strings bundledScenes() {
   Strings names;
-  for (const auto& entry : std::filesystem::directory_iterator(std::string(drape::test::sourceDir()) + "/scenes"))
-    if (entry.path().extension() == ".json") names.push_back(entry.path().filename().string());
-  std::sort(names.begin(), names.end());
+  for (const std::string& name : drape::test::bundledSceneNames())
+    names.push_back(name + ".json");
   return names;
 }
 

@@ -2,12 +2,12 @@
 // the adjacency and the colouring), byte for byte: per pass from a disturbed state, and over whole runs; with
 // each instruction set this CPU has; and a substep's team of two threads against one thread.
 #include "cpu/cpu_solver.hpp"
+#include "same_bytes.hpp"
 #include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstring>
 #include <random>
 #include <string>
 #include <vector>
@@ -49,10 +49,7 @@ Scene sceneFor(const GridCase& c) {
   return s;
 }
 
-template <class V>
-bool sameBytes(const std::vector<V>& a, const std::vector<V>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(V)) == 0;
-}
+using test::sameBytes;
 
 // The instruction sets this CPU runs: SSE2 always, AVX2 where it has it.
 std::vector<GridIsa> isas() {

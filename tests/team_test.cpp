@@ -4,13 +4,11 @@
 // machine when it changes.
 #include "cpu/cpu_solver.hpp"
 #include "cpu/team_trial.hpp"
+#include "same_bytes.hpp"
 #include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <cstring>
-#include <filesystem>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -18,18 +16,7 @@
 namespace drape {
 namespace {
 
-template <class V>
-bool sameBytes(const std::vector<V>& a, const std::vector<V>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(V)) == 0;
-}
-
-std::vector<std::string> bundledScenes() {
-  std::vector<std::string> names;
-  for (const auto& entry : std::filesystem::directory_iterator(std::string(drape::test::sourceDir()) + "/scenes"))
-    if (entry.path().extension() == ".json") names.push_back(entry.path().stem().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
+using test::sameBytes;
 
 struct TeamCase {
   std::string scene;
@@ -43,7 +30,7 @@ void PrintTo(const TeamCase& c, std::ostream* os) {
 
 std::vector<TeamCase> teamCases() {
   std::vector<TeamCase> cases;
-  for (const std::string& name : bundledScenes())
+  for (const std::string& name : test::bundledSceneNames())
     for (Integrator integrator : kIntegrators)
       cases.push_back({name, integrator});
   return cases;

@@ -1,5 +1,8 @@
 #include "test_paths.hpp"
 
+#include <algorithm>
+#include <filesystem>
+
 namespace drape::test {
 
 const char* sourceDir() {
@@ -7,6 +10,14 @@ const char* sourceDir() {
 }
 const char* drapeBinary() {
   return DRAPE_BINARY;
+}
+
+std::vector<std::string> bundledSceneNames() {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(sourceDir()) / "scenes"))
+    if (entry.path().extension() == ".json") names.push_back(entry.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
 }
 
 }  // namespace drape::test

@@ -3,9 +3,14 @@
 // any clone and a fresh clone's build reuses the compiler cache (tools/test).
 #pragma once
 
+#include <string>
+#include <vector>
+
 namespace drape::test {
 
 const char* sourceDir();    // the source tree this build was configured from
 const char* drapeBinary();  // the build's drape executable
+// The bundled scenes' names (scenes/*.json without the extension), sorted.
+std::vector<std::string> bundledSceneNames();
 
 }  // namespace drape::test
