@@ -277,7 +277,11 @@ void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
     scan_.b2 = b2_;
     scan_.near_below = near_below_;
   }
+  // Every thread's pairs go, not only those of the threads this build runs on: a build on one thread after
+  // one on a team would list the team's other pairs again.
   found_.resize(std::size_t(std::max(threads, 1)));
+  for (std::vector<Pair>& part : found_)
+    part.clear();
   out_of_memory_.set = false;
 }
 
