@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -69,7 +70,8 @@ struct PairCase {
 class CollisionPairsCase : public ::testing::TestWithParam<PairCase> {};
 
 // Every substep of a falling, folding and crumpling cloth: the pairs in range are all listed (checked
-// against brute force over all pairs), and each point's correction equals the grid query's, bit for bit.
+// against brute force over all pairs), and each point's correction equals the grid query's, bit for bit,
+// both the ordered sweep's and the solver's own (CpuSolver::selfCollide sums a pair at a time).
 TEST_P(CollisionPairsCase, ListsEveryPairInRangeAndSumsInTheGridOrder) {
   const PairCase pc = GetParam();
   const Scene scene = cs184Scene(pc.scene);
@@ -93,6 +95,7 @@ TEST_P(CollisionPairsCase, ListsEveryPairInRangeAndSumsInTheGridOrder) {
     if (rebuilt && previous_checked_without_rebuild) ++before_rebuild;
     previous_checked_without_rebuild = !rebuilt;
     grid.build(x, range);
+    std::vector<vec3> expected_all(x.size());  // what the solver's own pass must add: the grid query's sum
     for (std::size_t i = 0; i < x.size(); ++i) {
       const std::set<std::uint32_t> listed(pairs.begin(i), pairs.end(i));
       for (std::size_t j = 0; j < x.size(); ++j) {
@@ -104,9 +107,13 @@ TEST_P(CollisionPairsCase, ListsEveryPairInRangeAndSumsInTheGridOrder) {
       const vec3 expected = gridQueryCorrection(grid, x, i, thickness, steps);
       const vec3 got = listCorrection(pairs, x, i, thickness, steps);
       ASSERT_TRUE(sameBits(expected, got)) << "substep " << s << ", point " << i;
+      expected_all[i] = expected;
     }
     ++checked;
-    solver.selfCollide();
+    solver.selfCollide();  // its lists, stencil and pair-at-a-time sum
+    for (std::size_t i = 0; i < x.size(); ++i)
+      ASSERT_TRUE(sameBits(solver.corrections()[i], expected_all[i]))
+          << "the solver's sum, substep " << s << ", point " << i;
     solver.collide();
     solver.limitStretch();
   }
@@ -194,6 +201,51 @@ TEST(CollisionPairs, PointsWithManyTermsSumInTheGridOrderToo) {
         << "point " << i;
   }
   EXPECT_EQ(many, 60) << "every point must have more terms than are held";
+}
+
+// The solver's own sum on the same crushed ball, in float and double: every point has dozens of terms, many
+// in one cell, so their order within a cell (ascending partner) decides the bits as much as the cells' order.
+template <class T>
+void expectTheSolversSumIsTheGridQuerys() {
+  using v3 = glm::vec<3, T>;
+  Scene scene;
+  scene.cloth.num_width_points = 6;  // 60 points 0.2 m apart at rest: no pair held, no stencil
+  scene.cloth.num_height_points = 10;
+  scene.cloth.thickness = 0.01;
+  scene.sim.self_collision = true;
+  scene.sim.steps_per_frame = 30;
+  std::vector<glm::dvec3> x;
+  for (int k = 0; k < 60; ++k)  // the ball above, off its lattice (a lattice's terms cancel in any order)
+    x.emplace_back(0.51 + 0.004 * (k % 4) + 0.0007 * std::sin(1.3 * k),
+                   0.295 + 0.003 * (k / 4 % 4) + 0.0005 * std::cos(0.7 * k),
+                   0.695 + 0.002 * (k / 16) + 0.0003 * std::sin(2.9 * k));
+  CpuSolver<T> solver(scene, CpuSolverOptions{.threads = 1});
+  solver.setState(x, std::vector<glm::dvec3>(x.size(), glm::dvec3(0)));
+  const std::vector<v3> before = solver.positions();
+  HashGrid<T> grid;
+  grid.build(before, T(0.02));
+  solver.selfCollide();
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    v3 sum(0);
+    int count = 0;
+    grid.forEachCandidate(i, [&](std::uint32_t j) {
+      const v3 c = physics::selfCollisionCorrection(before[i], before[j], T(0.01));
+      if (c != v3(0)) {
+        sum += c;
+        ++count;
+      }
+    });
+    ASSERT_GT(count, 24);
+    const v3 expected = sum / (T(count) * T(30));
+    EXPECT_EQ(std::memcmp(&expected, &solver.corrections()[i], sizeof(v3)), 0) << "point " << i;
+    const v3 moved = before[i] + expected;
+    EXPECT_EQ(std::memcmp(&moved, &solver.positions()[i], sizeof(v3)), 0) << "point " << i;
+  }
+}
+
+TEST(CollisionPairs, TheSolversSumOrdersManyTermsAsTheGridQuery) {
+  expectTheSolversSumIsTheGridQuerys<float>();
+  expectTheSolversSumIsTheGridQuerys<double>();
 }
 
 // Threads share the per-point loops; each point's arithmetic is the same whoever runs it.

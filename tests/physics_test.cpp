@@ -8,6 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
+#include <utility>
 #include <vector>
 
 namespace drape {
@@ -136,6 +139,41 @@ TEST(HandWorked, SelfCollisionCorrectionIsTheOverlap) {
   expectNear(physics::selfCollisionCorrection<double>({0, 0.12, 0}, {0, 0, 0}, 0.1), dvec3(0, 0.08, 0));
   EXPECT_EQ(physics::selfCollisionCorrection<double>({0, 0.2, 0}, {0, 0, 0}, 0.1), dvec3(0.0));
   EXPECT_EQ(physics::selfCollisionCorrection<double>({0, 0, 0}, {0, 0, 0}, 0.1), dvec3(0.0));  // no direction
+}
+
+// Both ends of a pair at once (the CPU's sum finds each pair once) are the two calls bit for bit: points at
+// the range, inside it on the grid of float steps around a point, on an axis (zero components), coincident,
+// and with a NaN coordinate.
+TEST(HandWorked, SelfCollisionCorrectionsAreBothEndsBitForBit) {
+  using vec3 = glm::vec3;
+  const float thickness = 0.0095f, range = 2.0f * thickness;
+  const auto same = [](vec3 a, vec3 b) { return std::memcmp(&a, &b, sizeof(vec3)) == 0; };
+  std::vector<std::pair<vec3, vec3>> pairs = {{{0, 0, 0}, {range, 0, 0}},
+                                              {{0.5f, 0.25f, 0.125f}, {0.5f, 0.25f, 0.125f}},
+                                              {{0.5f, 0.25f, 0.125f}, {0.5f, 0.25f + 0.01f, 0.125f}},
+                                              {{-0.0f, 0.3f, 0.0f}, {0.0f, 0.31f, -0.0f}},
+                                              {{std::nanf(""), 0, 0}, {0, 0, 0}},
+                                              {{0, 0, 0}, {0.01f, std::nanf(""), 0}}};
+  for (int k = 0; k < 2000; ++k)  // scattered within and just beyond the range, around a point off the origin
+    pairs.push_back({{0.731f, 0.412f, -0.257f},
+                     {0.731f + 0.021f * std::sin(float(k)), 0.412f + 0.017f * std::cos(1.7f * float(k)),
+                      -0.257f + 0.013f * std::sin(2.3f * float(k))}});
+  int in_range = 0;
+  for (const auto& [a, b] : pairs) {
+    vec3 ci(7.0f), cj(7.0f);
+    const bool hit = physics::selfCollisionCorrections(a, b, thickness, ci, cj);
+    const vec3 ea = physics::selfCollisionCorrection(a, b, thickness),
+               eb = physics::selfCollisionCorrection(b, a, thickness);
+    in_range += hit;
+    if (!hit) {
+      EXPECT_TRUE(ea == vec3(0) && eb == vec3(0));
+      continue;
+    }
+    EXPECT_TRUE(same(ci, ea)) << a.x << " " << b.x;
+    EXPECT_TRUE(same(cj, eb)) << a.x << " " << b.x;
+  }
+  EXPECT_GT(in_range, 500);
+  EXPECT_LT(in_range, 1900);
 }
 
 // --- Verlet damping ------------------------------------------------------------------------------

@@ -62,6 +62,7 @@ void CollisionPairs<T>::makeStencil() {
   dv_.clear();
   mixed_.clear();
   kind_.clear();
+  forward_from_ = 0;
   box_ = -1;
   stencil_range_ = range_;
   stencil_margin_ = margin_;
@@ -125,6 +126,9 @@ void CollisionPairs<T>::makeStencil() {
   }
   stencil_ = std::move(sorted);
   mixed_ = std::move(mixed);
+  forward_from_ =
+      std::size_t(std::partition_point(stencil_.begin(), stencil_.end(), [](const Offset& o) { return o.step < 0; }) -
+                  stencil_.begin());
 }
 
 template <class T>
@@ -348,6 +352,21 @@ void CollisionPairs<T>::assembleLists(std::size_t n) {
       list_[fill_[pair.i]++] = pair.j;
       list_[fill_[pair.j]++] = pair.i;
     }
+  forward_start_.assign(n + 1, 0);
+  for (const std::vector<Pair>& part : found_)
+    for (const Pair& pair : part)
+      ++forward_start_[std::min(pair.i, pair.j) + 1];
+  for (std::size_t i = 0; i < n; ++i)
+    forward_start_[i + 1] += forward_start_[i];
+  forward_.resize(forward_start_[n]);
+  fill_.assign(forward_start_.begin(), forward_start_.end() - 1);
+  for (const std::vector<Pair>& part : found_)
+    for (const Pair& pair : part)
+      forward_[fill_[std::min(pair.i, pair.j)]++] = std::max(pair.i, pair.j);
+  forward_owner_.resize(forward_.size());
+  for (std::size_t i = 0; i < n; ++i)
+    std::fill(forward_owner_.begin() + forward_start_[i], forward_owner_.begin() + forward_start_[i + 1],
+              std::uint32_t(i));
 }
 
 template <class T>

@@ -73,6 +73,13 @@ class CollisionPairs {
   const std::uint32_t* begin(std::size_t i) const { return list_.data() + start_[i]; }
   const std::uint32_t* end(std::size_t i) const { return list_.data() + start_[i + 1]; }
   std::size_t pairCount() const { return list_.size(); }  // each pair counted from both ends
+  // The same pairs from their lower end only: every listed j > i of point i, in no particular order (for a
+  // sum that visits each pair once and sorts its terms itself).
+  // Laid out as one array of entries, point after point: entry k pairs forwardOwners()[k] with
+  // forwardPartners()[k], and point i's entries are [forwardStart(i), forwardStart(i + 1)).
+  std::uint32_t forwardStart(std::size_t i) const { return forward_start_[i]; }
+  const std::uint32_t* forwardOwners() const { return forward_owner_.data(); }
+  const std::uint32_t* forwardPartners() const { return forward_.data(); }
 
   // The stencil, for the last update's range and margin: grid offsets (du, dv) in ascending dv * w + du, so
   // that a point's partners ascend; empty off a grid.
@@ -119,6 +126,19 @@ class CollisionPairs {
     for (; a != e; ++a)
       g(*a);
   }
+  // Calls g(j) for point i's stencil partners j > i whose bits `mask` has (stencilMask) and that the springs
+  // do not hold, in no particular order: each stencil pair once, from its lower end.
+  template <class G>
+  void forEachForwardPartner(std::size_t i, std::uint32_t mask, G&& g) const {
+    const int u = int(i % std::size_t(w_)), v = int(i / std::size_t(w_));
+    for (std::size_t k = forward_from_; k < stencil_.size(); ++k) {
+      if ((mask & stencilBit(int(k))) == 0) continue;
+      const Offset& o = stencil_[k];
+      if (!onGrid(u + o.du, v + o.dv)) continue;
+      const auto j = std::uint32_t(std::int64_t(i) + o.step);
+      if (!mixed_[k] || !physics::heldAtRest(rest_[i], rest_[j], range_)) g(j);
+    }
+  }
   template <class G>
   void forEachCandidate(std::size_t i, G&& g) const {
     forEachCandidate(i, ~std::uint32_t(0), g);
@@ -155,6 +175,7 @@ class CollisionPairs {
   HashGrid<T> grid_;
   std::vector<std::vector<Pair>> found_;  // per thread, kept to spare the allocations
   std::vector<std::uint32_t> start_, list_, fill_;
+  std::vector<std::uint32_t> forward_start_, forward_, forward_owner_;
   std::vector<vec3> anchor_;  // positions at the last build
   // needsBuild()'s tiles, as runs of consecutive points, and per tile the box of its displacements since the build
   // and the box of its points
@@ -202,6 +223,7 @@ class CollisionPairs {
   const GridKernels* kernels_ = nullptr;
   int box_ = -1;
   std::vector<Offset> stencil_;
+  std::size_t forward_from_ = 0;  // the first stencil offset of positive step (the set is symmetric)
   std::vector<int> du_, dv_;
   std::vector<std::uint8_t> mixed_;             // per stencil offset: some of its pairs are held at rest, some not
   T stencil_range_ = -1, stencil_margin_ = -1;  // what stencil_ was made for

@@ -110,6 +110,9 @@ class CpuSolver final : public Solver {
   long long teamSubsteps() const { return team_substeps_; }  // substeps run on the team since reset()
   const TeamTrial* teamTrial() const { return trial_ ? &*trial_ : nullptr; }  // where a trial decides
   long long pairTerms() const { return pair_terms_; }  // self-collision: pairs in range summed, both ends
+  // What the last Jacobi pass (selfCollide, or the Jacobi stretch limit) added to each point: its bits, which a
+  // position rounds away.
+  const std::vector<vec3>& corrections() const { return correction_; }
 
  private:
   struct Stiffness {
@@ -125,8 +128,12 @@ class CpuSolver final : public Solver {
   template <class F>
   void sweepColours(F&& f);
   vec3 pointNormal(int i) const;
-  void collidePoint(std::size_t i);                                                     // collide()'s work on one point
-  int sumPairs(std::size_t i, std::size_t stencil, T thickness, T inv_range, T steps);  // selfCollide()'s
+  void collidePoint(std::size_t i);  // collide()'s work on one point
+  // selfCollide()'s sum, a pair at a time (cpu_solver_self_collision.cpp)
+  struct PairHit;
+  struct PairScratch;
+  void findPairHits(long long lo, long long hi, bool stencil, T thickness, T inv_range, PairScratch& mine);
+  long long sumPairTerms(long long lo, long long hi, T steps, PairScratch& mine);
   bool needsPass(int pass) const;
   template <class F>
   void timed(int pass, F&& f);
@@ -151,6 +158,28 @@ class CpuSolver final : public Solver {
   std::vector<T> rest_adjacent_;  // per adjacency entry, in T
   CollisionPairs<T> pairs_;
   std::vector<std::uint32_t> near_;  // per point: its stencil partners in range this substep (stencilMask)
+  // selfCollide(): a pair in range seen from both ends, and the terms a point gets from such pairs.
+  struct PairHit {
+    std::uint32_t i, j;
+    int order_i, order_j;  // cellOrder from each end
+    vec3 ci, cj;           // each end's term (selfCollisionCorrections)
+  };
+  struct PairTerm {
+    std::uint32_t j;
+    int order;
+    std::int32_t next;  // the point's next term in the same scratch, or -1
+    vec3 c;
+  };
+  struct alignas(64) PairScratch {  // one per thread of the team, on cache lines of their own
+    std::vector<PairHit> hits;
+    std::vector<std::uint32_t> slots;  // the list entries in range (GridKernels::pairsInRange)
+    std::vector<PairTerm> terms;
+    std::vector<std::uint32_t> touched;
+    std::vector<std::int32_t> chain;
+    std::exception_ptr failure;
+  };
+  std::vector<PairScratch> pair_scratch_;
+  std::vector<std::int32_t> first_term_;  // per point: its first term in its thread's scratch, or -1
   SpringColouring colouring_;
   Tethers tethers_;  // empty until the scene asks for tethers
   std::vector<T> tether_rest_;

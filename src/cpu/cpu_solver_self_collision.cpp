@@ -7,6 +7,7 @@
 #include <atomic>
 #include <exception>
 #include <type_traits>
+#include <utility>
 
 namespace drape {
 
@@ -24,6 +25,10 @@ void CpuSolver<T>::selfCollide() {
     try {
       pairs_.configure(range, T(pair_margin_) * std::min(range, T(shortest_spring_)));
       near_.resize(x_.size());
+      first_term_.resize(x_.size(), -1);
+      pair_scratch_.resize(std::size_t(teamSize()));
+      for (PairScratch& scratch : pair_scratch_)
+        scratch.hits.clear();
       pairs_.startCheck(x_);
     } catch (...) {
       failure_ = std::current_exception();
@@ -51,60 +56,129 @@ void CpuSolver<T>::selfCollide() {
       parallelFor(0, (long long)x_.size(), threads_,
                   [&](long long p) { near_[std::size_t(p)] = pairs_.stencilMask(x_, std::size_t(p)); });
   }
-  // The cells of a grid of cell size `range` fix the order of each point's sum (see forEachOrderedPair).
+  // Jacobi: every correction is computed from the positions before the pass, so the result does not
+  // depend on the order points are visited (nor, on the GPU, on thread order). Each pair in range is found
+  // once, from its lower end, with both ends' terms; then each point sums its terms in the order of
+  // forEachOrderedPair (the 27-cell query's, section 2 of docs/contact.md), whichever thread found them.
   const T inv_range = T(1) / range;
   const long long n = (long long)x_.size();
   const T steps = T(scene_.sim.steps_per_frame);
-  // Jacobi: every correction is computed from the positions before the pass, so the result does not
-  // depend on the order points are visited (nor, on the GPU, on thread order).
   std::atomic<long long> terms = 0;  // pairs in range, counted for `drape simulate -v`
   teamRange(0, n, [&](long long lo, long long hi) {
-    long long mine = 0;
-    for (long long p = lo; p < hi; ++p) {
-      const std::size_t i = std::size_t(p);
-      const int count = sumPairs(i, stencil, thickness, inv_range, steps);
-      mine += count;
-    }
-    terms += mine;
+    findPairHits(lo, hi, stencil > 0, thickness, inv_range, pair_scratch_[std::size_t(teamThread())]);
   });
-  teamSingle([&] { pair_terms_ += terms; });
+  teamRange(0, n, [&](long long lo, long long hi) {
+    terms += sumPairTerms(lo, hi, steps, pair_scratch_[std::size_t(teamThread())]);
+  });
+  teamSingle([&] {
+    pair_terms_ += terms;
+    for (PairScratch& s : pair_scratch_)
+      if (s.failure && !failure_) failure_ = std::exchange(s.failure, nullptr);
+  });
+  if (failure_) return;
   applyCorrections();
 }
 
-// One point's self-collision correction, into correction_[i]; returns how many pairs were in range.
+// The pairs in range of points [lo, hi) with a partner above them, into mine.hits: the lists' forward pairs
+// (their entries tested side by side where the kernels run) and the stencil's forward offsets (those whose
+// bits near_ has).
 template <class T>
-int CpuSolver<T>::sumPairs(std::size_t i, std::size_t stencil, T thickness, T inv_range, T steps) {
-  {
-    vec3 sum(0);
-    int count = 0;
-    bool candidates = false;
-    // Most points have no pair in range: the stencil's test and the vectorised test of the list say so
-    // without the ordered sweep.
-    if (!topo_.pinned[i]) {
-      candidates = stencil > 0 && near_[i] != 0;
-      if (!candidates && pairs_.begin(i) != pairs_.end(i)) {
-        candidates = true;
-        if constexpr (std::is_same_v<T, float>)
-          if (kernels_) candidates = kernels_->anyInRange(&x_.data()->x, pairs_.begin(i), pairs_.end(i), i, thickness);
+void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thickness, T inv_range, PairScratch& mine) {
+  try {
+    const auto pair = [&](std::uint32_t i, std::uint32_t j) {
+      vec3 ci, cj;
+      if (!physics::selfCollisionCorrections(x_[i], x_[j], thickness, ci, cj)) return;
+      if (ci == vec3(0) && cj == vec3(0)) return;
+      const glm::ivec3 cell_i = HashGrid<T>::cellOf(x_[i], inv_range), cell_j = HashGrid<T>::cellOf(x_[j], inv_range);
+      const int order_i = cellOrder(cell_i, cell_j);
+      if (order_i < 0) return;
+      mine.hits.push_back({i, j, order_i, cellOrder(cell_j, cell_i), ci, cj});
+    };
+    const std::uint32_t first = pairs_.forwardStart(std::size_t(lo)), last = pairs_.forwardStart(std::size_t(hi));
+    const std::uint32_t *owner = pairs_.forwardOwners(), *partner = pairs_.forwardPartners();
+    bool tested = false;
+    if constexpr (std::is_same_v<T, float>)
+      if (kernels_) {
+        mine.slots.resize(last - first);
+        const int found =
+            kernels_->pairsInRange(&x_.data()->x, owner, partner, first, last, thickness, mine.slots.data());
+        for (int s = 0; s < found; ++s)
+          pair(owner[mine.slots[std::size_t(s)]], partner[mine.slots[std::size_t(s)]]);
+        tested = true;
       }
-    }
-    if (candidates) {
-      forEachOrderedPair(
-          pairs_, i, x_, thickness, inv_range,
-          [&](vec3 c) {
-            sum += c;
-            ++count;
-          },
-          stencil > 0 ? near_[i] : 0);
-    }
-    correction_[i] = count > 0 ? sum / (T(count) * steps) : vec3(0);
-    return count;
+    if (!tested)
+      for (std::uint32_t k = first; k < last; ++k)
+        pair(owner[k], partner[k]);
+    if (stencil)
+      for (long long p = lo; p < hi; ++p) {
+        const std::size_t i = std::size_t(p);
+        if (near_[i] != 0)
+          pairs_.forEachForwardPartner(i, near_[i], [&](std::uint32_t j) { pair(std::uint32_t(i), j); });
+      }
+  } catch (...) {  // out of memory: kept, as an exception may not leave the team
+    mine.failure = std::current_exception();
   }
+}
+
+// Points [lo, hi): each one's terms from every thread's hits, summed in ascending (cell order, partner), into
+// correction_; returns how many terms were summed. A pinned point takes none.
+template <class T>
+long long CpuSolver<T>::sumPairTerms(long long lo, long long hi, T steps, PairScratch& mine) {
+  long long summed = 0;
+  try {
+    const auto ulo = std::uint32_t(lo), uhi = std::uint32_t(hi);
+    for (long long p = lo; p < hi; ++p)
+      correction_[std::size_t(p)] = vec3(0);
+    mine.terms.clear();
+    mine.touched.clear();
+    const auto add = [&](std::uint32_t i, int order, std::uint32_t j, vec3 c) {
+      if (i < ulo || i >= uhi || c == vec3(0) || topo_.pinned[i]) return;
+      std::int32_t& first = first_term_[i];
+      if (first < 0) mine.touched.push_back(i);
+      mine.terms.push_back({j, order, first, c});
+      first = std::int32_t(mine.terms.size() - 1);
+    };
+    for (const PairScratch& part : pair_scratch_)
+      for (const PairHit& h : part.hits) {
+        add(h.i, h.order_i, h.j, h.ci);
+        add(h.j, h.order_j, h.i, h.cj);
+      }
+    std::vector<std::int32_t>& chain = mine.chain;
+    for (const std::uint32_t i : mine.touched) {
+      chain.clear();
+      for (std::int32_t t = first_term_[i]; t >= 0; t = mine.terms[std::size_t(t)].next) {
+        // Insertion by (order, partner): a point has a few terms.
+        const PairTerm& term = mine.terms[std::size_t(t)];
+        std::size_t k = chain.size();
+        chain.push_back(t);
+        for (; k > 0; --k) {
+          const PairTerm& before = mine.terms[std::size_t(chain[k - 1])];
+          if (before.order < term.order || (before.order == term.order && before.j < term.j)) break;
+          chain[k] = chain[k - 1];
+        }
+        chain[k] = t;
+      }
+      vec3 sum(0);
+      for (const std::int32_t t : chain)
+        sum += mine.terms[std::size_t(t)].c;
+      const int count = int(chain.size());
+      correction_[i] = sum / (T(count) * steps);
+      first_term_[i] = -1;
+      summed += count;
+    }
+  } catch (...) {
+    mine.failure = std::current_exception();
+    for (const std::uint32_t i : mine.touched)
+      first_term_[i] = -1;
+  }
+  return summed;
 }
 
 template void CpuSolver<float>::selfCollide();
 template void CpuSolver<double>::selfCollide();
-template int CpuSolver<float>::sumPairs(std::size_t, std::size_t, float, float, float);
-template int CpuSolver<double>::sumPairs(std::size_t, std::size_t, double, double, double);
+template void CpuSolver<float>::findPairHits(long long, long long, bool, float, float, PairScratch&);
+template void CpuSolver<double>::findPairHits(long long, long long, bool, double, double, PairScratch&);
+template long long CpuSolver<float>::sumPairTerms(long long, long long, float, PairScratch&);
+template long long CpuSolver<double>::sumPairTerms(long long, long long, double, PairScratch&);
 
 }  // namespace drape

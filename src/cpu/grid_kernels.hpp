@@ -122,11 +122,11 @@ struct GridKernels {
   // keeps x and sets v to +0). Not grid-specific: it needs no neighbours.
   void (*integrate)(float* x, float* v, const float* f, const float* inv_mass3, const float* pinned3, float dt2,
                     float keep, long long first, long long last);
-  // Whether any candidate j in [begin, end) of point i is within self-collision range of it, by the test of
-  // physics::selfCollisionCorrection (NaN counts as in range, as there): false means the point's sum is
-  // empty. x is the vec3 array seen as floats. Not grid-specific.
-  bool (*anyInRange)(const float* x, const std::uint32_t* begin, const std::uint32_t* end, std::size_t i,
-                     float thickness);
+  // The entries k in [first, last) whose pair {owner[k], partner[k]} is within self-collision range, by the
+  // test of physics::selfCollisionCorrection (a NaN distance counts, as there): written to out ascending,
+  // their count returned. x is the vec3 array seen as floats. Not grid-specific.
+  int (*pairsInRange)(const float* x, const std::uint32_t* owner, const std::uint32_t* partner, std::uint32_t first,
+                      std::uint32_t last, float thickness, std::uint32_t* out);
   // Self-collision's stencil (cpu/collision_pairs.hpp) over the points of rows [y0, y1): flags[v * W + u] = 1
   // where a stencil partner lies on the grid, is not held at rest, and is within range (see GridStencilArgs).
   void (*stencilFlags)(const GridStencilArgs&, int y0, int y1);

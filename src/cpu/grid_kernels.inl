@@ -365,7 +365,7 @@ struct Kernels : Lanes<V> {
             &forces,
             &stretchColour,
             &integrate,
-            &Contact::anyInRange,
+            &Contact::pairsInRange,
             &Contact::stencilFlags,
             &Contact::scanPairs,
             &Contact::collideObjects,

@@ -18,30 +18,24 @@ struct ContactKernels : Lanes<V> {
   using Lanes<V>::onGrid;
   using Lanes<V>::sum;
 
-  static bool anyInRange(const float* x, const std::uint32_t* begin, const std::uint32_t* end, std::size_t i,
-                         float thickness) {
+  static int pairsInRange(const float* x, const std::uint32_t* owner, const std::uint32_t* partner, std::uint32_t first,
+                          std::uint32_t last, float thickness, std::uint32_t* out) {
     const float range = 2.0f * thickness;  // selfCollisionCorrection's range * range, in its order
-    if (end - begin < 4) {                 // a gather costs more than a few scalar tests
-      const float r2 = range * range, px = x[3 * i], py = x[3 * i + 1], pz = x[3 * i + 2];
-      for (const std::uint32_t* p = begin; p < end; ++p) {
-        const float dx = px - x[3 * std::size_t(*p)], dy = py - x[3 * std::size_t(*p) + 1],
-                    dz = pz - x[3 * std::size_t(*p) + 2];
-        const float d2 = dx * dx + dy * dy + dz * dz;
-        if (!(d2 >= r2 || d2 <= 0.0f)) return true;
-      }
-      return false;
-    }
     const F range2 = V::set1(range * range), zero = V::set1(0.0f);
-    const F xi = V::set1(x[3 * i]), yi = V::set1(x[3 * i + 1]), zi = V::set1(x[3 * i + 2]);
-    for (const std::uint32_t* p = begin; p < end; p += kW) {
-      F gx, gy, gz, live;
-      V::gatherVec3(x, p, int(end - p < kW ? end - p : kW), gx, gy, gz, live);
-      const F dx = V::sub(xi, gx), dy = V::sub(yi, gy), dz = V::sub(zi, gz);
+    int count = 0;
+    for (std::uint32_t k = first; k < last; k += kW) {
+      const int lanes = int(last - k < std::uint32_t(kW) ? last - k : std::uint32_t(kW));
+      F ix, iy, iz, jx, jy, jz, live;
+      V::gatherVec3(x, owner + k, lanes, ix, iy, iz, live);
+      V::gatherVec3(x, partner + k, lanes, jx, jy, jz, live);
+      const F dx = V::sub(ix, jx), dy = V::sub(iy, jy), dz = V::sub(iz, jz);
       const F dist2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
       // Not (dist2 >= range^2 or dist2 <= 0): a NaN distance is a term there too.
-      if (V::any(V::andNot(V::bitOr(V::ge(dist2, range2), V::le(dist2, zero)), live))) return true;
+      for (int bits = V::bits(V::andNot(V::bitOr(V::ge(dist2, range2), V::le(dist2, zero)), live)); bits != 0;
+           bits &= bits - 1)
+        out[count++] = k + std::uint32_t(__builtin_ctz(unsigned(bits)));
     }
-    return false;
+    return count;
   }
 
   static void stencilFlags(const GridStencilArgs& a, int y0, int y1) {

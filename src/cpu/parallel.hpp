@@ -33,6 +33,20 @@ inline bool inTeam() {
 #endif
 }
 
+// This thread's number in its team and the team's size (0 and 1 outside a team).
+inline int teamThread() {
+#ifdef _OPENMP
+  if (inTeam()) return omp_get_thread_num();
+#endif
+  return 0;
+}
+inline int teamSize() {
+#ifdef _OPENMP
+  if (inTeam()) return omp_get_num_threads();
+#endif
+  return 1;
+}
+
 // This thread's share [lo, hi) of [first, last) in a team (contiguous, by thread number: the same split
 // every time), or all of it outside one.
 inline void teamShare(long long first, long long last, long long& lo, long long& hi) {

@@ -58,6 +58,27 @@ DRAPE_PHYSICS_INLINE vec3<T> selfCollisionCorrection(vec3<T> xi, vec3<T> xj, T t
   return ((range - dist) / dist) * d;
 }
 
+// selfCollisionCorrection from both ends of a pair at once, bit for bit the two calls: xj - xi is exactly
+// -(xi - xj) (rounding is symmetric), so both ends have the same dist2 and one square root serves. A NaN
+// distance (whose payload need not be symmetric) takes the two calls. Returns whether the pair is in range.
+template <class T>
+DRAPE_PHYSICS_INLINE bool selfCollisionCorrections(vec3<T> xi, vec3<T> xj, T thickness, vec3<T>& ci, vec3<T>& cj) {
+  vec3<T> d = xi - xj;
+  T dist2 = glm::dot(d, d);
+  T range = T(2) * thickness;
+  if (dist2 >= range * range || dist2 <= T(0)) return false;
+  if (!(dist2 == dist2)) {
+    ci = selfCollisionCorrection(xi, xj, thickness);
+    cj = selfCollisionCorrection(xj, xi, thickness);
+    return true;
+  }
+  T dist = std::sqrt(dist2);
+  T f = (range - dist) / dist;
+  ci = f * d;
+  cj = f * (xj - xi);
+  return true;
+}
+
 // Whether the springs already hold the pair {i, j}: its distance in the rest shape is below the contact
 // distance 2*thickness, so it would start "in contact" and self-collision would fight the springs (a cloth
 // refined below 2*thickness between points). Such pairs are not self-collision candidates.
