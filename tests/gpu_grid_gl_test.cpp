@@ -111,10 +111,10 @@ TEST_P(GpuGridTest, MatchesTheCpuGridAndBruteForce) {
   // Cells and buckets as on the CPU, and a counting sort: start[] the prefix sums of the bucket
   // sizes, each bucket holding its own points in ascending order. The cell edge is the lists' reach.
   const float range = 2.0f * float(kThickness);
-  // The lists' skin as the CPU solver's: a share of the contact distance, or of the spacing on a cloth finer
-  // than it (large_cloud's 80 x 80 grid).
+  // The lists' skin as the CPU solver's: a share of the contact distance, or of two spacings on a cloth finer
+  // than half of it (large_cloud's 80 x 80 grid).
   const Topology topo = buildTopology(scene.cloth);
-  const float skin = float(kDefaultPairMargin) * std::min(range, float(gpu::shortestStructural(topo)));
+  const float skin = derived::pairSkin(kDefaultPairMargin, range, gpu::shortestStructural(topo));
   const float cell = range + skin;
   std::vector<glm::vec3> points(cloud.begin(), cloud.end());
   std::vector<std::uint32_t> size(buckets, 0);

@@ -57,3 +57,15 @@ namespace drape {
 // docs/design.md section 6). Both solvers' default.
 inline constexpr double kDefaultPairMargin = 0.5;
 }  // namespace drape
+
+namespace drape::derived {
+// The lists' skin for a contact distance `range`: `margin` of it, or on a cloth finer than half of it,
+// `margin` of two spacings (the shortest structural spring at rest). There the stencil tests the ring of
+// unheld pairs between range and range + skin every substep, so the skin is its depth in lattice spacings:
+// one at the default (half a spacing ran pinned2 at 128^2 and 256^2 with CS184's thickness 7% and 13% slower,
+// rebuilding twice as often; docs/contact.md). In T, as each solver computes it.
+template <class T>
+T pairSkin(double margin, T range, double shortest_spring) {
+  return T(margin) * std::min(range, T(2) * T(shortest_spring));
+}
+}  // namespace drape::derived

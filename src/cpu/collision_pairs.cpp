@@ -261,9 +261,9 @@ void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
   by_offset_ = box_ >= 0 && u_.size() == n;
   const std::vector<std::uint32_t>& sorted = grid_.sorted();
   for (std::vector<T>* a : {&sx_, &sy_, &sz_})
-    a->resize(n);
-  su_.assign(n, T(0));
-  sv_.assign(n, T(0));
+    a->resize(n + kPairScanPad);  // the pad is read by the kernels' last vectors, whose lanes there are dropped
+  su_.assign(n + kPairScanPad, T(0));
+  sv_.assign(n + kPairScanPad, T(0));
   for (std::size_t s = 0; s < n; ++s) {
     const std::uint32_t j = sorted[s];
     sx_[s] = x[j].x;

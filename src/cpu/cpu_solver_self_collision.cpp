@@ -15,15 +15,15 @@ template <class T>
 void CpuSolver<T>::selfCollide() {
   const T thickness = T(scene_.cloth.thickness);
   const T range = T(2) * thickness;
-  // The skin is a share of the contact distance, or of the spacing where the cloth is finer than that. On a
-  // grid the stencil tests the ring of unheld pairs within range + skin at rest every substep (20 offsets at
-  // 256^2 with CS184's thickness), so the skin sets both its width and how long the lists last. The bytes do
-  // not depend on it.
+  // The skin is a share of the contact distance, or of two spacings where the cloth is finer than half of it
+  // (derived::pairSkin). On a grid the stencil tests the ring of unheld pairs within range + skin at rest every
+  // substep (40 offsets at 256^2 with CS184's thickness), so the skin sets both its width and how long the
+  // lists last. The bytes do not depend on it.
   // Every thread of a team shares the list check and the build; an exception (out of memory) is kept for
   // step() to rethrow after the region.
   teamSingle([&] {
     try {
-      pairs_.configure(range, T(pair_margin_) * std::min(range, T(shortest_spring_)));
+      pairs_.configure(range, derived::pairSkin(pair_margin_, range, shortest_spring_));
       near_.resize(x_.size());
       first_term_.resize(x_.size(), -1);
       pair_scratch_.resize(std::size_t(teamSize()));

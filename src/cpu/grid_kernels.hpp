@@ -52,8 +52,10 @@ struct GridStretchArgs {
 // A self-collision list build's candidates of one point, in the order of the build's spatial grid: their
 // positions, and on a grid cloth their column and row (exact small integers as floats) with which the build
 // passes over the pairs the springs hold or the stencil tests.
+inline constexpr std::size_t kPairScanPad = 16;  // at least every instruction set's width
 struct PairScanArgs {
-  const float *x, *y, *z;  // candidate positions, slot by slot
+  // Slot by slot, each readable kPairScanPad slots past the last slot scanned (the lanes there are dropped):
+  const float *x, *y, *z;  // candidate positions
   const float *u, *v;      // candidate grid columns and rows (unused where a2 = b2 = 0)
   float px, py, pz;        // the point's position
   float pu, pv;            // its column and row

@@ -205,34 +205,27 @@ struct ContactKernels : Lanes<V> {
     return finite_tail && V::bits(finite) == (1 << kW) - 1;
   }
 
-  static bool scanOne(const PairScanArgs& a, std::uint32_t s) {
-    const float dx = a.px - a.x[s], dy = a.py - a.y[s], dz = a.pz - a.z[s];
-    if (!(dx * dx + dy * dy + dz * dz < a.reach2)) return false;
-    const float du = a.u[s] - a.pu, dv = a.v[s] - a.pv;
-    const float nominal = du * du * a.a2 + dv * dv * a.b2;
-    return !(nominal < a.near_below);
-  }
-
   static int scanPairs(const PairScanArgs& a, std::uint32_t first, std::uint32_t last, std::uint32_t* out) {
     int count = 0;
     std::uint32_t s = first;
     const F px = V::set1(a.px), py = V::set1(a.py), pz = V::set1(a.pz), pu = V::set1(a.pu), pv = V::set1(a.pv);
     const F reach2 = V::set1(a.reach2), a2 = V::set1(a.a2), b2 = V::set1(a.b2);
     const F near_below = V::set1(a.near_below);
-    for (; s + kW <= last; s += kW) {
+    // Buckets hold a few candidates each: the last vector of a range reads past it (the arrays are padded,
+    // PairScanArgs) and drops those lanes rather than testing them one at a time.
+    for (; s < last; s += kW) {
       const F dx = V::sub(px, V::load(a.x + s)), dy = V::sub(py, V::load(a.y + s)), dz = V::sub(pz, V::load(a.z + s));
       const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
       const F du = V::sub(V::load(a.u + s), pu), dv = V::sub(V::load(a.v + s), pv);
       const F nominal = V::add(V::mul(V::mul(du, du), a2), V::mul(V::mul(dv, dv), b2));
       int bits = V::bits(V::andNot(V::lt(nominal, near_below), V::lt(d2, reach2)));
+      if (last - s < std::uint32_t(kW)) bits &= (1 << (last - s)) - 1;
       while (bits != 0) {
         const int l = __builtin_ctz(unsigned(bits));
         bits &= bits - 1;
         out[count++] = s + std::uint32_t(l);
       }
     }
-    for (; s < last; ++s)
-      if (scanOne(a, s)) out[count++] = s;
     return count;
   }
 };
