@@ -63,6 +63,7 @@ void CollisionPairs<T>::makeStencil() {
   mixed_.clear();
   kind_.clear();
   forward_from_ = 0;
+  forward_bits_ = 0;
   box_ = -1;
   stencil_range_ = range_;
   stencil_margin_ = margin_;
@@ -129,6 +130,9 @@ void CollisionPairs<T>::makeStencil() {
   forward_from_ =
       std::size_t(std::partition_point(stencil_.begin(), stencil_.end(), [](const Offset& o) { return o.step < 0; }) -
                   stencil_.begin());
+  forward_bits_ = 0;
+  for (std::size_t k = forward_from_; k < stencil_.size(); ++k)
+    forward_bits_ |= stencilBit(int(k));
 }
 
 template <class T>

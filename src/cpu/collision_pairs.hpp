@@ -131,12 +131,16 @@ class CollisionPairs {
   template <class G>
   void forEachForwardPartner(std::size_t i, std::uint32_t mask, G&& g) const {
     const int u = int(i % std::size_t(w_)), v = int(i / std::size_t(w_));
-    for (std::size_t k = forward_from_; k < stencil_.size(); ++k) {
-      if ((mask & stencilBit(int(k))) == 0) continue;
-      const Offset& o = stencil_[k];
-      if (!onGrid(u + o.du, v + o.dv)) continue;
-      const auto j = std::uint32_t(std::int64_t(i) + o.step);
-      if (!mixed_[k] || !physics::heldAtRest(rest_[i], rest_[j], range_)) g(j);
+    // The set bits of the forward offsets only: the last bit stands for every offset from 31 on.
+    for (std::uint32_t m = mask & forward_bits_; m != 0; m &= m - 1) {
+      const std::size_t bit = std::size_t(std::countr_zero(m));
+      const std::size_t first = std::max(bit, forward_from_), last = bit < 31 ? bit + 1 : stencil_.size();
+      for (std::size_t k = first; k < last; ++k) {
+        const Offset& o = stencil_[k];
+        if (!onGrid(u + o.du, v + o.dv)) continue;
+        const auto j = std::uint32_t(std::int64_t(i) + o.step);
+        if (!mixed_[k] || !physics::heldAtRest(rest_[i], rest_[j], range_)) g(j);
+      }
     }
   }
   template <class G>
@@ -223,7 +227,8 @@ class CollisionPairs {
   const GridKernels* kernels_ = nullptr;
   int box_ = -1;
   std::vector<Offset> stencil_;
-  std::size_t forward_from_ = 0;  // the first stencil offset of positive step (the set is symmetric)
+  std::size_t forward_from_ = 0;    // the first stencil offset of positive step (the set is symmetric)
+  std::uint32_t forward_bits_ = 0;  // the stencil bits of those offsets
   std::vector<int> du_, dv_;
   std::vector<std::uint8_t> mixed_;             // per stencil offset: some of its pairs are held at rest, some not
   T stencil_range_ = -1, stencil_margin_ = -1;  // what stencil_ was made for
