@@ -6,7 +6,7 @@
 // several substeps instead of rebuilding the hash grid and reading 27 cells every substep.
 //
 // On a grid cloth the pairs just beyond the contact distance at rest are a ring around every point, at the
-// same grid offsets everywhere (the stencil): about 20 a point at 256 x 256 with CS184's thickness, which a
+// same grid offsets everywhere (the stencil): about 40 a point at 256 x 256 with CS184's thickness, which a
 // list would hold however it was built, because nothing but the cloth's compression brings them in. They
 // are not listed but tested every substep by offset (cheap: no lookups, and rows of points side by side),
 // and the list holds the rest; a list build passes over them and the held pairs by their offset, without
