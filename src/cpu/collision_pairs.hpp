@@ -13,9 +13,10 @@
 // reading their positions.
 //
 // The sum of a point's corrections must not depend on when the list was rebuilt, or on the GPU on
-// thread timing: orderedCandidates() yields the pairs in range in the order a 27-cell query of a grid
-// of cell size `range` visits them (cells in z, y, x order around the point's cell, ascending index
-// within a cell), so the result is the same whatever list it comes from.
+// thread timing: its terms are added in the order a 27-cell query of a grid of cell size `range` visits
+// them (cells in z, y, x order around the point's cell, ascending index within a cell), so the result is
+// the same whatever list it comes from. forEachOrderedPair yields them so (the tests' reference); the CPU
+// solver finds each pair once and sorts each point's terms into that order (CpuSolver::sumPairTerms).
 #pragma once
 
 #include "cpu/grid_kernels.hpp"

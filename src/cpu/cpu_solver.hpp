@@ -187,12 +187,11 @@ class CpuSolver final : public Solver {
   std::vector<T> mass_, inv_mass_, drag_area_;  // per point (derived::pointMass, dragArea)
   T dt_ = 0, keep_ = 1;
   Stiffness stiffness_{};
-  Stiffness alpha_tilde_{};                          // XPBD: compliance / dt^2 per spring type
-  std::vector<float> collide_objects_;               // collide()'s CollideArgs: the spheres, then the planes
-  std::vector<std::vector<std::uint32_t>> scratch_;  // per thread: the points collide() looks at
-  std::vector<T> lambda_;             // XPBD: per coloured spring, the multiplier summed over this substep's sweeps
-  PointColouring point_colouring_;    // VBD: built the first time the scene asks for VBD
-  std::vector<vec3> inertia_target_;  // VBD with iterations > 1: the prediction y, kept by the first sweep
+  Stiffness alpha_tilde_{};             // XPBD: compliance / dt^2 per spring type
+  std::vector<float> collide_objects_;  // collide()'s CollideArgs: the spheres, then the planes
+  std::vector<T> lambda_;               // XPBD: per coloured spring, the multiplier summed over this substep's sweeps
+  PointColouring point_colouring_;      // VBD: built the first time the scene asks for VBD
+  std::vector<vec3> inertia_target_;    // VBD with iterations > 1: the prediction y, kept by the first sweep
   // Per mesh obstacle, for collideFaces: its sharp features in T and the grid they are looked up by.
   struct FeatureEdgeT {
     vec3 a, b, n1, n2;

@@ -59,7 +59,7 @@ void CpuSolver<T>::selfCollide() {
   // Jacobi: every correction is computed from the positions before the pass, so the result does not
   // depend on the order points are visited (nor, on the GPU, on thread order). Each pair in range is found
   // once, from its lower end, with both ends' terms; then each point sums its terms in the order of
-  // forEachOrderedPair (the 27-cell query's, section 2 of docs/contact.md), whichever thread found them.
+  // forEachOrderedPair (the 27-cell query's, docs/design.md section 2), whichever thread found them.
   const T inv_range = T(1) / range;
   const long long n = (long long)x_.size();
   const T steps = T(scene_.sim.steps_per_frame);
