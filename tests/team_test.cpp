@@ -69,23 +69,29 @@ INSTANTIATE_TEST_SUITE_P(Bundled, TeamBytes, ::testing::ValuesIn(teamCases()),
                            return p.param.scene + "_" + integratorName(p.param.integrator);
                          });
 
-// From kSplitTiles tiles a team splits the lists' check (boxes and comparisons of the tiles) between its
-// threads: the same builds at the same substeps, so the same bytes.
-// The bundled scenes' four frames end before most contact begins: CS184's selfCollision cloth, fallen and
-// folding on the floor (frames 40 to 60: a few thousand pairs in range a substep), on a team every substep.
-TEST(TeamBytesContact, AFoldingClothOnATeamGivesOneThreadsBytes) {
-  const Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/selfCollision.json");
-  CpuSolver<float> one(scene, CpuSolverOptions{.threads = 1});
-  CpuSolver<float> team(scene, CpuSolverOptions{.threads = 2, .team_min_points = 0});
-  for (int f = 0; f < 60; ++f) {
+// CS184's selfCollision cloth on one thread and on a team of two, every substep on the team.
+struct OneThreadAndTeam {
+  Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/selfCollision.json");
+  CpuSolver<float> one{scene, CpuSolverOptions{.threads = 1}};
+  CpuSolver<float> team{scene, CpuSolverOptions{.threads = 2, .team_min_points = 0}};
+  void stepFrame() {
     one.stepFrame();
     team.stepFrame();
-    if (f < 40) continue;
-    ASSERT_TRUE(sameBytes(one.positions(), team.positions())) << "frame " << f;
-    ASSERT_TRUE(sameBytes(one.displacements(), team.displacements())) << "frame " << f;
   }
-  EXPECT_EQ(team.teamSubsteps(), team.substeps());
-  EXPECT_GT(one.pairTerms(), 100000) << "the cloth must be in contact with itself";
+};
+
+// The bundled scenes' four frames end before most contact begins: the selfCollision cloth fallen and
+// folding on the floor (frames 40 to 60: a few thousand pairs in range a substep).
+TEST(TeamBytesContact, AFoldingClothOnATeamGivesOneThreadsBytes) {
+  OneThreadAndTeam run;
+  for (int f = 0; f < 60; ++f) {
+    run.stepFrame();
+    if (f < 40) continue;
+    ASSERT_TRUE(sameBytes(run.one.positions(), run.team.positions())) << "frame " << f;
+    ASSERT_TRUE(sameBytes(run.one.displacements(), run.team.displacements())) << "frame " << f;
+  }
+  EXPECT_EQ(run.team.teamSubsteps(), run.team.substeps());
+  EXPECT_GT(run.one.pairTerms(), 100000) << "the cloth must be in contact with itself";
 }
 
 // A mid-sized cloth's trial moves substeps from the team to one thread and back. A list built on one
@@ -93,26 +99,24 @@ TEST(TeamBytesContact, AFoldingClothOnATeamGivesOneThreadsBytes) {
 // thread's share and were listed again, twice where they were still in range (two threads' runs of the
 // selfCollision file differed from one thread's from the first contact).
 TEST(TeamBytesContact, AListBuiltOnOneThreadAfterTheTeamHoldsOnlyItsOwnPairs) {
-  const Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/selfCollision.json");
-  CpuSolver<float> one(scene, CpuSolverOptions{.threads = 1});
-  CpuSolver<float> team(scene, CpuSolverOptions{.threads = 2, .team_min_points = 0});
-  for (int f = 0; f < 45; ++f) {
-    one.stepFrame();
-    team.stepFrame();
-  }
-  ASSERT_EQ(team.teamSubsteps(), team.substeps());
-  ASSERT_TRUE(sameBytes(one.positions(), team.positions()));
+  OneThreadAndTeam run;
+  for (int f = 0; f < 45; ++f)
+    run.stepFrame();
+  ASSERT_EQ(run.team.teamSubsteps(), run.team.substeps());
+  ASSERT_TRUE(sameBytes(run.one.positions(), run.team.positions()));
   // The same state again makes both rebuild; the pass alone runs outside the team, its build on one thread.
-  const std::vector<glm::dvec3> x(one.positions().begin(), one.positions().end()),
-      v(one.displacements().begin(), one.displacements().end());
-  one.setState(x, v);
-  team.setState(x, v);
-  one.selfCollide();
-  team.selfCollide();
-  EXPECT_EQ(team.collisionPairs().pairCount(), one.collisionPairs().pairCount());
-  EXPECT_TRUE(sameBytes(one.positions(), team.positions()));
+  const std::vector<glm::dvec3> x(run.one.positions().begin(), run.one.positions().end()),
+      v(run.one.displacements().begin(), run.one.displacements().end());
+  run.one.setState(x, v);
+  run.team.setState(x, v);
+  run.one.selfCollide();
+  run.team.selfCollide();
+  EXPECT_EQ(run.team.collisionPairs().pairCount(), run.one.collisionPairs().pairCount());
+  EXPECT_TRUE(sameBytes(run.one.positions(), run.team.positions()));
 }
 
+// From kSplitTiles tiles a team splits the lists' check (boxes and comparisons of the tiles) between its
+// threads: the same builds at the same substeps, so the same bytes.
 TEST(TeamBytesLarge, ATeamSharesTheListCheckOfALargeCloth) {
   Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/selfCollision.json");
   scene.cloth.num_width_points = scene.cloth.num_height_points = 128;  // 16 x 16 tiles
