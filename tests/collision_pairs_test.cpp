@@ -209,7 +209,7 @@ template <class T>
 void expectTheSolversSumIsTheGridQuerys() {
   using v3 = glm::vec<3, T>;
   Scene scene;
-  scene.cloth.num_width_points = 6;  // 60 points 0.2 m apart at rest: no pair held, no stencil
+  scene.cloth.num_width_points = 6;  // 60 points 0.11 m or more apart at rest: no pair held, no stencil
   scene.cloth.num_height_points = 10;
   scene.cloth.thickness = 0.01;
   scene.sim.self_collision = true;
