@@ -62,7 +62,6 @@ void CollisionPairs<T>::makeStencil() {
   dv_.clear();
   mixed_.clear();
   kind_.clear();
-  forward_from_ = 0;
   forward_bits_ = 0;
   box_ = -1;
   stencil_range_ = range_;
@@ -127,11 +126,9 @@ void CollisionPairs<T>::makeStencil() {
   }
   stencil_ = std::move(sorted);
   mixed_ = std::move(mixed);
-  forward_from_ =
-      std::size_t(std::partition_point(stencil_.begin(), stencil_.end(), [](const Offset& o) { return o.step < 0; }) -
-                  stencil_.begin());
   forward_bits_ = 0;
-  for (std::size_t k = forward_from_; k < stencil_.size(); ++k)
+  // The stencil is symmetric and sorted by step: its second half is the offsets of positive step.
+  for (std::size_t k = stencil_.size() / 2; k < stencil_.size(); ++k)
     forward_bits_ |= stencilBit(int(k));
 }
 

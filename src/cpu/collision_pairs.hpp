@@ -135,7 +135,7 @@ class CollisionPairs {
     // The set bits of the forward offsets only: the last bit stands for every offset from 31 on.
     for (std::uint32_t m = mask & forward_bits_; m != 0; m &= m - 1) {
       const std::size_t bit = std::size_t(std::countr_zero(m));
-      const std::size_t first = std::max(bit, forward_from_), last = bit < 31 ? bit + 1 : stencil_.size();
+      const std::size_t first = std::max(bit, stencil_.size() / 2), last = bit < 31 ? bit + 1 : stencil_.size();
       for (std::size_t k = first; k < last; ++k) {
         const Offset& o = stencil_[k];
         if (!onGrid(u + o.du, v + o.dv)) continue;
@@ -228,8 +228,7 @@ class CollisionPairs {
   const GridKernels* kernels_ = nullptr;
   int box_ = -1;
   std::vector<Offset> stencil_;
-  std::size_t forward_from_ = 0;    // the first stencil offset of positive step (the set is symmetric)
-  std::uint32_t forward_bits_ = 0;  // the stencil bits of those offsets
+  std::uint32_t forward_bits_ = 0;  // the stencil bits of its second half, the offsets of positive step
   std::vector<int> du_, dv_;
   std::vector<std::uint8_t> mixed_;             // per stencil offset: some of its pairs are held at rest, some not
   T stencil_range_ = -1, stencil_margin_ = -1;  // what stencil_ was made for
