@@ -182,8 +182,6 @@ TEST(Bench, ACpuRunSaysHowManySubstepsRanOnATeam) {
   EXPECT_EQ(report.runs[0].team_share, 0.0) << "one thread has no team";
 }
 
-// A bench JSON reads back as the runs it holds, and the before/after table pairs each run with the
-// baseline's run of the same scene, size and solver, pass by pass, with the ratio of the frame times.
 // The share-of-peak column knows a GPU by a name in its renderer string, the more specific name first,
 // and nothing else: llvmpipe's "memory" is the CPU's.
 TEST(Bench, PeakBandwidthByRendererName) {
@@ -193,6 +191,8 @@ TEST(Bench, PeakBandwidthByRendererName) {
   EXPECT_EQ(knownPeakGbs("llvmpipe (LLVM 15.0.6, 256 bits)"), 0.0);
 }
 
+// A bench JSON reads back as the runs it holds, and the before/after table pairs each run with the
+// baseline's run of the same scene, size and solver, pass by pass, with the ratio of the frame times.
 TEST(Bench, BaselineComparisonPairsRunsAndPasses) {
   BenchOptions o;
   o.scenes = {scenePath("pinned4.json")};
