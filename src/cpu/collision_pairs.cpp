@@ -226,9 +226,6 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
     });
   });
   if (failure_) return rethrowOutsideTeam();
-  parallelFor(0, count, threads, [&](long long p) {
-    std::sort(list_.data() + start_[std::size_t(p)], list_.data() + start_[std::size_t(p) + 1]);
-  });
   teamSingle([&] { guarded([&] { finishBuild(x); }); });
   rethrowOutsideTeam();
 }
@@ -338,21 +335,7 @@ void CollisionPairs<T>::findPairs(const std::vector<vec3>& x, int t, long long l
 
 template <class T>
 void CollisionPairs<T>::assembleLists(std::size_t n) {
-  start_.assign(n + 1, 0);
-  for (const std::vector<Pair>& part : found_)
-    for (const Pair& pair : part) {
-      ++start_[pair.i + 1];
-      ++start_[pair.j + 1];
-    }
-  for (std::size_t i = 0; i < n; ++i)
-    start_[i + 1] += start_[i];
-  list_.resize(start_[n]);
-  fill_.assign(start_.begin(), start_.end() - 1);
-  for (const std::vector<Pair>& part : found_)
-    for (const Pair& pair : part) {
-      list_[fill_[pair.i]++] = pair.j;
-      list_[fill_[pair.j]++] = pair.i;
-    }
+  both_ends_.made = false;
   forward_start_.assign(n + 1, 0);
   for (const std::vector<Pair>& part : found_)
     for (const Pair& pair : part)
@@ -381,7 +364,31 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
   travel_ = safeTravel(margin_, extent + margin_);
   built_ = true;
   ++rebuilds_;
-  entries_built_ += (long long)list_.size();
+  entries_built_ += (long long)pairCount();
+}
+
+template <class T>
+auto CollisionPairs<T>::bothEnds() const -> const BothEnds& {
+  BothEnds& b = both_ends_;
+  if (b.made) return b;
+  const std::size_t n = forward_start_.empty() ? 0 : forward_start_.size() - 1;
+  b.start.assign(n + 1, 0);
+  for (std::size_t k = 0; k < forward_.size(); ++k) {
+    ++b.start[forward_owner_[k] + 1];
+    ++b.start[forward_[k] + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    b.start[i + 1] += b.start[i];
+  b.list.resize(b.start[n]);
+  std::vector<std::uint32_t> fill(b.start.begin(), b.start.end() - 1);
+  for (std::size_t k = 0; k < forward_.size(); ++k) {
+    b.list[fill[forward_owner_[k]]++] = forward_[k];
+    b.list[fill[forward_[k]]++] = forward_owner_[k];
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    std::sort(b.list.begin() + b.start[i], b.list.begin() + b.start[i + 1]);
+  b.made = true;
+  return b;
 }
 
 template class CollisionPairs<float>;

@@ -70,10 +70,11 @@ class CollisionPairs {
   std::exception_ptr takeFailure() { return std::exchange(failure_, nullptr); }
 
   // Listed candidates of point i, ascending: every j off the stencil with |x_i - x_j| < range + margin at the
-  // last build.
-  const std::uint32_t* begin(std::size_t i) const { return list_.data() + start_[i]; }
-  const std::uint32_t* end(std::size_t i) const { return list_.data() + start_[i + 1]; }
-  std::size_t pairCount() const { return list_.size(); }  // each pair counted from both ends
+  // last build. Made from the forward lists at the first call after a build (the solver needs only those):
+  // for tests and diagnostics, not to be called from two threads at once.
+  const std::uint32_t* begin(std::size_t i) const { return bothEnds().list.data() + bothEnds().start[i]; }
+  const std::uint32_t* end(std::size_t i) const { return bothEnds().list.data() + bothEnds().start[i + 1]; }
+  std::size_t pairCount() const { return 2 * forward_.size(); }  // each pair counted from both ends
   // The same pairs from their lower end only: every listed j > i of point i, in no particular order (for a
   // sum that visits each pair once and sorts its terms itself).
   // Laid out as one array of entries, point after point: entry k pairs forwardOwners()[k] with
@@ -179,7 +180,13 @@ class CollisionPairs {
   };
   HashGrid<T> grid_;
   std::vector<std::vector<Pair>> found_;  // per thread, kept to spare the allocations
-  std::vector<std::uint32_t> start_, list_, fill_;
+  struct BothEnds {
+    bool made = false;
+    std::vector<std::uint32_t> start, list;
+  };
+  const BothEnds& bothEnds() const;
+  mutable BothEnds both_ends_;
+  std::vector<std::uint32_t> fill_;
   std::vector<std::uint32_t> forward_start_, forward_, forward_owner_;
   std::vector<vec3> anchor_;  // positions at the last build
   // needsBuild()'s tiles, as runs of consecutive points, and per tile the box of its displacements since the build
