@@ -146,38 +146,62 @@ struct Kernels : Lanes<V> {
   // ca = (share_a (len - max) / len) d with d = x_b - x_a; cb = -ca where the shares are equal, else the
   // same expression seen from b, whose d is exactly -d. A spring within the limit gives +0 (and -ca = -0),
   // which is still added, as the scalar code adds it.
-  static void limitSprings(End& a, End& b, F rest, F limit, F valid, bool displacements) {
+  // Most springs of a colour are within the limit, and a vector of them all within gets +0 at a and -0 (or +0)
+  // at b without the square root and the divisions: len^2 under (limit rest)^2 (1 - 2^-20) as computed in
+  // float implies sqrt(len^2) <= limit rest as rounded (the margin covers the three roundings), and a NaN or
+  // a product that underflows fails the test and takes the full path. Adding +0 changes only a -0 and adding
+  // -0 nothing, so such a vector is usually left as it is: returns whether anything is to be stored.
+  static bool limitSprings(End& a, End& b, F rest, F limit, F valid, bool displacements) {
     const F dx = V::sub(b.x, a.x), dy = V::sub(b.y, a.y), dz = V::sub(b.z, a.z);
-    const F len = V::sqrt(V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz)));
+    const F len2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
     const F max_len = V::mul(limit, rest);
-    const F within = V::le(len, max_len);
-    const F excess = V::sub(len, max_len);
     const F zero = V::set1(0.0f), one = V::set1(1.0f), half = V::set1(0.5f);
     const F share_a = V::select(a.pinned, zero, V::select(b.pinned, one, half));
     const F share_b = V::select(b.pinned, zero, V::select(a.pinned, one, half));
-    const F qa = V::div(V::mul(share_a, excess), len);
-    const F qb = V::div(V::mul(share_b, excess), len);
     const F same = V::eq(share_a, share_b);
-    const F cax = V::select(within, zero, V::mul(qa, dx));
-    const F cay = V::select(within, zero, V::mul(qa, dy));
-    const F caz = V::select(within, zero, V::mul(qa, dz));
-    const F cbx = V::select(same, V::neg(cax), V::select(within, zero, V::mul(qb, V::neg(dx))));
-    const F cby = V::select(same, V::neg(cay), V::select(within, zero, V::mul(qb, V::neg(dy))));
-    const F cbz = V::select(same, V::neg(caz), V::select(within, zero, V::mul(qb, V::neg(dz))));
     const F move_a = V::andNot(a.pinned, valid), move_b = V::andNot(b.pinned, valid);
+    constexpr int kAll = (1 << kW) - 1;
+    const F clear = V::lt(len2, V::mul(V::mul(max_len, max_len), V::set1(1.0f - 0x1p-20f)));
+    F cax, cay, caz, cbx, cby, cbz;
+    if (((V::bits(clear) | ~V::bits(valid)) & kAll) == kAll) {
+      const auto neg_zero = [](F p, F q, F r) {
+        return V::bitOr(V::bitOr(V::negZero(p), V::negZero(q)), V::negZero(r));
+      };
+      F at_a = neg_zero(a.x, a.y, a.z), at_b = neg_zero(b.x, b.y, b.z);
+      if (displacements) {
+        at_a = V::bitOr(at_a, neg_zero(a.vx, a.vy, a.vz));
+        at_b = V::bitOr(at_b, neg_zero(b.vx, b.vy, b.vz));
+      }
+      if (!V::any(V::bitOr(V::bitAnd(at_a, move_a), V::andNot(same, V::bitAnd(at_b, move_b))))) return false;
+      cax = cay = caz = zero;
+      cbx = cby = cbz = V::select(same, V::neg(zero), zero);
+    } else {
+      const F len = V::sqrt(len2);
+      const F within = V::le(len, max_len);
+      const F excess = V::sub(len, max_len);
+      const F qa = V::div(V::mul(share_a, excess), len);
+      const F qb = V::div(V::mul(share_b, excess), len);
+      cax = V::select(within, zero, V::mul(qa, dx));
+      cay = V::select(within, zero, V::mul(qa, dy));
+      caz = V::select(within, zero, V::mul(qa, dz));
+      cbx = V::select(same, V::neg(cax), V::select(within, zero, V::mul(qb, V::neg(dx))));
+      cby = V::select(same, V::neg(cay), V::select(within, zero, V::mul(qb, V::neg(dy))));
+      cbz = V::select(same, V::neg(caz), V::select(within, zero, V::mul(qb, V::neg(dz))));
+    }
     a.x = V::select(move_a, V::add(a.x, cax), a.x);
     a.y = V::select(move_a, V::add(a.y, cay), a.y);
     a.z = V::select(move_a, V::add(a.z, caz), a.z);
     b.x = V::select(move_b, V::add(b.x, cbx), b.x);
     b.y = V::select(move_b, V::add(b.y, cby), b.y);
     b.z = V::select(move_b, V::add(b.z, cbz), b.z);
-    if (!displacements) return;  // x_prev stays where it was: v takes the same corrections
+    if (!displacements) return true;  // x_prev stays where it was: v takes the same corrections
     a.vx = V::select(move_a, V::add(a.vx, cax), a.vx);
     a.vy = V::select(move_a, V::add(a.vy, cay), a.vy);
     a.vz = V::select(move_a, V::add(a.vz, caz), a.vz);
     b.vx = V::select(move_b, V::add(b.vx, cbx), b.vx);
     b.vy = V::select(move_b, V::add(b.vy, cby), b.vy);
     b.vz = V::select(move_b, V::add(b.vz, cbz), b.vz);
+    return true;
   }
 
   static End loadEnd(const GridStretchArgs& a, std::ptrdiff_t q, bool displacements) {
@@ -210,7 +234,7 @@ struct Kernels : Lanes<V> {
       const std::ptrdiff_t q = at(g, x0, row);
       const F valid = V::lt(V::add(V::set1(float(x0)), V::iota()), V::set1(float(x_end)));
       End ea = loadEnd(a, q, displacements), eb = loadEnd(a, q + offset, displacements);
-      limitSprings(ea, eb, V::load(a.springs.rest[d] + q), limit, valid, displacements);
+      if (!limitSprings(ea, eb, V::load(a.springs.rest[d] + q), limit, valid, displacements)) continue;
       storeEnd(a, q, ea, displacements);
       storeEnd(a, q + offset, eb, displacements);
     }
@@ -261,7 +285,7 @@ struct Kernels : Lanes<V> {
         splitArray<kPairs>(a.vy + q, ea.vy, eb.vy);
         splitArray<kPairs>(a.vz + q, ea.vz, eb.vz);
       }
-      limitSprings(ea, eb, rest, limit, valid, displacements);
+      if (!limitSprings(ea, eb, rest, limit, valid, displacements)) continue;
       join<kPairs>(ea.x, eb.x, a.x + q);
       join<kPairs>(ea.y, eb.y, a.y + q);
       join<kPairs>(ea.z, eb.z, a.z + q);

@@ -43,6 +43,9 @@ struct Sse2 {
   static F min(F a, F b) { return _mm_min_ps(a, b); }  // b where either is NaN
   static F max(F a, F b) { return _mm_max_ps(a, b); }
   static F select(F m, F a, F b) { return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b)); }  // m ? a : b
+  static F negZero(F a) {  // lanes holding -0 exactly (an == compare would take +0 too)
+    return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_castps_si128(a), _mm_set1_epi32(INT32_MIN)));
+  }
   // The vec3s x[idx[l]] of the first `count` lanes (count <= kWidth), and those lanes' mask. No gather
   // instruction before AVX2: loaded one by one.
   static void gatherVec3(const float* x, const std::uint32_t* idx, int count, F& gx, F& gy, F& gz, F& live) {
@@ -140,6 +143,9 @@ struct Avx2 {
   static F min(F a, F b) { return _mm256_min_ps(a, b); }
   static F max(F a, F b) { return _mm256_max_ps(a, b); }
   static F select(F m, F a, F b) { return _mm256_blendv_ps(b, a, m); }
+  static F negZero(F a) {
+    return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_castps_si256(a), _mm256_set1_epi32(INT32_MIN)));
+  }
   // Masked loads and gathers: nothing is read for the lanes past `count`.
   static void gatherVec3(const float* x, const std::uint32_t* idx, int count, F& gx, F& gy, F& gz, F& live) {
     const __m256i mask = _mm256_cmpgt_epi32(_mm256_set1_epi32(count), _mm256_set_epi32(7, 6, 5, 4, 3, 2, 1, 0));
