@@ -7,7 +7,9 @@
 #include "cpu/grid_kernels.hpp"
 #include "cpu/simd.hpp"
 
+#include <algorithm>
 #include <cstring>
+#include <vector>
 
 namespace drape {
 namespace {
@@ -91,15 +93,49 @@ struct Kernels : Lanes<V> {
     }
   }
 
-  // f += springForce(x_i, x_other, rest, k) (cpu/physics.hpp) in the lanes of `exists`; the others keep f.
-  static void addSpring(const GridForceArgs& a, std::ptrdiff_t rest_at, std::ptrdiff_t other, const float* rest, F k,
-                        F exists, F X, F Y, F Z, F& fx, F& fy, F& fz) {
+  // A spring's factor s = k (len - rest) / len and its length (springForce, cpu/physics.hpp), computed once
+  // from its start a and used by both ends: each end's d is the other end less itself (at b exactly -d of a,
+  // or +0 for +0), so len, s and the term s d are bit for bit what springForce gives from that end.
+  // Per thread, three rows of them (a spring ends at most two rows below its start), each row of each
+  // direction kPad floats ahead of x = 0 (a spring may start two columns to the left of its end).
+  static constexpr int kPad = 8;
+  struct SpringRows {
+    std::vector<float> data;
+    int row_floats = 0;
+    float* s(int row, int d) {
+      return data.data() + std::size_t((row % 3) * 12 + 2 * d) * std::size_t(row_floats) + kPad;
+    }
+    float* len(int row, int d) { return s(row, d) + row_floats; }
+  };
+
+  static void springRow(const GridForceArgs& a, int row, SpringRows& rows) {
+    const GridShape& g = a.shape;
+    for (int d = 0; d < 6; ++d) {
+      if (!a.springs.enabled[d] || row + kDy[d] >= g.H) continue;
+      const F k = V::set1(a.springs.k[d]);
+      const std::ptrdiff_t offset = kDx[d] + std::ptrdiff_t(kDy[d]) * g.stride;
+      float *s_out = rows.s(row, d), *len_out = rows.len(row, d);
+      for (int x0 = 0; x0 < g.W; x0 += kW) {
+        const std::ptrdiff_t q = at(g, x0, row);
+        const F dx = V::sub(V::load(a.x + q + offset), V::load(a.x + q));
+        const F dy = V::sub(V::load(a.y + q + offset), V::load(a.y + q));
+        const F dz = V::sub(V::load(a.z + q + offset), V::load(a.z + q));
+        const F len = V::sqrt(V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz)));
+        V::store(s_out + x0, V::div(V::mul(k, V::sub(len, V::load(a.springs.rest[d] + q))), len));
+        V::store(len_out + x0, len);
+      }
+    }
+  }
+
+  // f += springForce(x_i, x_other, rest, k) in the lanes of `exists` (the others keep f), from the spring's
+  // s and len.
+  static void addSpring(const GridForceArgs& a, std::ptrdiff_t other, const float* s_at, const float* len_at, F exists,
+                        F X, F Y, F Z, F& fx, F& fy, F& fz) {
     const F dx = V::sub(V::load(a.x + other), X);
     const F dy = V::sub(V::load(a.y + other), Y);
     const F dz = V::sub(V::load(a.z + other), Z);
-    const F len = V::sqrt(V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz)));
-    const F s = V::div(V::mul(k, V::sub(len, V::load(rest + rest_at))), len);
-    const F zero = V::set1(0.0f), none = V::le(len, zero);  // springForce returns vec3(0) there, and f adds it
+    const F s = V::load(s_at);
+    const F zero = V::set1(0.0f), none = V::le(V::load(len_at), zero);  // springForce returns vec3(0) there
     fx = V::select(exists, V::add(fx, V::select(none, zero, V::mul(s, dx))), fx);
     fy = V::select(exists, V::add(fy, V::select(none, zero, V::mul(s, dy))), fy);
     fz = V::select(exists, V::add(fz, V::select(none, zero, V::mul(s, dz))), fz);
@@ -107,8 +143,14 @@ struct Kernels : Lanes<V> {
 
   static void forces(const GridForceArgs& a, int y0, int y1) {
     const GridShape& g = a.shape;
+    static thread_local SpringRows rows;
+    rows.row_floats = kPad + (g.W + kW - 1) / kW * kW + kW;
+    rows.data.resize(std::size_t(36) * std::size_t(rows.row_floats));
+    for (int row = std::max(y0 - 2, 0); row < y0; ++row)  // springs that end in the first rows
+      springRow(a, row, rows);
     const F gx = V::set1(a.gravity[0]), gy = V::set1(a.gravity[1]), gz = V::set1(a.gravity[2]);
-    for (int row = y0; row < y1; ++row)
+    for (int row = y0; row < y1; ++row) {
+      springRow(a, row, rows);
       for (int x0 = 0; x0 < g.W; x0 += kW) {
         const std::ptrdiff_t q = at(g, x0, row);
         const F X = V::load(a.x + q), Y = V::load(a.y + q), Z = V::load(a.z + q);
@@ -119,12 +161,15 @@ struct Kernels : Lanes<V> {
         // starts there (both ascending spring index, core/topology.cpp).
         for (int d = 0; d < 6; ++d) {
           if (!a.springs.enabled[d]) continue;
-          const F k = V::set1(a.springs.k[d]);
           const std::ptrdiff_t offset = kDx[d] + std::ptrdiff_t(kDy[d]) * g.stride;
-          if (row - kDy[d] >= 0)
-            addSpring(a, q - offset, q - offset, a.springs.rest[d], k, onGrid(xs, -kDx[d], g.W), X, Y, Z, fx, fy, fz);
+          if (row - kDy[d] >= 0) {
+            const int from = x0 - kDx[d];
+            addSpring(a, q - offset, rows.s(row - kDy[d], d) + from, rows.len(row - kDy[d], d) + from,
+                      onGrid(xs, -kDx[d], g.W), X, Y, Z, fx, fy, fz);
+          }
           if (row + kDy[d] < g.H)
-            addSpring(a, q, q + offset, a.springs.rest[d], k, onGrid(xs, kDx[d], g.W), X, Y, Z, fx, fy, fz);
+            addSpring(a, q + offset, rows.s(row, d) + x0, rows.len(row, d) + x0, onGrid(xs, kDx[d], g.W), X, Y, Z, fx,
+                      fy, fz);
         }
         float* out = a.forces + 3 * (std::ptrdiff_t(row) * g.W + x0);
         if (x0 + kW <= g.W) {
@@ -135,6 +180,7 @@ struct Kernels : Lanes<V> {
           std::memcpy(out, tmp, sizeof(float) * 3 * std::size_t(g.W - x0));
         }
       }
+    }
   }
 
   struct End {
