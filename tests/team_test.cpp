@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+
 #include <ostream>
 #include <string>
 #include <vector>
@@ -92,6 +93,8 @@ TEST(TeamBytesContact, AFoldingClothOnATeamGivesOneThreadsBytes) {
   }
   EXPECT_EQ(run.team.teamSubsteps(), run.team.substeps());
   EXPECT_GT(run.one.pairTerms(), 100000) << "the cloth must be in contact with itself";
+  // Every thread's terms are counted (`drape simulate -v` said one thread's share on a team).
+  EXPECT_EQ(run.team.pairTerms(), run.one.pairTerms());
 }
 
 // A mid-sized cloth's trial moves substeps from the team to one thread and back. A list built on one

@@ -205,7 +205,9 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
   if (failure_) return rethrowOutsideTeam();
   const long long count = (long long)x.size();
   if (team) {
-    teamRange(0, count, [&](long long lo, long long hi) { findPairs(x, omp_get_thread_num(), lo, hi); });
+    // Dealt in chunks: a folded cloth's candidates crowd in its fold.
+    teamChunks(0, count, dealChunk(count, omp_get_num_threads()),
+               [&](long long lo, long long hi) { findPairs(x, omp_get_thread_num(), lo, hi); });
   } else {
 #pragma omp parallel num_threads(teamFor(threads, count))
     {
@@ -292,8 +294,7 @@ void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
 template <class T>
 void CollisionPairs<T>::findPairs(const std::vector<vec3>& x, int t, long long lo, long long hi) {
   const MemoryStage stage("listing the self-collision candidates of " + std::to_string(x.size()) + " points");
-  std::vector<Pair>& mine = found_[std::size_t(t)];
-  mine.clear();
+  std::vector<Pair>& mine = found_[std::size_t(t)];  // cleared by prepareBuild: a team adds chunk after chunk
   std::vector<std::uint32_t> slots;
   ScanArgs scan = scan_;
   const std::vector<std::uint32_t>& sorted = grid_.sorted();

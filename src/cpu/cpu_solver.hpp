@@ -131,10 +131,9 @@ class CpuSolver final : public Solver {
   vec3 pointNormal(int i) const;
   void collidePoint(std::size_t i);  // collide()'s work on one point
   // selfCollide()'s sum, a pair at a time (cpu_solver_self_collision.cpp)
-  struct PairHit;
   struct PairScratch;
   void findPairHits(long long lo, long long hi, bool stencil, T thickness, T inv_range, PairScratch& mine);
-  long long sumPairTerms(long long lo, long long hi, T steps, PairScratch& mine);
+  long long sumPairTerms(int thread, T steps, PairScratch& mine);
   bool needsPass(int pass) const;
   template <class F>
   void timed(int pass, F&& f);
@@ -159,11 +158,12 @@ class CpuSolver final : public Solver {
   std::vector<T> rest_adjacent_;  // per adjacency entry, in T
   CollisionPairs<T> pairs_;
   std::vector<std::uint32_t> near_;  // per point: its stencil partners in range this substep (stencilMask)
-  // selfCollide(): a pair in range seen from both ends, and the terms a point gets from such pairs.
-  struct PairHit {
+  // selfCollide(): a term point i gets from its pair with j, as found (routed to the thread that sums i's
+  // terms), and as that thread links it to i's other terms.
+  struct FoundTerm {
     std::uint32_t i, j;
-    int order_i, order_j;  // cellOrder from each end
-    vec3 ci, cj;           // each end's term (selfCollisionCorrections)
+    int order;  // cellOrder(cell of i, cell of j)
+    vec3 c;
   };
   struct PairTerm {
     std::uint32_t j;
@@ -171,15 +171,17 @@ class CpuSolver final : public Solver {
     std::int32_t next;  // the point's next term in the same scratch, or -1
     vec3 c;
   };
-  struct alignas(64) PairScratch {  // one per thread of the team, on cache lines of their own
-    std::vector<PairHit> hits;
-    std::vector<std::uint32_t> slots;  // the list entries in range (GridKernels::pairsInRange)
+  struct alignas(64) PairScratch {           // one per thread of the team, on cache lines of their own
+    std::vector<std::vector<FoundTerm>> to;  // per thread of the team: the terms found here for its points
+    std::vector<std::uint32_t> slots;        // the list entries in range (GridKernels::pairsInRange)
     std::vector<PairTerm> terms;
     std::vector<std::uint32_t> touched;
     std::vector<std::int32_t> chain;
     std::exception_ptr failure;
+    long long summed = 0;  // terms summed this substep
   };
   std::vector<PairScratch> pair_scratch_;
+  long long pair_chunk_ = 1;  // selfCollide's points are dealt to the team in chunks of this many (teamChunks)
   std::vector<std::int32_t> first_term_;  // per point: its first term in its thread's scratch, or -1
   SpringColouring colouring_;
   Tethers tethers_;  // empty until the scene asks for tethers

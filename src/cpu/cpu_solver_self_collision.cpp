@@ -4,7 +4,7 @@
 #include "cpu/cpu_solver.hpp"
 #include "cpu/parallel.hpp"
 
-#include <atomic>
+#include <algorithm>
 #include <exception>
 #include <type_traits>
 #include <utility>
@@ -27,8 +27,12 @@ void CpuSolver<T>::selfCollide() {
       near_.resize(x_.size());
       first_term_.resize(x_.size(), -1);
       pair_scratch_.resize(std::size_t(teamSize()));
-      for (PairScratch& scratch : pair_scratch_)
-        scratch.hits.clear();
+      for (PairScratch& scratch : pair_scratch_) {
+        scratch.to.resize(std::size_t(teamSize()));
+        for (std::vector<FoundTerm>& part : scratch.to)
+          part.clear();
+      }
+      pair_chunk_ = dealChunk((long long)x_.size(), teamSize());
       pairs_.startCheck(x_);
     } catch (...) {
       failure_ = std::current_exception();
@@ -58,33 +62,39 @@ void CpuSolver<T>::selfCollide() {
   }
   // Jacobi: every correction is computed from the positions before the pass, so the result does not
   // depend on the order points are visited (nor, on the GPU, on thread order). Each pair in range is found
-  // once, from its lower end, with both ends' terms; then each point sums its terms in the order of
-  // forEachOrderedPair (the 27-cell query's, docs/design.md section 2), whichever thread found them.
+  // once, from its lower end, with both ends' terms, each sent to the thread that owns its point; then each
+  // point sums its terms in the order of forEachOrderedPair (the 27-cell query's, docs/design.md section 2),
+  // whichever thread found them. The points are dealt in chunks: a folded cloth's pairs crowd in its fold.
   const T inv_range = T(1) / range;
   const long long n = (long long)x_.size();
   const T steps = T(scene_.sim.steps_per_frame);
-  std::atomic<long long> terms = 0;  // pairs in range, counted for `drape simulate -v`
-  teamRange(0, n, [&](long long lo, long long hi) {
-    findPairHits(lo, hi, stencil > 0, thickness, inv_range, pair_scratch_[std::size_t(teamThread())]);
-  });
-  teamRange(0, n, [&](long long lo, long long hi) {
-    terms += sumPairTerms(lo, hi, steps, pair_scratch_[std::size_t(teamThread())]);
-  });
+  PairScratch& mine = pair_scratch_[std::size_t(teamThread())];
+  teamChunks(0, n, pair_chunk_,
+             [&](long long lo, long long hi) { findPairHits(lo, hi, stencil > 0, thickness, inv_range, mine); });
+  mine.summed = sumPairTerms(teamThread(), steps, mine);
+  teamBarrier();
   teamSingle([&] {
-    pair_terms_ += terms;
-    for (PairScratch& s : pair_scratch_)
+    for (PairScratch& s : pair_scratch_) {
+      pair_terms_ += s.summed;  // pairs in range, counted from both ends for `drape simulate -v`
       if (s.failure && !failure_) failure_ = std::exchange(s.failure, nullptr);
+    }
   });
   if (failure_) return;
   applyCorrections();
 }
 
-// The pairs in range of points [lo, hi) with a partner above them, into mine.hits: the lists' forward pairs
-// (their entries tested side by side where the kernels run) and the stencil's forward offsets (those whose
-// bits near_ has).
+// The pairs in range of points [lo, hi) with a partner above them: the lists' forward pairs (their entries
+// tested side by side where the kernels run) and the stencil's forward offsets (those whose bits near_ has).
+// Each end's term goes into mine.to[the thread that sums it]; a zero term, or one for a pinned point, adds
+// nothing and is dropped.
 template <class T>
 void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thickness, T inv_range, PairScratch& mine) {
   try {
+    const int team = int(mine.to.size());
+    const auto send = [&](std::uint32_t i, std::uint32_t j, int order, vec3 c) {
+      if (c == vec3(0) || topo_.pinned[i]) return;
+      mine.to[std::size_t(chunkOwner(0, i, pair_chunk_, team))].push_back({i, j, order, c});
+    };
     const auto pair = [&](std::uint32_t i, std::uint32_t j) {
       vec3 ci, cj;
       if (!physics::selfCollisionCorrections(x_[i], x_[j], thickness, ci, cj)) return;
@@ -92,7 +102,8 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thic
       const glm::ivec3 cell_i = HashGrid<T>::cellOf(x_[i], inv_range), cell_j = HashGrid<T>::cellOf(x_[j], inv_range);
       const int order_i = cellOrder(cell_i, cell_j);
       if (order_i < 0) return;
-      mine.hits.push_back({i, j, order_i, cellOrder(cell_j, cell_i), ci, cj});
+      send(i, j, order_i, ci);
+      send(j, i, cellOrder(cell_j, cell_i), cj);
     };
     const std::uint32_t first = pairs_.forwardStart(std::size_t(lo)), last = pairs_.forwardStart(std::size_t(hi));
     const std::uint32_t *owner = pairs_.forwardOwners(), *partner = pairs_.forwardPartners();
@@ -120,28 +131,23 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thic
   }
 }
 
-// Points [lo, hi): each one's terms from every thread's hits, summed in ascending (cell order, partner), into
-// correction_; returns how many terms were summed. A pinned point takes none.
+// The points `thread` owns (teamChunks' deal): each one's terms, sent by every thread, summed in ascending
+// (cell order, partner), into correction_; returns how many terms were summed.
 template <class T>
-long long CpuSolver<T>::sumPairTerms(long long lo, long long hi, T steps, PairScratch& mine) {
+long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
   long long summed = 0;
   try {
-    const auto ulo = std::uint32_t(lo), uhi = std::uint32_t(hi);
-    for (long long p = lo; p < hi; ++p)
-      correction_[std::size_t(p)] = vec3(0);
+    const long long n = (long long)x_.size(), team = (long long)pair_scratch_.size();
+    for (long long lo = thread * pair_chunk_; lo < n; lo += team * pair_chunk_)
+      std::fill(correction_.begin() + lo, correction_.begin() + std::min(lo + pair_chunk_, n), vec3(0));
     mine.terms.clear();
     mine.touched.clear();
-    const auto add = [&](std::uint32_t i, int order, std::uint32_t j, vec3 c) {
-      if (i < ulo || i >= uhi || c == vec3(0) || topo_.pinned[i]) return;
-      std::int32_t& first = first_term_[i];
-      if (first < 0) mine.touched.push_back(i);
-      mine.terms.push_back({j, order, first, c});
-      first = std::int32_t(mine.terms.size() - 1);
-    };
     for (const PairScratch& part : pair_scratch_)
-      for (const PairHit& h : part.hits) {
-        add(h.i, h.order_i, h.j, h.ci);
-        add(h.j, h.order_j, h.i, h.cj);
+      for (const FoundTerm& f : part.to[std::size_t(thread)]) {
+        std::int32_t& first = first_term_[f.i];
+        if (first < 0) mine.touched.push_back(f.i);
+        mine.terms.push_back({f.j, f.order, first, f.c});
+        first = std::int32_t(mine.terms.size() - 1);
       }
     std::vector<std::int32_t>& chain = mine.chain;
     for (const std::uint32_t i : mine.touched) {
@@ -178,7 +184,7 @@ template void CpuSolver<float>::selfCollide();
 template void CpuSolver<double>::selfCollide();
 template void CpuSolver<float>::findPairHits(long long, long long, bool, float, float, PairScratch&);
 template void CpuSolver<double>::findPairHits(long long, long long, bool, double, double, PairScratch&);
-template long long CpuSolver<float>::sumPairTerms(long long, long long, float, PairScratch&);
-template long long CpuSolver<double>::sumPairTerms(long long, long long, double, PairScratch&);
+template long long CpuSolver<float>::sumPairTerms(int, float, PairScratch&);
+template long long CpuSolver<double>::sumPairTerms(int, double, PairScratch&);
 
 }  // namespace drape

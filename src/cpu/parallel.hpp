@@ -78,6 +78,28 @@ void teamRange(long long first, long long last, F&& body) {
   teamBarrier();
 }
 
+// body(lo, hi) on this thread's chunks of [first, last), then a barrier: chunks of `chunk` items dealt in turn
+// (thread t takes chunks t, t + T, t + 2T, ...). Where an item's cost varies along the range (a cloth folded
+// at one end, its self-collision work there), dealing spreads the cost where a contiguous split would give
+// one thread most of it. Outside a team, every chunk.
+template <class F>
+void teamChunks(long long first, long long last, long long chunk, F&& body) {
+  const long long t = teamThread(), count = teamSize();
+  for (long long lo = first + t * chunk; lo < last; lo += count * chunk)
+    body(lo, lo + chunk < last ? lo + chunk : last);
+  teamBarrier();
+}
+// The thread teamChunks gives item k of [first, last) to.
+inline int chunkOwner(long long first, long long k, long long chunk, int threads) {
+  return int((k - first) / chunk % threads);
+}
+// A chunk for teamChunks: small enough that each of `threads` gets many, large enough to keep a thread's
+// items together.
+inline long long dealChunk(long long items, int threads) {
+  const long long chunk = items / (16LL * threads);
+  return chunk > 64 ? chunk : 64;
+}
+
 // body(k) for k in [first, last). In a team, this thread's share, then a barrier. Outside, split between
 // `threads` OpenMP threads when the loop is long enough (teamFor); short loops run as a plain loop: an
 // OpenMP region, even of one thread, compiles the body into an outlined function that reloads every member
