@@ -203,7 +203,7 @@ class CollisionPairs {
     vec3 dlo, dhi, lo, hi;
   };
   std::vector<TileBox> boxes_;
-  static constexpr std::size_t kSplitTiles = 128;  // from this many tiles a team splits needsBuild's work
+  static constexpr std::size_t kSplitTiles = 32;  // from this many tiles a team splits needsBuild's work
   std::vector<vec3> rest_;
   int w_ = 0, h_ = 0;                 // the grid, or 0 x 0
   std::vector<std::uint16_t> u_, v_;  // each point's grid column and row
