@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 
 #include <ostream>
 #include <string>
@@ -223,6 +224,25 @@ TEST(TeamTrial, OneOutlierDoesNotDecide) {
     trial.record(use ? (s == TeamTrial::kSamples + 5 ? 50.0 : 0.75) : 1.0);
   }
   EXPECT_TRUE(trial.useTeam());
+}
+
+TEST(TeamTrial, ACloseLossIsTriedAgainSoon) {
+  TeamTrial trial;
+  // The first probe finds the team 2% slower (a few noisy substeps; a loss all the same)...
+  runTrial(trial, 2 * TeamTrial::kSamples + 8, 1.0, 1.02);
+  ASSERT_FALSE(trial.useTeam());
+  // ...and it costs 2% of a probe, so the next comes after the shortest wait, not after 50 probes' time.
+  runTrial(trial, 3 * TeamTrial::kMinInterval, 1.0, 0.75);
+  EXPECT_TRUE(trial.useTeam());
+}
+
+// The processors' idle time between two readings of /proc/stat, as the room for a team is judged.
+TEST(TeamTrial, IdleProcessorsBetweenTwoReadings) {
+  EXPECT_DOUBLE_EQ(idleProcessors({100, 1000}, {300, 1400}, 2, 4), 1.0) << "half of two processors' ticks idle";
+  EXPECT_DOUBLE_EQ(idleProcessors({100, 1000}, {100, 1400}, 2, 4), 0.0);
+  EXPECT_TRUE(std::isnan(idleProcessors({100, 1000}, {102, 1003}, 2, 4))) << "three ticks say little";
+  EXPECT_TRUE(std::isnan(idleProcessors({100, 1000}, {90, 1400}, 2, 4))) << "not a later reading";
+  EXPECT_TRUE(std::isnan(idleProcessors({100, 1000}, {900, 1400}, 2, 4))) << "more idle than in all";
 }
 
 TEST(TeamTrial, NoCoreForTheTeamNoProbe) {

@@ -122,7 +122,7 @@ std::string describeTeam(const CpuSolver<T>& cpu) {
       fmt::format("threads: a team of {} ran {} of {} substeps", cpu.teamThreads(), cpu.teamSubsteps(), cpu.substeps());
   if (const TeamTrial* trial = cpu.teamTrial()) {
     if (std::isnan(trial->teamOverSolo()))
-      out += ", one thread the others (the team was not tried: the load average left no core for it)";
+      out += ", one thread the others (the team was not tried: the machine had no core free for it)";
     else
       out += fmt::format(
           ", one thread the others (timed as it ran: at its last probe the team took {:.2f}x one "

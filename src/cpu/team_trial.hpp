@@ -8,8 +8,8 @@
 // one way, now and then times a few substeps the other way, and keeps the faster. A probe costs at most
 // kProbeShare of the run: the more the other way lost by, the longer until it is tried again, and a probe
 // that has already lost stops at once. The team is not tried at all while the machine has no core for its
-// other threads (the caller's `room`, from the load average). The bytes are the same either way: what is
-// decided here is only how long they take.
+// other threads (the caller's `room`: the processors' idle time, or the load average). The bytes are the same either
+// way: what is decided here is only how long they take.
 #pragma once
 
 #include <algorithm>
@@ -18,6 +18,21 @@
 #include <utility>
 
 namespace drape {
+
+// The processors' time as /proc/stat counts it, all of them together, in clock ticks: idle (idle and
+// iowait) and in all.
+struct ProcessorTicks {
+  long long idle = 0, total = 0;
+};
+
+// How many processors were idle on average between two readings, or NaN where fewer than min_ticks passed
+// (a tick is a hundredth of a second of one processor: a shorter interval says little) or the readings do
+// not follow each other.
+inline double idleProcessors(ProcessorTicks before, ProcessorTicks after, int processors, long long min_ticks) {
+  const long long total = after.total - before.total, idle = after.idle - before.idle;
+  if (total <= 0 || total < min_ticks || idle < 0 || idle > total) return std::numeric_limits<double>::quiet_NaN();
+  return double(processors) * double(idle) / double(total);
+}
 
 class TeamTrial {
  public:
@@ -89,8 +104,10 @@ class TeamTrial {
       interval_ = kMinInterval;
     } else {
       typical_ = current;
-      // Lost: try again when this probe's cost is kProbeShare of the time run in between.
-      const double cost = probe_sum_ / (kProbeShare * current);
+      // Lost: try again when this probe's cost, the time it took beyond what this way would have, is
+      // kProbeShare of the time run in between. A close loss costs little and is soon tried again (the two
+      // ways' means are noisy over a few substeps); a team that waited for time slices, seldom.
+      const double cost = std::max(probe_sum_ - current * double(probe_runs_), 0.0) / (kProbeShare * current);
       interval_ = (long long)std::min(double(kMaxInterval), std::max(2.0 * double(interval_), cost));
     }
     countdown_ = interval_;
