@@ -181,9 +181,13 @@ TEST(TeamTrial, AThousandTimesSlowerCostsLittleMoreThanTwelve) {
 
 TEST(TeamTrial, ASubstepThousandsOfTimesSlowerEndsTheProbeAtOnce) {
   TeamTrial trial;
-  EXPECT_EQ(runTrial(trial, 200, 1.0, 1600.0), 1) << "one substep on the team, not two";
+  // The run's first team substep also starts the team's threads (the scheduler may hold one back for a time
+  // slice): it does not end the first probe alone; the next does.
+  EXPECT_EQ(runTrial(trial, 200, 1.0, 1600.0), 2) << "two substeps on the team, not three";
   EXPECT_FALSE(trial.useTeam());
-  EXPECT_DOUBLE_EQ(trial.teamOverSolo(), 1600.0) << "what that one substep measured";
+  EXPECT_DOUBLE_EQ(trial.teamOverSolo(), 1600.0) << "what the second substep measured";
+  // A later probe ends at its first such substep.
+  EXPECT_EQ(runTrial(trial, 200000, 1.0, 1600.0), 1) << "one substep on the team, not two";
   TeamTrial quiet;
   // A substep interrupted for 50 times its time, on a team that is faster: not enough to end the probe.
   for (int s = 0; s < 200; ++s) {
@@ -191,6 +195,18 @@ TEST(TeamTrial, ASubstepThousandsOfTimesSlowerEndsTheProbeAtOnce) {
     quiet.record(use ? (s == TeamTrial::kSamples ? 50.0 : 0.75) : 1.0);
   }
   EXPECT_TRUE(quiet.useTeam());
+}
+
+TEST(TeamTrial, AFirstTeamSubstepThatWaitedATimeSliceDoesNotDecide) {
+  TeamTrial trial;
+  // The team is faster, but its very first substep waited 300 times one thread's substep for its threads.
+  bool first = true;
+  for (int s = 0; s < 200; ++s) {
+    const bool use = trial.useTeam();
+    trial.record(use ? (first ? 300.0 : 0.75) : 1.0);
+    first = first && !use;
+  }
+  EXPECT_TRUE(trial.useTeam());
 }
 
 TEST(TeamTrial, FollowsTheMachineWhenItChanges) {

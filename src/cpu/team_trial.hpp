@@ -91,8 +91,12 @@ class TeamTrial {
     // is what decides; once it exceeds what kSamples substeps may take to win, the other way has lost,
     // however the rest would go.
     const double limit = kHysteresis * current * double(kSamples);
-    const bool lost = probe_sum_ - probe_max_ > limit || seconds > kAbsurd * current;
+    // The team's first substep of the run also starts its threads, which the scheduler may leave on one
+    // core for a time slice before it spreads them: that one alone does not end the probe.
+    const bool starting = !team_ && !team_tried_ && probe_runs_ == 1;
+    const bool lost = probe_sum_ - probe_max_ > limit || (seconds > kAbsurd * current && !starting);
     if (!lost && probe_runs_ < kSamples + 1) return;
+    team_tried_ = team_tried_ || !team_;
     // (A probe stopped at its first substep has only that one to say how long the other way takes.)
     const double other = probe_runs_ > 1 ? (probe_sum_ - probe_max_) / double(probe_runs_ - 1) : probe_sum_;
     const double ratio = other / current;  // the other way's time over this way's
@@ -128,6 +132,7 @@ class TeamTrial {
   std::function<bool()> room_;
   bool team_ = false;  // the way substeps run between probes: one thread until the team has measured faster
   bool probing_ = false;
+  bool team_tried_ = false;  // whether a probe of the team has finished
   bool first_ = true;
   long long interval_ = kMinInterval;
   long long countdown_ = kSamples;  // the first probe: as soon as one thread has a mean
