@@ -209,6 +209,22 @@ TEST(TeamTrial, AFirstTeamSubstepThatWaitedATimeSliceDoesNotDecide) {
   EXPECT_TRUE(trial.useTeam());
 }
 
+TEST(TeamTrial, AStalledStartDoesNotPostponeTheNextProbe) {
+  TeamTrial trial;
+  // The first probe: the team's threads start late (100 substeps' time), then it runs as fast as one thread
+  // (the cloth still falling, little to share): a loss, but one that cost nothing beyond the start.
+  bool first = true;
+  for (int s = 0; s < 2 * TeamTrial::kSamples + 8; ++s) {
+    const bool use = trial.useTeam();
+    trial.record(use ? (first ? 100.0 : 1.0) : 1.0);
+    first = first && !use;
+  }
+  ASSERT_FALSE(trial.useTeam());
+  // The cloth folds and the team pays: it is tried again at the shortest wait.
+  runTrial(trial, 3 * TeamTrial::kMinInterval, 1.0, 0.75);
+  EXPECT_TRUE(trial.useTeam());
+}
+
 TEST(TeamTrial, FollowsTheMachineWhenItChanges) {
   TeamTrial trial;
   runTrial(trial, 3000, 1.0, 12.0);  // busy: one thread

@@ -109,9 +109,11 @@ class TeamTrial {
     } else {
       typical_ = current;
       // Lost: try again when this probe's cost, the time it took beyond what this way would have, is
-      // kProbeShare of the time run in between. A close loss costs little and is soon tried again (the two
-      // ways' means are noisy over a few substeps); a team that waited for time slices, seldom.
-      const double cost = std::max(probe_sum_ - current * double(probe_runs_), 0.0) / (kProbeShare * current);
+      // kProbeShare of the time run in between. The cost is reckoned as the decision was, without the slowest
+      // substep (a team's first one may wait a time slice for its threads to start, once a run). A close loss
+      // costs little and is soon tried again (the two ways' means are noisy over a few substeps); a team
+      // that waited for time slices, seldom.
+      const double cost = std::max(other - current, 0.0) * double(probe_runs_) / (kProbeShare * current);
       interval_ = (long long)std::min(double(kMaxInterval), std::max(2.0 * double(interval_), cost));
     }
     countdown_ = interval_;
