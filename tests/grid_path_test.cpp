@@ -129,7 +129,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, GridPathEquality, ::testing::Values(
 // which is a -0 turning +0. The general path adds it everywhere; the bytes must be its bytes, signs of zero
 // included. Gravity's x is -0 too, so that a force sum starts at -0 and keeps the sign its terms give it.
 TEST(GridPathSignedZeros, AClothWithinTheLimitKeepsTheGeneralPathsSignsOfZero) {
-  Scene scene = sceneFor(GridCase{.name = "zeros", .w = 21, .h = 9});
+  Scene scene = sceneFor(GridCase{.name = "zeros", .file = "", .w = 21, .h = 9});
   scene.sim.gravity = glm::dvec3(-0.0, -9.8, 0.0);
   for (GridIsa isa : isas()) {
     CpuSolver<float> general(scene, CpuSolverOptions{.threads = 1, .grid_path = false});
