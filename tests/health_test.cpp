@@ -86,5 +86,38 @@ TEST(Health, TheCpuSolverReportsTheStateItHolds) {
   EXPECT_EQ(cpu.deviceMemoryBytes(), -1);
 }
 
+// A cloth large enough that health() splits its scan between two threads: the parts merge to the answer of
+// scanHealth over the state read back, flag by flag and first point, whichever part found what.
+TEST(Health, ASplitScanMergesToTheWholeScansAnswer) {
+  Scene scene;
+  scene.cloth.num_width_points = 128;
+  scene.cloth.num_height_points = 128;
+  CpuSolver<float> cpu(scene, CpuSolverOptions{.threads = 2});
+  const std::vector<glm::dvec3> rest = cpu.topology().initial_positions;
+  const auto check = [&](const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& v, unsigned flags,
+                         long long first) {
+    cpu.setState(x, v);
+    const Health split = cpu.health(),
+                 whole = scanHealth(cpu.topology(), scene.cloth, cpu.readPositions(), cpu.readDisplacements());
+    EXPECT_EQ(split.flags, flags);
+    EXPECT_EQ(split.first_point, first);
+    EXPECT_EQ(split.flags, whole.flags);
+    EXPECT_EQ(split.first_point, whole.first_point);
+    EXPECT_EQ(split.substeps, cpu.substeps());
+  };
+  std::vector<glm::dvec3> x = rest, v(x.size(), glm::dvec3(0));
+  check(x, v, 0, -1);
+  // Only in the second half of the points and springs: the first part finds nothing. The point beyond the
+  // bound also stretches its springs, the first of them from two rows above it (a bending spring).
+  const std::size_t late = x.size() - 200;
+  v[late].x = std::numeric_limits<double>::infinity();
+  check(x, v, Health::kNonFinite, (long long)late);
+  x[late + 50].z = 2e5;
+  check(x, v, Health::kNonFinite | Health::kOutOfBounds | Health::kOverstretched, (long long)(late + 50 - 2 * 128));
+  // Point 10 of the first row moved 5 m: its springs (the first from 8, a bending spring) flag both ends.
+  x[10] += glm::dvec3(0, 5.0, 0);
+  check(x, v, Health::kNonFinite | Health::kOutOfBounds | Health::kOverstretched, 8);
+}
+
 }  // namespace
 }  // namespace drape

@@ -23,31 +23,51 @@ std::string Health::describe() const {
   return what + " (first at point " + std::to_string(first_point) + ")";
 }
 
+void Health::merge(const Health& part) {
+  flags |= part.flags;
+  if (part.first_point >= 0 && (first_point < 0 || part.first_point < first_point)) first_point = part.first_point;
+}
+
 Health scanHealth(const Topology& topo, const ClothSpec& cloth, const std::vector<glm::dvec3>& x,
                   const std::vector<glm::dvec3>& v, const HealthLimits& limits) {
+  return scanHealthPart(topo, cloth, x, v, limits, 0, x.size(), 0, topo.springs.size());
+}
+
+template <class P>
+Health scanHealthPart(const Topology& topo, const ClothSpec& cloth, const std::vector<P>& x, const std::vector<P>& v,
+                      const HealthLimits& limits, std::size_t p0, std::size_t p1, std::size_t s0, std::size_t s1) {
   Health h;
   const auto raise = [&h](unsigned flag, std::size_t point) {
     h.flags |= flag;
     if (h.first_point < 0 || (long long)point < h.first_point) h.first_point = (long long)point;
   };
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    if (!finite(x[i]) || (i < v.size() && !finite(v[i]))) {
+  for (std::size_t i = p0; i < p1; ++i) {
+    const glm::dvec3 p(x[i]);
+    if (!finite(p) || (i < v.size() && !finite(glm::dvec3(v[i])))) {
       raise(Health::kNonFinite, i);
-    } else if (std::max({std::abs(x[i].x), std::abs(x[i].y), std::abs(x[i].z)}) > limits.sane_bound) {
+    } else if (std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) > limits.sane_bound) {
       raise(Health::kOutOfBounds, i);
     }
   }
   // The GPU compares length > (1 + max_strain) * rest in float; written the same way here so that the
   // two disagree only for a spring within rounding of the limit.
   const double stretch = 1.0 + limits.max_strain;
-  for (const Spring& s : topo.springs) {
+  for (std::size_t k = s0; k < s1; ++k) {
+    const Spring& s = topo.springs[k];
     if (!cloth.springEnabled(s.type)) continue;
-    if (glm::distance(x[s.a], x[s.b]) > stretch * s.rest) {
+    if (glm::distance(glm::dvec3(x[s.a]), glm::dvec3(x[s.b])) > stretch * s.rest) {
       raise(Health::kOverstretched, s.a);
       raise(Health::kOverstretched, s.b);
     }
   }
   return h;
 }
+
+template Health scanHealthPart(const Topology&, const ClothSpec&, const std::vector<glm::dvec3>&,
+                               const std::vector<glm::dvec3>&, const HealthLimits&, std::size_t, std::size_t,
+                               std::size_t, std::size_t);
+template Health scanHealthPart(const Topology&, const ClothSpec&, const std::vector<glm::vec3>&,
+                               const std::vector<glm::vec3>&, const HealthLimits&, std::size_t, std::size_t,
+                               std::size_t, std::size_t);
 
 }  // namespace drape

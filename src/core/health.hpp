@@ -33,11 +33,19 @@ struct Health {
   long long substeps = -1;     // Solver::substeps() of the state checked (-1: not said)
   bool ok() const { return flags == 0; }
   std::string describe() const;  // empty while ok, else one line naming every flag and the point
+  // Adds what another part of the same scan found (scanHealthPart): the answer of the scan in one piece.
+  void merge(const Health& part);
 };
 
 // Non-finite x or v, |x| beyond the bound, enabled springs of `topo` stretched beyond the limit.
 // Only the flags and the first point are kept, so that a CPU scan and the GPU kernel can be compared.
 Health scanHealth(const Topology& topo, const ClothSpec& cloth, const std::vector<glm::dvec3>& x,
                   const std::vector<glm::dvec3>& v, const HealthLimits& limits = {});
+// scanHealth's tests of points [p0, p1) and springs [s0, s1), for a caller that splits the scan (threads)
+// and merges the parts. x and v in double or in float (each coordinate taken to double first, as a
+// float solver's readPositions does).
+template <class P>
+Health scanHealthPart(const Topology& topo, const ClothSpec& cloth, const std::vector<P>& x, const std::vector<P>& v,
+                      const HealthLimits& limits, std::size_t p0, std::size_t p1, std::size_t s0, std::size_t s1);
 
 }  // namespace drape

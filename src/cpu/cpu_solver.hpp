@@ -87,6 +87,7 @@ class CpuSolver final : public Solver {
   void reset() override;
   void setParams(const ClothSpec& cloth, const SimParams& sim) override;
   std::vector<glm::dvec3> readPositions() override;
+  Health health() override;
   std::vector<glm::dvec3> readDisplacements() override;
   long long substeps() const override { return substeps_; }
   std::vector<std::string> passes() const override;
