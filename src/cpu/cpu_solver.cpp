@@ -9,13 +9,9 @@
 
 #include <algorithm>
 #include <bit>
-#include <cmath>
 #include <cstdint>
 #include <cstdlib>
-#include <fstream>
 #include <limits>
-#include <optional>
-#include <string>
 #include <type_traits>
 
 namespace drape {
@@ -38,41 +34,6 @@ enum PassId {
 const char* const kPassNames[kPassCount] = {"forces",        "integrate",   "xpbd_solve",    "vbd_solve",
                                             "self_collide",  "collide",     kTetherPassName, "limit_stretch",
                                             "collide_faces", "collide_last"};
-
-// Whether the machine has a core for each of a team's other threads: the 1-minute load average, which
-// counts this process's one running thread, leaves them free. A team probed on busy cores waits a time
-// slice at each barrier (cpu/team_trial.hpp).
-std::optional<ProcessorTicks> readProcessorTicks() {
-  std::ifstream in("/proc/stat");
-  std::string name;
-  long long field[8] = {};  // user nice system idle iowait irq softirq steal
-  in >> name;
-  for (long long& f : field)
-    in >> f;
-  if (!in || name != "cpu") return std::nullopt;
-  ProcessorTicks t;
-  for (const long long f : field)
-    t.total += f;
-  t.idle = field[3] + field[4];
-  return t;
-}
-
-// Whether the machine has a core for each of the team's other threads now: the processors' idle time since
-// `last` (the time this run has been running on one thread, or since the last answer), or, until a few ticks
-// have passed, the 1-minute load average, which also counts processes that ended a moment ago (another
-// benchmark's run just before this one).
-bool roomForTeam(int team, ProcessorTicks& last) {
-  const int processors = omp_get_num_procs();
-  if (const std::optional<ProcessorTicks> now = readProcessorTicks()) {
-    const double idle = last.total > 0 ? idleProcessors(last, *now, processors, 2LL * processors)
-                                       : std::numeric_limits<double>::quiet_NaN();
-    if (last.total == 0 || !std::isnan(idle)) last = *now;
-    if (!std::isnan(idle)) return idle >= double(team - 1) - 0.5;
-  }
-  double load = 0;
-  if (getloadavg(&load, 1) != 1) return true;
-  return load + double(team - 1) <= double(processors) + 0.5;
-}
 
 }  // namespace
 
@@ -100,10 +61,7 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
   const std::size_t n = std::size_t(topo_.pointCount());
   team_ =
       threads_ > 1 && (long long)n >= std::min(options.team_min_points, options.team_trial_min_points) ? threads_ : 1;
-  if (team_ > 1 && (long long)n < options.team_min_points)
-    trial_.emplace([team = team_, last = readProcessorTicks().value_or(ProcessorTicks{})]() mutable {
-      return roomForTeam(team, last);
-    });
+  if (team_ > 1 && (long long)n < options.team_min_points) trial_.emplace(machineRoom(team_));
   if constexpr (std::is_same_v<T, float>)
     if (options.grid_path) {
       kernels_ = &drape::gridKernels(options.grid_isa);

@@ -137,9 +137,9 @@ template <class T>
 long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
   long long summed = 0;
   try {
-    const long long n = (long long)x_.size(), team = (long long)pair_scratch_.size();
-    for (long long lo = thread * pair_chunk_; lo < n; lo += team * pair_chunk_)
-      std::fill(correction_.begin() + lo, correction_.begin() + std::min(lo + pair_chunk_, n), vec3(0));
+    forEachDealtChunk(
+        0, (long long)x_.size(), pair_chunk_, thread, (long long)pair_scratch_.size(),
+        [&](long long lo, long long hi) { std::fill(correction_.begin() + lo, correction_.begin() + hi, vec3(0)); });
     mine.terms.clear();
     mine.touched.clear();
     for (const PairScratch& part : pair_scratch_)

@@ -78,15 +78,20 @@ void teamRange(long long first, long long last, F&& body) {
   teamBarrier();
 }
 
+// body(lo, hi) on the chunks of [first, last) that thread t of `threads` is dealt (below), with no barrier.
+template <class F>
+void forEachDealtChunk(long long first, long long last, long long chunk, long long t, long long threads, F&& body) {
+  for (long long lo = first + t * chunk; lo < last; lo += threads * chunk)
+    body(lo, lo + chunk < last ? lo + chunk : last);
+}
+
 // body(lo, hi) on this thread's chunks of [first, last), then a barrier: chunks of `chunk` items dealt in turn
 // (thread t takes chunks t, t + T, t + 2T, ...). Where an item's cost varies along the range (a cloth folded
 // at one end, its self-collision work there), dealing spreads the cost where a contiguous split would give
 // one thread most of it. Outside a team, every chunk.
 template <class F>
 void teamChunks(long long first, long long last, long long chunk, F&& body) {
-  const long long t = teamThread(), count = teamSize();
-  for (long long lo = first + t * chunk; lo < last; lo += count * chunk)
-    body(lo, lo + chunk < last ? lo + chunk : last);
+  forEachDealtChunk(first, last, chunk, teamThread(), teamSize(), body);
   teamBarrier();
 }
 // The thread teamChunks gives item k of [first, last) to.

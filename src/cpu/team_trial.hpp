@@ -34,6 +34,11 @@ inline double idleProcessors(ProcessorTicks before, ProcessorTicks after, int pr
   return double(processors) * double(idle) / double(total);
 }
 
+// The `room` a trial of a team of `team` threads asks on this machine (cpu/team_trial.cpp): whether the
+// processors' idle time since the last ask (or since this call) leaves a core for each of its other threads;
+// until a few ticks have passed, whether the 1-minute load average does.
+std::function<bool()> machineRoom(int team);
+
 class TeamTrial {
  public:
   static constexpr int kSamples = 16;  // substeps a probe counts (it runs one more: its slowest is not counted)

@@ -1,0 +1,54 @@
+// TeamTrial's room on this machine: how busy its processors are, from /proc/stat and the load average.
+#include "cpu/team_trial.hpp"
+
+#include <omp.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <optional>
+#include <string>
+
+namespace drape {
+
+namespace {
+
+std::optional<ProcessorTicks> readProcessorTicks() {
+  std::ifstream in("/proc/stat");
+  std::string name;
+  long long field[8] = {};  // user nice system idle iowait irq softirq steal
+  in >> name;
+  for (long long& f : field)
+    in >> f;
+  if (!in || name != "cpu") return std::nullopt;
+  ProcessorTicks t;
+  for (const long long f : field)
+    t.total += f;
+  t.idle = field[3] + field[4];
+  return t;
+}
+
+// The processors' idle time since `last` (the time this run has been running on one thread, or since the last
+// answer), or, until a few ticks have passed, the 1-minute load average, which also counts processes that
+// ended a moment ago (another benchmark's run just before this one). A team probed on busy cores waits a
+// time slice at each barrier.
+bool roomForTeam(int team, ProcessorTicks& last) {
+  const int processors = omp_get_num_procs();
+  if (const std::optional<ProcessorTicks> now = readProcessorTicks()) {
+    const double idle = last.total > 0 ? idleProcessors(last, *now, processors, 2LL * processors)
+                                       : std::numeric_limits<double>::quiet_NaN();
+    if (last.total == 0 || !std::isnan(idle)) last = *now;
+    if (!std::isnan(idle)) return idle >= double(team - 1) - 0.5;
+  }
+  double load = 0;
+  if (getloadavg(&load, 1) != 1) return true;
+  return load + double(team - 1) <= double(processors) + 0.5;
+}
+
+}  // namespace
+
+std::function<bool()> machineRoom(int team) {
+  return [team, last = readProcessorTicks().value_or(ProcessorTicks{})]() mutable { return roomForTeam(team, last); };
+}
+
+}  // namespace drape
