@@ -192,6 +192,7 @@ class CollisionPairs {
   // needsBuild()'s tiles, as runs of consecutive points, and per tile the box of its displacements since the build
   // and the box of its points
   static constexpr int kTileEdge = 8, kTilesAcross = 16;
+  static_assert(kTilesAcross * kTilesAcross <= kMaxCompareTiles);
   struct Run {
     std::uint32_t begin, end, tile;  // points [begin, end) of one tile
   };

@@ -109,7 +109,16 @@ void CollisionPairs<T>::compareTiles(bool split) {
     step = std::size_t(omp_get_num_threads());
   }
 #endif
-  for (std::size_t a = first; a < boxes_.size() && !moved_.set.load(std::memory_order_relaxed); a += step) {
+  bool tested = false;
+  if constexpr (std::is_same_v<T, float>)
+    if (kernels_ && boxes_.size() <= std::size_t(kMaxCompareTiles)) {
+      static_assert(sizeof(TileBox) == 12 * sizeof(float));
+      if (kernels_->tilesMovedApart({&boxes_.data()->dlo.x, int(boxes_.size()), int(first), int(step), apart * apart,
+                                     limit * limit, &moved_.set}))
+        moved_.set = true;
+      tested = true;
+    }
+  for (std::size_t a = first; !tested && a < boxes_.size() && !moved_.set.load(std::memory_order_relaxed); a += step) {
     const TileBox& p = boxes_[a];
     if (!(p.lo.x <= p.hi.x)) continue;  // an empty tile
     for (std::size_t c = a; c < boxes_.size(); ++c) {

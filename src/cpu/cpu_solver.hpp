@@ -172,9 +172,10 @@ class CpuSolver final : public Solver {
     std::int32_t next;  // the point's next term in the same scratch, or -1
     vec3 c;
   };
-  struct alignas(64) PairScratch {           // one per thread of the team, on cache lines of their own
-    std::vector<std::vector<FoundTerm>> to;  // per thread of the team: the terms found here for its points
-    std::vector<std::uint32_t> slots;        // the list entries in range (GridKernels::pairsInRange)
+  struct alignas(64) PairScratch {            // one per thread of the team, on cache lines of their own
+    std::vector<std::vector<FoundTerm>> to;   // per thread of the team: the terms found here for its points
+    std::vector<PairTermOut> hits;            // the pairs in range with their terms (GridKernels::pairTerms)
+    std::vector<std::uint32_t> lower, upper;  // the stencil's pairs in range, for pairTerms
     std::vector<PairTerm> terms;
     std::vector<std::uint32_t> touched;
     std::vector<std::int32_t> chain;

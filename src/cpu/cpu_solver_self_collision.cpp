@@ -93,7 +93,8 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thic
     const int team = int(mine.to.size());
     const auto send = [&](std::uint32_t i, std::uint32_t j, int order, vec3 c) {
       if (c == vec3(0) || topo_.pinned[i]) return;
-      mine.to[std::size_t(chunkOwner(0, i, pair_chunk_, team))].push_back({i, j, order, c});
+      // One thread owns every point: no need for chunkOwner's two divisions a term
+      mine.to[team == 1 ? 0 : std::size_t(chunkOwner(0, i, pair_chunk_, team))].push_back({i, j, order, c});
     };
     const auto pair = [&](std::uint32_t i, std::uint32_t j) {
       vec3 ci, cj;
@@ -107,19 +108,43 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thic
     };
     const std::uint32_t first = pairs_.forwardStart(std::size_t(lo)), last = pairs_.forwardStart(std::size_t(hi));
     const std::uint32_t *owner = pairs_.forwardOwners(), *partner = pairs_.forwardPartners();
-    bool tested = false;
     if constexpr (std::is_same_v<T, float>)
       if (kernels_) {
-        mine.slots.resize(last - first);
-        const int found =
-            kernels_->pairsInRange(&x_.data()->x, owner, partner, first, last, thickness, mine.slots.data());
-        for (int s = 0; s < found; ++s)
-          pair(owner[mine.slots[std::size_t(s)]], partner[mine.slots[std::size_t(s)]]);
-        tested = true;
+        // Both ends' terms and cells side by side, the list's entries and then the stencil's pairs in range
+        const auto take = [&](const std::uint32_t* a, const std::uint32_t* b, std::uint32_t from, std::uint32_t to) {
+          mine.hits.resize(to - from);
+          const int found = kernels_->pairTerms(&x_.data()->x, a, b, from, to, thickness, inv_range, mine.hits.data());
+          for (int s = 0; s < found; ++s) {
+            const PairTermOut& h = mine.hits[std::size_t(s)];
+            const std::uint32_t i = a[h.k], j = b[h.k];
+            if (h.order_i == -2) {  // a NaN distance: the scalar code's two calls
+              pair(i, j);
+              continue;
+            }
+            const vec3 ci(h.ci[0], h.ci[1], h.ci[2]), cj(h.cj[0], h.cj[1], h.cj[2]);
+            if ((ci == vec3(0) && cj == vec3(0)) || h.order_i < 0) continue;
+            send(i, j, h.order_i, ci);
+            send(j, i, h.order_j, cj);
+          }
+        };
+        take(owner, partner, first, last);
+        if (stencil) {
+          mine.lower.clear();
+          mine.upper.clear();
+          for (long long p = lo; p < hi; ++p) {
+            const std::size_t i = std::size_t(p);
+            if (near_[i] != 0)
+              pairs_.forEachForwardPartner(i, near_[i], [&](std::uint32_t j) {
+                mine.lower.push_back(std::uint32_t(i));
+                mine.upper.push_back(j);
+              });
+          }
+          take(mine.lower.data(), mine.upper.data(), 0, std::uint32_t(mine.lower.size()));
+        }
+        return;
       }
-    if (!tested)
-      for (std::uint32_t k = first; k < last; ++k)
-        pair(owner[k], partner[k]);
+    for (std::uint32_t k = first; k < last; ++k)
+      pair(owner[k], partner[k]);
     if (stencil)
       for (long long p = lo; p < hi; ++p) {
         const std::size_t i = std::size_t(p);

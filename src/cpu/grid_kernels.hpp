@@ -6,6 +6,7 @@
 // in a padded layout (GridShape), copied from and back to the solver's vec3 arrays around a pass.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 
@@ -65,11 +66,20 @@ struct PairScanArgs {
   float near_below;
 };
 
+// A self-collision pair within range, as GridKernels::pairTerms finds it: physics::selfCollisionCorrections
+// from both ends and the cellOrder of each end's partner (CollisionPairs' sum order).
+struct PairTermOut {
+  std::uint32_t k;                // the pair's entry
+  std::int32_t order_i, order_j;  // -1: the two cells are not neighbours; order_i -2: a NaN distance (not computed)
+  float ci[3], cj[3];
+};
+
 // Self-collision's stencil of a grid cloth (cpu/collision_pairs.hpp): per point, whether a partner at grid
 // offset (du[k], dv[k]), k < count, lies on the grid, is not held at rest where mixed[k] (physics::heldAtRest on
 // the rest positions), and is within sqrt(range2) now (the test of physics::selfCollisionCorrection; a NaN
 // distance counts). The offsets are half the stencil (one of each +-pair) and a pair in range flags both its
-// points, which may lie in another thread's rows: the flags must be 0 before, and are set by atomic ORs.
+// points, which may lie in another thread's rows: the flags must be 0 before, and are set by ORs, atomic ones in the
+// rows another thread may write too.
 struct GridStencilArgs {
   GridShape shape;
   const float *x, *y, *z;     // positions, padded layout
@@ -107,6 +117,17 @@ struct TileBoxArgs {
   int tv0 = 0, tv1 = 0;  // the rows of tiles [tv0, tv1) to box
 };
 
+// The most tiles tilesMovedApart compares (CollisionPairs makes at most 16 x 16).
+constexpr int kMaxCompareTiles = 256;
+// CollisionPairs::compareTiles over `count` tiles' boxes as tileBoxes writes them: the tiles a taken from
+// `first` in steps of `step`, each against every tile c >= a.
+struct TileCompareArgs {
+  const float* boxes;
+  int count = 0, first = 0, step = 1;
+  float apart2 = 0, limit2 = 0;   // the squares of compareTiles' apart and limit, computed as it does
+  const std::atomic<bool>* stop;  // set by another thread that has found a pair: this one may stop
+};
+
 // One instruction set's kernels. Each works on the rows [y0, y1) of the grid (for a stretch colour, the
 // rows where its springs start), so a team of threads can split a pass by rows.
 struct GridKernels {
@@ -129,6 +150,11 @@ struct GridKernels {
   // their count returned. x is the vec3 array seen as floats. Not grid-specific.
   int (*pairsInRange)(const float* x, const std::uint32_t* owner, const std::uint32_t* partner, std::uint32_t first,
                       std::uint32_t last, float thickness, std::uint32_t* out);
+  // The entries k in [first, last) whose pair {owner[k], partner[k]} is within self-collision range (a NaN
+  // distance counts), with both ends' terms and cell orders (PairTermOut), written to out in ascending k; their
+  // count returned. inv_range: 1 / (2 thickness), the grid of cellOrder.
+  int (*pairTerms)(const float* x, const std::uint32_t* owner, const std::uint32_t* partner, std::uint32_t first,
+                   std::uint32_t last, float thickness, float inv_range, PairTermOut* out);
   // Self-collision's stencil (cpu/collision_pairs.hpp) over the points of rows [y0, y1): flags[v * W + u] = 1
   // where a stencil partner lies on the grid, is not held at rest, and is within range (see GridStencilArgs).
   void (*stencilFlags)(const GridStencilArgs&, int y0, int y1);
@@ -142,6 +168,9 @@ struct GridKernels {
   long long (*collideObjects)(const CollideArgs&, long long first, long long last);
   // TileBoxArgs' boxes of the tiles in its rows; false if a displacement is not finite (the lists must be rebuilt).
   bool (*tileBoxes)(const TileBoxArgs&);
+  // Whether two tiles lie within apart of each other while the box of their displacements together has a
+  // diagonal over limit (or not finite): compareTiles' test, several tiles c side by side.
+  bool (*tilesMovedApart)(const TileCompareArgs&);
   // Probes of this machine's peak with these instructions (cpu/machine_peak.hpp); each returns a value that
   // depends on all its work, so that none of it can be left out. Independent chains, so throughput counts:
   // 6 multiplies and 6 adds per lane and rep (no fused multiply-add: the build forbids it)

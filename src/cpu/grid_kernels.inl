@@ -436,10 +436,12 @@ struct Kernels : Lanes<V> {
             &stretchColour,
             &integrate,
             &Contact::pairsInRange,
+            &Contact::pairTerms,
             &Contact::stencilFlags,
             &Contact::scanPairs,
             &Contact::collideObjects,
             &Contact::tileBoxes,
+            &Contact::tilesMovedApart,
             &probeAddMul,
             &probeDivSqrt,
             &probeTriad};

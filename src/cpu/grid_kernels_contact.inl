@@ -38,9 +38,73 @@ struct ContactKernels : Lanes<V> {
     return count;
   }
 
+  // HashGrid::cellOf's coordinate: floor(q), NaN to 0, clamped to +-2^30 (clamping first gives the same
+  // cell and keeps floor's argument where it is exact)
+  static F cellCoordinate(F q) {
+    const float limit = float(1 << 30);
+    const F finite = V::select(V::eq(q, q), q, V::set1(0.0f));
+    return V::floor(V::min(V::max(finite, V::set1(-limit)), V::set1(limit)));
+  }
+
+  static int pairTerms(const float* x, const std::uint32_t* owner, const std::uint32_t* partner, std::uint32_t first,
+                       std::uint32_t last, float thickness, float inv_range, PairTermOut* out) {
+    const float range = 2.0f * thickness;  // as physics::selfCollisionCorrections computes it
+    const F range2 = V::set1(range * range), zero = V::set1(0.0f), one = V::set1(1.0f), inv = V::set1(inv_range);
+    int count = 0;
+    for (std::uint32_t k = first; k < last; k += kW) {
+      const int lanes = int(last - k < std::uint32_t(kW) ? last - k : std::uint32_t(kW));
+      F ix, iy, iz, jx, jy, jz, live;
+      V::gatherVec3(x, owner + k, lanes, ix, iy, iz, live);
+      V::gatherVec3(x, partner + k, lanes, jx, jy, jz, live);
+      const F dx = V::sub(ix, jx), dy = V::sub(iy, jy), dz = V::sub(iz, jz);
+      const F dist2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
+      int bits = V::bits(V::andNot(V::bitOr(V::ge(dist2, range2), V::le(dist2, zero)), live));
+      if (bits == 0) continue;
+      const int nan = V::bits(V::andNot(V::eq(dist2, dist2), live));
+      const F dist = V::sqrt(dist2), f = V::div(V::sub(V::set1(range), dist), dist);
+      // xj - xi, not -(xi - xj): the two differ in the sign of a zero
+      const F c[6] = {V::mul(f, dx),
+                      V::mul(f, dy),
+                      V::mul(f, dz),
+                      V::mul(f, V::sub(jx, ix)),
+                      V::mul(f, V::sub(jy, iy)),
+                      V::mul(f, V::sub(jz, iz))};
+      // cellOrder(cell of i, cell of j) = 13 + 9 dz + 3 dy + dx for cell steps d in {-1, 0, 1}; from j, 26 less it.
+      // The cells are whole floats: a rounded difference within 1 is exact.
+      const F ex = V::sub(cellCoordinate(V::mul(jx, inv)), cellCoordinate(V::mul(ix, inv))),
+              ey = V::sub(cellCoordinate(V::mul(jy, inv)), cellCoordinate(V::mul(iy, inv))),
+              ez = V::sub(cellCoordinate(V::mul(jz, inv)), cellCoordinate(V::mul(iz, inv)));
+      const F minus = V::set1(-1.0f);
+      const F near =
+          V::bitAnd(V::bitAnd(V::bitAnd(V::le(ex, one), V::ge(ex, minus)), V::bitAnd(V::le(ey, one), V::ge(ey, minus))),
+                    V::bitAnd(V::le(ez, one), V::ge(ez, minus)));
+      const F order = V::add(V::add(V::set1(13.0f), V::mul(V::set1(9.0f), ez)), V::add(V::mul(V::set1(3.0f), ey), ex));
+      float lane[8][kW];
+      for (int q = 0; q < 6; ++q)
+        V::store(lane[q], c[q]);
+      V::store(lane[6], V::select(near, order, V::set1(-1.0f)));
+      for (; bits != 0; bits &= bits - 1) {
+        const int l = __builtin_ctz(unsigned(bits));
+        PairTermOut& o = out[count++];
+        o.k = k + std::uint32_t(l);
+        const int oi = int(lane[6][l]);
+        o.order_i = (nan >> l) & 1 ? -2 : oi;
+        o.order_j = oi < 0 ? -1 : 26 - oi;
+        for (int q = 0; q < 3; ++q) {
+          o.ci[q] = lane[q][l];
+          o.cj[q] = lane[3 + q][l];
+        }
+      }
+    }
+    return count;
+  }
+
   static void stencilFlags(const GridStencilArgs& a, int y0, int y1) {
     const GridShape& g = a.shape;
     const F r2 = V::set1(a.range2);
+    int reach = 0;  // the rows a point's flags reach forward: no other thread writes rows from y0 + reach
+    for (int k = 0; k < a.count; ++k)
+      reach = a.dv[k] > reach ? a.dv[k] : reach;
     for (int v = y0; v < y1; ++v)
       for (int u0 = 0; u0 < g.W; u0 += kW) {
         const std::ptrdiff_t q = at(g, u0, v);
@@ -65,6 +129,13 @@ struct ContactKernels : Lanes<V> {
           if (int bits = V::bits(pair); bits != 0) {
             std::uint32_t* theirs = mine + std::ptrdiff_t(a.dv[k]) * g.W + a.du[k];
             const std::uint32_t forward = stencilBit(a.half + k), backward = stencilBit(a.half - 1 - k);
+            // Both rows this thread's alone: plain ORs (an atomic one costs about 20 cycles here)
+            if (v >= y0 + reach && v + a.dv[k] < y1)
+              for (; bits != 0; bits &= bits - 1) {
+                const int l = __builtin_ctz(unsigned(bits));
+                mine[l] |= forward;
+                theirs[l] |= backward;
+              }
             for (; bits != 0; bits &= bits - 1) {
               const int l = __builtin_ctz(unsigned(bits));
               __atomic_fetch_or(mine + l, forward, __ATOMIC_RELAXED);
@@ -153,8 +224,9 @@ struct ContactKernels : Lanes<V> {
   static bool tileBoxes(const TileBoxArgs& a) {
     const std::ptrdiff_t n = std::ptrdiff_t(a.w) * a.h;
     const float inf = __builtin_inff();
-    const F big = V::set1(inf), small = V::set1(-inf);
-    F finite = V::eq(big, big);
+    const F big = V::set1(inf), small = V::set1(-inf), zero = V::set1(0.0f);
+    // d * 0 is 0 for every finite d and NaN otherwise: one sum tells whether every displacement was finite.
+    F finite = zero;
     bool finite_tail = true;
     for (int tv = a.tv0; tv < a.tv1 && tv * a.edge < a.h; ++tv)
       for (int tu = 0; tu * a.edge < a.w; ++tu) {
@@ -181,28 +253,68 @@ struct ContactKernels : Lanes<V> {
             F P[3], A[3];
             V::loadVec3(a.x + 3 * i, P[0], P[1], P[2]);
             V::loadVec3(a.anchor + 3 * i, A[0], A[1], A[2]);
+            if (lanes == kW) {
+              for (int c = 0; c < 3; ++c) {
+                const F d = V::sub(P[c], A[c]);
+                finite = V::add(finite, V::mul(d, zero));
+                box[c] = V::min(box[c], d);
+                box[3 + c] = V::max(box[3 + c], d);
+                box[6 + c] = V::min(box[6 + c], P[c]);
+                box[9 + c] = V::max(box[9 + c], P[c]);
+              }
+              continue;
+            }
+            // The lanes past the tile hold the next tile's points: each box takes its neutral value there
             const F live = V::lt(V::iota(), V::set1(float(lanes)));
             for (int c = 0; c < 3; ++c) {
               const F d = V::sub(P[c], A[c]);
-              finite =
-                  V::bitAnd(finite, V::bitOr(V::eq(V::sub(d, d), V::set1(0.0f)), V::andNot(live, V::eq(big, big))));
-              box[c] = V::select(live, V::min(box[c], d), box[c]);
-              box[3 + c] = V::select(live, V::max(box[3 + c], d), box[3 + c]);
-              box[6 + c] = V::select(live, V::min(box[6 + c], P[c]), box[6 + c]);
-              box[9 + c] = V::select(live, V::max(box[9 + c], P[c]), box[9 + c]);
+              finite = V::add(finite, V::mul(V::select(live, d, zero), zero));
+              box[c] = V::min(box[c], V::select(live, d, big));
+              box[3 + c] = V::max(box[3 + c], V::select(live, d, small));
+              box[6 + c] = V::min(box[6 + c], V::select(live, P[c], big));
+              box[9 + c] = V::max(box[9 + c], V::select(live, P[c], small));
             }
           }
         float* out = a.out + 12 * (std::ptrdiff_t(tv) * a.across + tu);
         for (int k = 0; k < 12; ++k) {
-          float lanes[kW];
-          V::store(lanes, box[k]);
-          float r = tail[k];
-          for (float l : lanes)
-            r = (k / 3) % 2 == 0 ? (l < r ? l : r) : (l > r ? l : r);
-          out[k] = r;
+          const float r = (k / 3) % 2 == 0 ? V::hmin(box[k]) : V::hmax(box[k]);
+          out[k] = (k / 3) % 2 == 0 ? (r < tail[k] ? r : tail[k]) : (r > tail[k] ? r : tail[k]);
         }
       }
-    return finite_tail && V::bits(finite) == (1 << kW) - 1;
+    return finite_tail && V::bits(V::eq(finite, zero)) == (1 << kW) - 1;
+  }
+
+  static bool tilesMovedApart(const TileCompareArgs& a) {
+    // The boxes as 12 rows of tiles, padded with empty tiles (minima +inf, maxima -inf), which are never near
+    alignas(64) float rows[12][kMaxCompareTiles + kW];
+    const float inf = __builtin_inff();
+    const int padded = (a.count + kW - 1) / kW * kW;
+    for (int k = 0; k < 12; ++k)
+      for (int t = 0; t < padded; ++t)
+        rows[k][t] = t < a.count ? a.boxes[12 * t + k] : ((k / 3) % 2 == 0 ? inf : -inf);
+    const F zero = V::set1(0.0f), all = V::eq(zero, zero), apart2 = V::set1(a.apart2), limit2 = V::set1(a.limit2);
+    for (int p = a.first; p < a.count; p += a.step) {
+      if (a.stop->load(std::memory_order_relaxed)) return false;
+      const float* b = a.boxes + 12 * p;
+      if (!(b[6] <= b[9])) continue;  // an empty tile
+      // From the vector that holds p: the tiles before it in that vector are compared twice, which changes
+      // no answer.
+      for (int c = p / kW * kW; c < a.count; c += kW) {
+        F gap2 = zero, box2 = zero;
+        for (int k = 0; k < 3; ++k) {
+          // glm::max(vec3(0), glm::max(q.lo - p.hi, p.lo - q.hi)), and the displacements' box
+          const F gap = V::max(zero, V::max(V::sub(V::load(rows[6 + k] + c), V::set1(b[9 + k])),
+                                            V::sub(V::set1(b[6 + k]), V::load(rows[9 + k] + c))));
+          const F box =
+              V::sub(V::max(V::set1(b[3 + k]), V::load(rows[3 + k] + c)), V::min(V::set1(b[k]), V::load(rows[k] + c)));
+          gap2 = k == 0 ? V::mul(gap, gap) : V::add(gap2, V::mul(gap, gap));
+          box2 = k == 0 ? V::mul(box, box) : V::add(box2, V::mul(box, box));
+        }
+        const F near = V::andNot(V::ge(gap2, apart2), all), moved = V::andNot(V::le(box2, limit2), all);
+        if (V::any(V::bitAnd(near, moved))) return true;
+      }
+    }
+    return false;
   }
 
   static int scanPairs(const PairScanArgs& a, std::uint32_t first, std::uint32_t last, std::uint32_t* out) {

@@ -43,6 +43,20 @@ struct Sse2 {
   static F min(F a, F b) { return _mm_min_ps(a, b); }  // b where either is NaN
   static F max(F a, F b) { return _mm_max_ps(a, b); }
   static F select(F m, F a, F b) { return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b)); }  // m ? a : b
+  // floor, for |a| < 2^31 (no SSE4.1 round here): truncate, then one less where that rounded up
+  static F floor(F a) {
+    const F t = _mm_cvtepi32_ps(_mm_cvttps_epi32(a));
+    return _mm_sub_ps(t, _mm_and_ps(_mm_cmpgt_ps(t, a), _mm_set1_ps(1.0f)));
+  }
+  // The least and the greatest lane (of finite lanes; which zero of +0 and -0 is not said)
+  static float hmin(F a) {
+    a = _mm_min_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm_cvtss_f32(_mm_min_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(2, 3, 0, 1))));
+  }
+  static float hmax(F a) {
+    a = _mm_max_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm_cvtss_f32(_mm_max_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(2, 3, 0, 1))));
+  }
   static F negZero(F a) {  // lanes holding -0 exactly (an == compare would take +0 too)
     return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_castps_si128(a), _mm_set1_epi32(INT32_MIN)));
   }
@@ -143,6 +157,9 @@ struct Avx2 {
   static F min(F a, F b) { return _mm256_min_ps(a, b); }
   static F max(F a, F b) { return _mm256_max_ps(a, b); }
   static F select(F m, F a, F b) { return _mm256_blendv_ps(b, a, m); }
+  static F floor(F a) { return _mm256_floor_ps(a); }
+  static float hmin(F a) { return Sse2::hmin(_mm_min_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1))); }
+  static float hmax(F a) { return Sse2::hmax(_mm_max_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1))); }
   static F negZero(F a) {
     return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_castps_si256(a), _mm256_set1_epi32(INT32_MIN)));
   }
