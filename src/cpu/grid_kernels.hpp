@@ -146,13 +146,9 @@ struct GridKernels {
   void (*integrate)(float* x, float* v, const float* f, const float* inv_mass3, const float* pinned3, float dt2,
                     float keep, long long first, long long last);
   // The entries k in [first, last) whose pair {owner[k], partner[k]} is within self-collision range, by the
-  // test of physics::selfCollisionCorrection (a NaN distance counts, as there): written to out ascending,
-  // their count returned. x is the vec3 array seen as floats. Not grid-specific.
-  int (*pairsInRange)(const float* x, const std::uint32_t* owner, const std::uint32_t* partner, std::uint32_t first,
-                      std::uint32_t last, float thickness, std::uint32_t* out);
-  // The entries k in [first, last) whose pair {owner[k], partner[k]} is within self-collision range (a NaN
-  // distance counts), with both ends' terms and cell orders (PairTermOut), written to out in ascending k; their
-  // count returned. inv_range: 1 / (2 thickness), the grid of cellOrder.
+  // test of physics::selfCollisionCorrection (a NaN distance counts, as there), with both ends' terms and cell
+  // orders (PairTermOut), written to out in ascending k; their count returned. x is the vec3 array seen as
+  // floats; inv_range: 1 / (2 thickness), the grid of cellOrder. Not grid-specific.
   int (*pairTerms)(const float* x, const std::uint32_t* owner, const std::uint32_t* partner, std::uint32_t first,
                    std::uint32_t last, float thickness, float inv_range, PairTermOut* out);
   // Self-collision's stencil (cpu/collision_pairs.hpp) over the points of rows [y0, y1): flags[v * W + u] = 1

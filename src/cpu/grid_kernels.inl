@@ -435,7 +435,6 @@ struct Kernels : Lanes<V> {
             &forces,
             &stretchColour,
             &integrate,
-            &Contact::pairsInRange,
             &Contact::pairTerms,
             &Contact::stencilFlags,
             &Contact::scanPairs,

@@ -18,26 +18,6 @@ struct ContactKernels : Lanes<V> {
   using Lanes<V>::onGrid;
   using Lanes<V>::sum;
 
-  static int pairsInRange(const float* x, const std::uint32_t* owner, const std::uint32_t* partner, std::uint32_t first,
-                          std::uint32_t last, float thickness, std::uint32_t* out) {
-    const float range = 2.0f * thickness;  // selfCollisionCorrection's range * range, in its order
-    const F range2 = V::set1(range * range), zero = V::set1(0.0f);
-    int count = 0;
-    for (std::uint32_t k = first; k < last; k += kW) {
-      const int lanes = int(last - k < std::uint32_t(kW) ? last - k : std::uint32_t(kW));
-      F ix, iy, iz, jx, jy, jz, live;
-      V::gatherVec3(x, owner + k, lanes, ix, iy, iz, live);
-      V::gatherVec3(x, partner + k, lanes, jx, jy, jz, live);
-      const F dx = V::sub(ix, jx), dy = V::sub(iy, jy), dz = V::sub(iz, jz);
-      const F dist2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
-      // Not (dist2 >= range^2 or dist2 <= 0): a NaN distance is a term there too.
-      for (int bits = V::bits(V::andNot(V::bitOr(V::ge(dist2, range2), V::le(dist2, zero)), live)); bits != 0;
-           bits &= bits - 1)
-        out[count++] = k + std::uint32_t(__builtin_ctz(unsigned(bits)));
-    }
-    return count;
-  }
-
   // HashGrid::cellOf's coordinate: floor(q), NaN to 0, clamped to +-2^30 (clamping first gives the same
   // cell and keeps floor's argument where it is exact)
   static F cellCoordinate(F q) {
