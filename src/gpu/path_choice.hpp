@@ -16,9 +16,10 @@ namespace drape {
 // dispatch per colour. Tiled: the same with the stretch limit's colours and passes in one dispatch of blocks
 // in shared memory (glsl/sim/limit_stretch_tiled.comp), for grid cloths whose colouring reaches few enough
 // points for a block and its ring to fit. OneDispatch: every substep of a frame in one work group with the
-// cloth in shared memory (glsl/sim/one_group.comp), for cloths that fit it. Auto: OneDispatch where it fits,
-// else Tiled where it applies, on a hardware GPU; on a software renderer (llvmpipe) the general path, which
-// spreads a frame over its threads where one work group runs on one (measured in docs/results/README.md, "GPU paths").
+// cloth in shared memory (glsl/sim/one_group.comp), for cloths that fit it. Auto: OneDispatch where it fits on a
+// hardware GPU, else General; on a software renderer (llvmpipe) always General, which spreads a frame over its
+// threads where one work group runs on one (docs/results/README.md, "GPU paths"). Auto never tiles: on an H200 the
+// general path was as fast or faster (docs/results/README.md, "On an NVIDIA H200").
 enum class GpuPath { Auto, General, Tiled, OneDispatch };
 
 namespace gpu {
