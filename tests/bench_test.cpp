@@ -182,6 +182,32 @@ TEST(Bench, ACpuRunSaysHowManySubstepsRanOnATeam) {
   EXPECT_EQ(report.runs[0].team_share, 0.0) << "one thread has no team";
 }
 
+// --auto-substeps: a resampled cloth beyond the stability bound (pinned2 at 256², 1.62 against 1.41 at 30
+// substeps) runs at the fewest substeps inside it, and not blowing up is the point; one inside keeps its 30.
+TEST(Bench, AutoSubstepsBringsAFineClothInsideTheBound) {
+  BenchOptions o;
+  o.scenes = {scenePath("pinned2.json")};
+  o.sizes = {16, 256};
+  o.solvers = {"cpu"};
+  o.frames = 1;
+  o.warmup = 0;
+  o.repeats = 1;
+  const BenchReport plain = runBench(o);
+  o.auto_substeps = true;
+  const BenchReport raised = runBench(o);
+  ASSERT_EQ(plain.runs.size(), 2u);
+  ASSERT_EQ(raised.runs.size(), 2u);
+  EXPECT_EQ(raised.runs[0].steps_per_frame, plain.runs[0].steps_per_frame) << "16² is inside the bound already";
+  EXPECT_FALSE(plain.runs[1].inside_bound);
+  EXPECT_TRUE(raised.runs[1].inside_bound);
+  EXPECT_GT(raised.runs[1].steps_per_frame, plain.runs[1].steps_per_frame);
+  // The fewest: one substep less would be outside again
+  EXPECT_FALSE(checkStability(withSubsteps(resampleCloth(loadScene(scenePath("pinned2.json")), 256, false),
+                                           raised.runs[1].steps_per_frame - 1))
+                   .ok);
+  EXPECT_TRUE(benchJson(raised)["settings"]["auto_substeps"].get<bool>());
+}
+
 // The share-of-peak column knows a GPU by a name in its renderer string, the more specific name first,
 // and nothing else: llvmpipe's "memory" is the CPU's.
 TEST(Bench, PeakBandwidthByRendererName) {

@@ -27,7 +27,10 @@ struct BenchOptions {
   // Each of "verlet", "xpbd", "vbd" in turn replaces every scene's simulation.integrator, a run each; empty: as given.
   std::vector<std::string> integrators;
   bool keep_thickness = false;  // resampleCloth keeps each scene's thickness instead of capping it
-  bool roofline = false;        // probe this machine's peak first; the markdown adds each CPU pass's share of it
+  // A resampled scene beyond the stability bound gets the fewest substeps inside it (autoSubsteps, as
+  // `simulate --auto-substeps`): a fine cloth at the scene's 30 blows up, and a blown-up run times nothing
+  bool auto_substeps = false;
+  bool roofline = false;  // probe this machine's peak first; the markdown adds each CPU pass's share of it
 };
 
 struct BenchPass {

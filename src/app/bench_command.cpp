@@ -38,6 +38,7 @@ struct BenchCommandOptions {
   std::vector<std::string> integrators;  // empty: each scene's
   bool roofline = false;
   bool keep_thickness = false;
+  bool auto_substeps = false;
 };
 
 // Far beyond any bench --json (a few hundred KB for the largest sweep).
@@ -91,6 +92,7 @@ void runBenchCommand(const BenchCommandOptions& c) {
   o.integrators = c.integrators;
   o.roofline = c.roofline;
   o.keep_thickness = c.keep_thickness;
+  o.auto_substeps = c.auto_substeps;
   // Output paths are checked before the runs, which may take minutes, not after them.
   if (!c.json.empty()) checkOutputFile(c.json);
   if (!c.markdown.empty()) checkOutputFile(c.markdown);
@@ -146,6 +148,9 @@ void addBenchCommand(CLI::App& app) {
   cmd->add_flag("--keep-thickness", c->keep_thickness,
                 "Keep each scene's cloth thickness at every size (default: at most 0.45 x the spacing, so that no "
                 "two points are in self-collision range at rest); a fine cloth then has neighbours the springs hold");
+  cmd->add_flag("--auto-substeps", c->auto_substeps,
+                "Where a resampled scene is beyond the stability bound, the fewest substeps per frame inside it (as "
+                "simulate --auto-substeps), so that large sizes run instead of blowing up");
   cmd->add_option("--json", c->json, "Write the results as JSON here (default: stdout)");
   cmd->add_option("--markdown", c->markdown, "Write a markdown table of the results here");
   cmd->add_option(

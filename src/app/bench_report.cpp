@@ -56,6 +56,7 @@ nlohmann::json benchJson(const BenchReport& r) {
       {"repeats", r.options.repeats},
       {"cpu_threads", r.options.threads},
       {"keep_thickness", r.options.keep_thickness},
+      {"auto_substeps", r.options.auto_substeps},
       {"integrators", r.options.integrators.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.options.integrators)}};
   j["runs"] = nlohmann::json::array();
   for (const BenchRun& run : r.runs) {
