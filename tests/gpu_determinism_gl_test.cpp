@@ -20,7 +20,7 @@ class GpuDeterminism : public GlTest {};
 TEST_F(GpuDeterminism, SelfCollisionRunsAreBitIdenticalAfter150Frames) {
   ASSERT_TRUE(kThreaded);
   const Scene scene = gpu_test::standardScene("selfCollision.json");
-  GpuSolver first(scene), second(scene);
+  GpuSolver first(scene, gpu_test::general()), second(scene, gpu_test::general());
   constexpr int kFrames = 150;  // the cloth folds in ~20 and the lists are rebuilt throughout
   int checks = 0, raced = 0;
   for (int f = 1; f <= kFrames; ++f) {
@@ -38,9 +38,20 @@ TEST_F(GpuDeterminism, SelfCollisionRunsAreBitIdenticalAfter150Frames) {
   }
   // The grid the last self-collision pass used lists every bucket in ascending index order.
   const GpuGrid grid = first.readGrid();
-  for (std::size_t b = 0; b + 1 < grid.start.size(); ++b)
+  int unsorted = 0;
+  for (std::size_t b = 0; b + 1 < grid.start.size(); ++b) {
+    bool ascending = true;
     for (std::uint32_t s = grid.start[b] + 1; s < grid.start[b + 1]; ++s)
-      ASSERT_LT(grid.sorted[s - 1], grid.sorted[s]) << "bucket " << b;
+      ascending = ascending && grid.sorted[s - 1] < grid.sorted[s];
+    if (ascending) continue;
+    if (++unsorted <= 3) {  // what a device that breaks it has there
+      std::printf("bucket %zu, slots %u to %u:", b, grid.start[b], grid.start[b + 1]);
+      for (std::uint32_t s = grid.start[b]; s < grid.start[b + 1]; ++s)
+        std::printf(" %u", grid.sorted[s]);
+      std::printf("\n");
+    }
+  }
+  EXPECT_EQ(unsorted, 0) << "buckets not in ascending index order, of " << grid.start.size() - 1;
   // Not asserted (a driver may happen to run the atomics in the same order every time), but printed:
   // whether the bucket fill order really differed between the runs.
   std::printf(
@@ -67,7 +78,7 @@ TEST_F(GpuDeterminism, OneDispatchRunsAreBitIdenticalAndEqualTheGeneralPath) {
       const auto x1 = first.readPositions();
       ASSERT_EQ(gpu_test::changedPoints(x1, second.readPositions()), 0) << "frame " << f;
       ASSERT_EQ(gpu_test::changedPoints(first.readDisplacements(), second.readDisplacements()), 0) << "frame " << f;
-      if (gpu_test::bitIdenticalDevice(first.contextInfo())) {
+      if (gpu_test::exactDevice(first.contextInfo())) {
         ASSERT_EQ(gpu_test::changedPoints(x1, general.readPositions()), 0) << "frame " << f;
       }
       ASSERT_TRUE(allFinite(x1)) << "frame " << f;
@@ -93,7 +104,7 @@ TEST_F(GpuDeterminism, TiledRunsAreBitIdenticalAndEqualTheGeneralPath) {
   ASSERT_TRUE(allFinite(x1));
   EXPECT_EQ(gpu_test::changedPoints(x1, second.readPositions()), 0);
   EXPECT_EQ(gpu_test::changedPoints(first.readDisplacements(), second.readDisplacements()), 0);
-  if (gpu_test::bitIdenticalDevice(first.contextInfo())) {
+  if (gpu_test::exactDevice(first.contextInfo())) {
     EXPECT_EQ(gpu_test::changedPoints(x1, general.readPositions()), 0);
   }
 }
