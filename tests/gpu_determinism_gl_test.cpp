@@ -70,11 +70,11 @@ TEST_F(GpuDeterminism, OneDispatchRunsAreBitIdenticalAndEqualTheGeneralPath) {
     GpuSolver first(scene, {.path = GpuPath::OneDispatch}), second(scene, {.path = GpuPath::OneDispatch});
     GpuSolver general(scene, {.path = GpuPath::General});
     ASSERT_TRUE(first.oneDispatch()) << first.oneDispatchMisfit();
-    for (int f = 1; f <= 60; ++f) {
+    for (int f = 1; f <= 40; ++f) {  // the 32x32 cloth lands and folds within 20 frames
       first.stepFrame();
       second.stepFrame();
       general.stepFrame();
-      if (f % 20 != 0) continue;
+      if (f % 10 != 0) continue;
       const auto x1 = first.readPositions();
       ASSERT_EQ(gpu_test::changedPoints(x1, second.readPositions()), 0) << "frame " << f;
       ASSERT_EQ(gpu_test::changedPoints(first.readDisplacements(), second.readDisplacements()), 0) << "frame " << f;
