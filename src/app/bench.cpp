@@ -59,11 +59,8 @@ std::vector<BenchPass> timeGpuPasses(SolverFactory& factory, const Scene& scene,
 
 BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::string& scene_name, int size,
                   const std::string& solver_name, const BenchOptions& o, int threads) {
-  Scene scene = resampleCloth(original, size, o.keep_thickness);
-  if (o.auto_substeps && !checkStability(scene).ok) {
-    const int steps = autoSubsteps(scene);  // 0: none up to kMaxAutoSubsteps; the run then says it is beyond
-    if (steps > 0) scene = withSubsteps(scene, steps);
-  }
+  const Scene resampled = resampleCloth(original, size, o.keep_thickness);
+  const Scene scene = o.auto_substeps ? withStableSubsteps(resampled) : resampled;
   BenchRun run;
   run.scene = scene_name;
   run.solver = solver_name;

@@ -70,11 +70,11 @@ Scene guardStability(Scene scene, bool auto_substeps) {
     fmt::print(stderr, "drape: warning: {}: {}\n", scene.path, bound.message);
     return scene;
   }
-  const int steps = autoSubsteps(scene);
-  if (steps == 0) throw CommandError(kExitBadInput, fmt::format("{}: {}", scene.path, bound.message));
-  fmt::print(stderr, "drape: {}: --auto-substeps: {} substeps per frame instead of {}\n", scene.path, steps,
-             scene.sim.steps_per_frame);
-  return withSubsteps(scene, steps);
+  Scene raised = withStableSubsteps(scene);
+  if (!checkStability(raised).ok) throw CommandError(kExitBadInput, fmt::format("{}: {}", scene.path, bound.message));
+  fmt::print(stderr, "drape: {}: --auto-substeps: {} substeps per frame instead of {}\n", scene.path,
+             raised.sim.steps_per_frame, scene.sim.steps_per_frame);
+  return raised;
 }
 
 // A cloth finer than its thickness: pairs of points closer than 2 x thickness at rest are held by the springs,

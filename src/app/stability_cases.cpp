@@ -167,12 +167,9 @@ StabilityResult runStabilityCase(const StabilityCase& c, int steps, bool guard, 
   r.steps_per_frame = steps;
   // The guard does what `drape simulate --auto-substeps` does: raise the count, same losses per second.
   if (guard && run.scene.sim.integrator == Integrator::Verlet) {
-    const int need = autoSubsteps(run.scene);
-    if (need > steps) {
-      run.scene = withSubsteps(run.scene, need);
-      r.steps_per_frame = need;
-      r.guarded = true;
-    }
+    run.scene = withStableSubsteps(run.scene);
+    r.steps_per_frame = run.scene.sim.steps_per_frame;
+    r.guarded = r.steps_per_frame > steps;
   }
   const StabilityCheck bound = checkStability(run.scene);
   r.stability_number = bound.number;

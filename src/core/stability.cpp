@@ -122,6 +122,11 @@ int autoSubsteps(const Scene& scene, int max_steps) {
   return hi;
 }
 
+Scene withStableSubsteps(const Scene& scene, int max_steps) {
+  const int need = autoSubsteps(scene, max_steps);
+  return need > scene.sim.steps_per_frame ? withSubsteps(scene, need) : scene;
+}
+
 Scene withSubsteps(const Scene& scene, int steps_per_frame) {
   Scene out = scene;
   out.sim.steps_per_frame = steps_per_frame;

@@ -62,6 +62,9 @@ int autoSubsteps(const Scene& scene, int max_steps = kMaxAutoSubsteps);
 // 1 - d_s = (1 - d)^(S/s). Collision friction is the same kind of per-substep factor (a point in
 // contact keeps (1 - f) of its displacement each substep) and is rescaled the same way.
 Scene withSubsteps(const Scene& scene, int steps_per_frame);
+// The scene at autoSubsteps' count where that is more than it has (withSubsteps); as it is where it is inside
+// the bound already, or where no count up to max_steps would do (checkStability then still says so).
+Scene withStableSubsteps(const Scene& scene, int max_steps = kMaxAutoSubsteps);
 
 // What counts as a blow-up in the measurement commands: a non-finite coordinate, a spring longer than
 // (1 + max_strain) times its rest length, or a point farther than max_travel cloth sizes from where it
