@@ -49,10 +49,9 @@ std::string slurp(const fs::path& p) {
   return s.str();
 }
 
-fs::path tempDir() {
-  fs::path dir = fs::temp_directory_path() / ("drape_cli_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
+const fs::path& tempDir() {
+  static const drape::test::TempDir dir("drape_cli_test_");
+  return dir.path();
 }
 
 // `prefix` goes before the binary: a `cd`, environment settings, `timeout`.

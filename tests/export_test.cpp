@@ -26,10 +26,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path tempDir() {
-  fs::path dir = fs::temp_directory_path() / ("drape_export_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
+const fs::path& tempDir() {
+  static const drape::test::TempDir dir("drape_export_test_");
+  return dir.path();
 }
 
 std::string slurp(const fs::path& p) {

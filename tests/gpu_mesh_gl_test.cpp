@@ -178,9 +178,8 @@ class RenderExport : public GlTest {};
 
 TEST_F(RenderExport, RenderWritesTheUsdaOfTheFramesItDraws) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("drape_render_export_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const test::TempDir temp("drape_render_export_");
+  const fs::path& dir = temp.path();
   const std::string cmd = std::string(drape::test::drapeBinary()) + " render " +
                           testing::quote(std::string(drape::test::sourceDir()) + "/scenes/flag.json") +
                           " --frames 4 --every 2 --size 48x32 --out " + testing::quote((dir / "png").string()) +

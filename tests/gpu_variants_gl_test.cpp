@@ -9,6 +9,7 @@
 #include "gl_fixture.hpp"
 #include "gpu/gpu_solver.hpp"
 #include "gpu_test_support.hpp"
+#include "test_paths.hpp"
 
 #include <unistd.h>
 
@@ -48,9 +49,8 @@ class GpuVariantTest : public GlTest, public ::testing::WithParamInterface<Varia
     const fs::path validator = DRAPE_GLSLANG;
     if (!fs::exists(validator)) return {};
     const gl::ShaderSource source = gl::preprocess(gl::glslRoot() / "sim" / kernel, defines, gl::glslRoot());
-    const fs::path dir = fs::temp_directory_path() / ("drape_variants_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    const fs::path in = dir / "kernel.comp", out = dir / "kernel.txt";
+    const test::TempDir dir("drape_variants_");
+    const fs::path in = dir.path() / "kernel.comp", out = dir.path() / "kernel.txt";
     std::ofstream(in) << source.text;
     const std::string command = validator.string() + " -E -S comp " + in.string() + " > " + out.string() + " 2>&1";
     EXPECT_EQ(std::system(command.c_str()), 0) << kernel << ": " << command;

@@ -44,9 +44,8 @@ struct Golden {
 class GridGolden : public ::testing::TestWithParam<Golden> {};
 
 TEST_P(GridGolden, BundledSceneGivesThePositionsOfTheGridOnlyGenerator) {
-  const fs::path dir = fs::temp_directory_path() / ("drape_grid_golden_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const fs::path out = dir / (std::string(GetParam().scene) + ".json");
+  const drape::test::TempDir dir("drape_grid_golden_");
+  const fs::path out = dir.path() / (std::string(GetParam().scene) + ".json");
   const std::string cmd = std::string(drape::test::drapeBinary()) + " simulate " + drape::test::sourceDir() +
                           "/scenes/" + GetParam().scene + ".json --frames 90 --solver cpu --threads 1 --out " +
                           out.string() + " >/dev/null 2>&1";

@@ -2,8 +2,9 @@
 #pragma once
 
 #include <fmt/format.h>
-#include <unistd.h>
 #include <glm/glm.hpp>
+
+#include "test_paths.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -14,10 +15,9 @@ namespace drape::mesh_test {
 
 namespace fs = std::filesystem;
 
-inline fs::path tempDir() {
-  fs::path dir = fs::temp_directory_path() / ("drape_mesh_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
+inline const fs::path& tempDir() {
+  static const test::TempDir dir("drape_mesh_test_");
+  return dir.path();
 }
 
 inline fs::path writeFile(const std::string& name, const std::string& text) {

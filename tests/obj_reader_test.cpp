@@ -2,6 +2,7 @@
 // and the problem, each limit is hit while the file is read (not after), and no file makes it wait.
 #include "core/obj_reader.hpp"
 #include "core/input_file.hpp"
+#include "test_paths.hpp"
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -20,10 +21,9 @@ namespace fs = std::filesystem;
 const ObjLimits kLimits{1000, " (the test's limit)"};
 const std::string kTriangle = "v 0 0 0\nv 1 0 0\nv 0 0 1\n";
 
-fs::path tempDir() {
-  const fs::path dir = fs::temp_directory_path() / ("drape_obj_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
+const fs::path& tempDir() {
+  static const test::TempDir dir("drape_obj_test_");
+  return dir.path();
 }
 
 std::string refusal(const std::string& text, const ObjLimits& limits = kLimits) {

@@ -9,6 +9,7 @@
 #include "render/mesh_data.hpp"
 #include "render/shading_program.hpp"
 #include "render/texture_set.hpp"
+#include "test_paths.hpp"
 
 #include <unistd.h>
 
@@ -22,15 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A temporary directory removed with the object.
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name) : path(fs::temp_directory_path() / (name + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
+using test::TempDir;
 
 // Sets an environment variable for the scope of the object.
 struct ScopedEnv {
@@ -103,14 +96,14 @@ TEST_F(ShadingProgramTest, FailedReloadKeepsTheOldProgramAndReportsFileAndLine) 
   const GLuint old_normal = programs[ProgramId::Normal].program().id();
 
   TempDir dir("drape_broken_glsl_");
-  fs::copy(gl::glslRoot(), dir.path, fs::copy_options::recursive);
+  fs::copy(gl::glslRoot(), dir.path(), fs::copy_options::recursive);
   {
-    std::ofstream broken(dir.path / "render" / "phong.frag", std::ios::app);
+    std::ofstream broken(dir.path() / "render" / "phong.frag", std::ios::app);
     broken << "\nvoid broken() { this is not glsl; }\n";
   }
   std::string errors;
   {
-    ScopedEnv env("DRAPE_GLSL_DIR", dir.path.string());
+    ScopedEnv env("DRAPE_GLSL_DIR", dir.path().string());
     errors = programs.reload();
   }
   EXPECT_NE(errors.find("phong.frag:"), std::string::npos) << errors;
@@ -136,15 +129,15 @@ TEST_F(TextureTest, CommittedTexturesLoad) {
 TEST_F(TextureTest, MissingOrCorruptTextureNamesTheFile) {
   TempDir dir("drape_textures_");
   try {
-    TextureSet::load(dir.path);
+    TextureSet::load(dir.path());
     FAIL() << "loading from an empty directory succeeded";
   } catch (const ImageError& e) {
-    EXPECT_NE(std::string(e.what()).find((dir.path / "fabric.png").string()), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find((dir.path() / "fabric.png").string()), std::string::npos) << e.what();
   }
-  fs::copy(textureDir(), dir.path, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
-  { std::ofstream(dir.path / "brick_height.png", std::ios::trunc) << "not a png"; }
+  fs::copy(textureDir(), dir.path(), fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  { std::ofstream(dir.path() / "brick_height.png", std::ios::trunc) << "not a png"; }
   try {
-    TextureSet::load(dir.path);
+    TextureSet::load(dir.path());
     FAIL() << "a corrupt brick_height.png loaded";
   } catch (const ImageError& e) {
     EXPECT_NE(std::string(e.what()).find("brick_height.png"), std::string::npos) << e.what();

@@ -1,7 +1,10 @@
 #include "test_paths.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <filesystem>
+#include <system_error>
 
 namespace drape::test {
 
@@ -18,6 +21,17 @@ std::vector<std::string> bundledSceneNames() {
     if (entry.path().extension() == ".json") names.push_back(entry.path().stem().string());
   std::sort(names.begin(), names.end());
   return names;
+}
+
+TempDir::TempDir(const std::string& prefix)
+    : path_(std::filesystem::temp_directory_path() / (prefix + std::to_string(::getpid()))) {
+  std::filesystem::remove_all(path_);
+  std::filesystem::create_directories(path_);
+}
+
+TempDir::~TempDir() {
+  std::error_code ignored;  // a destructor must not throw; what cannot be removed stays
+  std::filesystem::remove_all(path_, ignored);
 }
 
 }  // namespace drape::test
