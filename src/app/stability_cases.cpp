@@ -188,7 +188,7 @@ StabilityResult runStabilityCase(const StabilityCase& c, int steps, bool guard, 
   // The state the solver actually holds (float) is the start the energy and the blow-up test refer to.
   const Positions start = solver.readPositions();
   const double ke0 = kineticEnergy(solver.readDisplacements(), mass, dt);
-  r.energy_start = r.energy_end = energy(start, ke0);
+  r.energy_start = r.energy_half = r.energy_end = energy(start, ke0);
   r.ke_max = r.ke_end = ke0;
   const double spring0 = springEnergy(topo, run.scene.cloth, start);
   for (int f = 1; f <= c.frames; ++f) {
@@ -206,6 +206,7 @@ StabilityResult runStabilityCase(const StabilityCase& c, int steps, bool guard, 
     r.max_strain = std::max(r.max_strain, r.end_strain);
     r.ke_end = kineticEnergy(solver.readDisplacements(), mass, dt);
     r.ke_max = std::max(r.ke_max, r.ke_end);
+    if (f == c.frames / 2) r.energy_half = energy(x, r.ke_end);
     if (f == c.frames) r.energy_end = energy(x, r.ke_end);
   }
   const double weight = mass * double(topo.pointCount()) * glm::length(run.scene.sim.gravity);

@@ -56,6 +56,7 @@ struct StabilityResult {
   double end_strain = 0;                    // at the last frame run: what a cloth hangs at, not a passing peak
   double ke_max = 0, ke_end = 0;            // J
   double energy_start = 0, energy_end = 0;  // J: kinetic + gravitational + spring
+  double energy_half = 0;                   // J: at half the frames, to tell a settled cloth's drift from its fall
   double energy_scale = 0;                  // J: what energy changes are relative to
   double wall_s = 0;
 };
