@@ -50,24 +50,12 @@ Penetration PenetrationGauge::measure(const Positions& x) const {
 
 // Exact: a triangle's deepest point in a sphere is its point nearest the centre.
 void PenetrationGauge::measureSphere(glm::dvec3 centre, double radius, const Positions& x, Penetration& out) const {
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const double d = glm::distance(x[i], centre) - radius;
-    out.nearest = std::min(out.nearest, d);
-    out.vertices_inside += d < 0;
-    if (-d > out.vertex) {
-      out.vertex = -d;
-      out.vertex_index = int(i);
-    }
-  }
+  for (std::size_t i = 0; i < x.size(); ++i)
+    out.notePoint(int(i), glm::distance(x[i], centre) - radius);
   const auto& tri = topology_->triangles;
   for (std::size_t t = 0; t + 2 < tri.size(); t += 3) {
     const glm::dvec3 p = geometry::closestOnTriangle(centre, x[tri[t]], x[tri[t + 1]], x[tri[t + 2]]);
-    const double depth = radius - glm::distance(p, centre);
-    if (depth > out.surface) {
-      out.surface = depth;
-      out.surface_point = p;
-      out.surface_triangle = int(t / 3);
-    }
+    out.noteSurface(int(t / 3), p, radius - glm::distance(p, centre));
   }
 }
 
@@ -84,13 +72,7 @@ void PenetrationGauge::measureMesh(const MeshObstacle& mesh, const MeshQuery& qu
       out.nearest = std::min(out.nearest, estimate[i]);  // far from this mesh: the estimate will do
       continue;
     }
-    const double d = query.signedDistance(x[i]);
-    out.nearest = std::min(out.nearest, d);
-    out.vertices_inside += d < 0;
-    if (-d > out.vertex) {
-      out.vertex = -d;
-      out.vertex_index = int(i);
-    }
+    out.notePoint(int(i), query.signedDistance(x[i]));
   }
   const auto& tri = topology_->triangles;
   for (std::size_t t = 0; t + 2 < tri.size(); t += 3) {
@@ -104,12 +86,7 @@ void PenetrationGauge::measureMesh(const MeshObstacle& mesh, const MeshQuery& qu
       for (int j = 0; i + j <= n; ++j) {
         const glm::dvec3 p = a + (double(i) / n) * (b - a) + (double(j) / n) * (c - a);
         if (fieldDistance(mesh.field, p).value_or(kFar) > slack || !query.inside(p)) continue;
-        const double depth = query.distance(p);
-        if (depth > out.surface) {
-          out.surface = depth;
-          out.surface_point = p;
-          out.surface_triangle = int(t / 3);
-        }
+        out.noteSurface(int(t / 3), p, query.distance(p));
       }
   }
   out.surface = std::max(out.surface, out.vertex);

@@ -10,6 +10,7 @@
 #include "core/scene.hpp"
 #include "core/topology.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <vector>
 
@@ -24,6 +25,23 @@ struct Penetration {
   int surface_triangle = -1;
   // m: the smallest signed distance of a cloth point to an obstacle (negative: inside), to tell contact.
   double nearest = std::numeric_limits<double>::infinity();
+
+  // Cloth point `index` at signed distance d from an obstacle (negative: inside).
+  void notePoint(int index, double d) {
+    nearest = std::min(nearest, d);
+    vertices_inside += d < 0;
+    if (-d > vertex) {
+      vertex = -d;
+      vertex_index = index;
+    }
+  }
+  // A point p of cloth triangle `triangle` `depth` inside an obstacle.
+  void noteSurface(int triangle, glm::dvec3 p, double depth) {
+    if (!(depth > surface)) return;  // a NaN depth is no record
+    surface = depth;
+    surface_point = p;
+    surface_triangle = triangle;
+  }
 };
 
 class PenetrationGauge {
