@@ -128,7 +128,8 @@ struct Kernels : Lanes<V> {
   }
 
   // f += springForce(x_i, x_other, rest, k) in the lanes of `exists` (the others keep f), from the spring's
-  // s and len.
+  // s and len. kEvery: every lane's spring exists (a vector away from the grid's sides), so no mask.
+  template <bool kEvery>
   static void addSpring(const GridForceArgs& a, std::ptrdiff_t other, const float* s_at, const float* len_at, F exists,
                         F X, F Y, F Z, F& fx, F& fy, F& fz) {
     const F dx = V::sub(V::load(a.x + other), X);
@@ -136,9 +137,45 @@ struct Kernels : Lanes<V> {
     const F dz = V::sub(V::load(a.z + other), Z);
     const F s = V::load(s_at);
     const F zero = V::set1(0.0f), none = V::le(V::load(len_at), zero);  // springForce returns vec3(0) there
-    fx = V::select(exists, V::add(fx, V::select(none, zero, V::mul(s, dx))), fx);
-    fy = V::select(exists, V::add(fy, V::select(none, zero, V::mul(s, dy))), fy);
-    fz = V::select(exists, V::add(fz, V::select(none, zero, V::mul(s, dz))), fz);
+    const F tx = V::add(fx, V::select(none, zero, V::mul(s, dx)));
+    const F ty = V::add(fy, V::select(none, zero, V::mul(s, dy)));
+    const F tz = V::add(fz, V::select(none, zero, V::mul(s, dz)));
+    fx = kEvery ? tx : V::select(exists, tx, fx);
+    fy = kEvery ? ty : V::select(exists, ty, fy);
+    fz = kEvery ? tz : V::select(exists, tz, fz);
+  }
+
+  // One vector of points' force sums: gravity, then per direction, in the adjacency's order, the spring
+  // that ends at the point and then the one that starts there (both ascending spring index,
+  // core/topology.cpp).
+  template <bool kInterior>
+  static void forceVector(const GridForceArgs& a, SpringRows& rows, int row, int x0, F gx, F gy, F gz) {
+    const GridShape& g = a.shape;
+    const std::ptrdiff_t q = at(g, x0, row);
+    const F X = V::load(a.x + q), Y = V::load(a.y + q), Z = V::load(a.z + q);
+    const F m = V::load(a.mass + q);
+    F fx = V::mul(gx, m), fy = V::mul(gy, m), fz = V::mul(gz, m);  // gravity * mass
+    const F xs = V::add(V::set1(float(x0)), V::iota());
+    for (int d = 0; d < 6; ++d) {
+      if (!a.springs.enabled[d]) continue;
+      const std::ptrdiff_t offset = kDx[d] + std::ptrdiff_t(kDy[d]) * g.stride;
+      if (row - kDy[d] >= 0) {
+        const int from = x0 - kDx[d];
+        addSpring<kInterior>(a, q - offset, rows.s(row - kDy[d], d) + from, rows.len(row - kDy[d], d) + from,
+                             kInterior ? F{} : onGrid(xs, -kDx[d], g.W), X, Y, Z, fx, fy, fz);
+      }
+      if (row + kDy[d] < g.H)
+        addSpring<kInterior>(a, q + offset, rows.s(row, d) + x0, rows.len(row, d) + x0,
+                             kInterior ? F{} : onGrid(xs, kDx[d], g.W), X, Y, Z, fx, fy, fz);
+    }
+    float* out = a.forces + 3 * (std::ptrdiff_t(row) * g.W + x0);
+    if (x0 + kW <= g.W) {
+      V::storeVec3(out, fx, fy, fz);
+    } else {
+      float tmp[3 * kW];
+      V::storeVec3(tmp, fx, fy, fz);
+      std::memcpy(out, tmp, sizeof(float) * 3 * std::size_t(g.W - x0));
+    }
   }
 
   static void forces(const GridForceArgs& a, int y0, int y1) {
@@ -149,36 +186,15 @@ struct Kernels : Lanes<V> {
     for (int row = std::max(y0 - 2, 0); row < y0; ++row)  // springs that end in the first rows
       springRow(a, row, rows);
     const F gx = V::set1(a.gravity[0]), gy = V::set1(a.gravity[1]), gz = V::set1(a.gravity[2]);
+    // A spring reaches at most 2 columns to either side (kDx): vectors from x0 = 2 up to W - 2 - kW have
+    // every lane's neighbours on the grid.
     for (int row = y0; row < y1; ++row) {
       springRow(a, row, rows);
       for (int x0 = 0; x0 < g.W; x0 += kW) {
-        const std::ptrdiff_t q = at(g, x0, row);
-        const F X = V::load(a.x + q), Y = V::load(a.y + q), Z = V::load(a.z + q);
-        const F m = V::load(a.mass + q);
-        F fx = V::mul(gx, m), fy = V::mul(gy, m), fz = V::mul(gz, m);  // gravity * mass
-        const F xs = V::add(V::set1(float(x0)), V::iota());
-        // Per direction, in the adjacency's order: the spring that ends at the point, then the one that
-        // starts there (both ascending spring index, core/topology.cpp).
-        for (int d = 0; d < 6; ++d) {
-          if (!a.springs.enabled[d]) continue;
-          const std::ptrdiff_t offset = kDx[d] + std::ptrdiff_t(kDy[d]) * g.stride;
-          if (row - kDy[d] >= 0) {
-            const int from = x0 - kDx[d];
-            addSpring(a, q - offset, rows.s(row - kDy[d], d) + from, rows.len(row - kDy[d], d) + from,
-                      onGrid(xs, -kDx[d], g.W), X, Y, Z, fx, fy, fz);
-          }
-          if (row + kDy[d] < g.H)
-            addSpring(a, q + offset, rows.s(row, d) + x0, rows.len(row, d) + x0, onGrid(xs, kDx[d], g.W), X, Y, Z, fx,
-                      fy, fz);
-        }
-        float* out = a.forces + 3 * (std::ptrdiff_t(row) * g.W + x0);
-        if (x0 + kW <= g.W) {
-          V::storeVec3(out, fx, fy, fz);
-        } else {
-          float tmp[3 * kW];
-          V::storeVec3(tmp, fx, fy, fz);
-          std::memcpy(out, tmp, sizeof(float) * 3 * std::size_t(g.W - x0));
-        }
+        if (x0 >= 2 && x0 + kW + 2 <= g.W)
+          forceVector<true>(a, rows, row, x0, gx, gy, gz);
+        else
+          forceVector<false>(a, rows, row, x0, gx, gy, gz);
       }
     }
   }
@@ -319,7 +335,7 @@ struct Kernels : Lanes<V> {
     for (int x0 = dx * parity; x0 + dx < g.W; x0 += 2 * kW) {
       const std::ptrdiff_t q = at(g, x0, row);
       const F valid = V::lt(V::add(V::set1(float(x0)), lane_a), V::set1(float(g.W - dx)));
-      End ea, eb;
+      End ea{}, eb{};  // vx, vy, vz only where displacements are corrected
       F rest, unused;
       splitArray<kPairs>(a.x + q, ea.x, eb.x);
       splitArray<kPairs>(a.y + q, ea.y, eb.y);
