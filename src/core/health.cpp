@@ -49,13 +49,16 @@ Health scanHealthPart(const Topology& topo, const ClothSpec& cloth, const std::v
       raise(Health::kOutOfBounds, i);
     }
   }
-  // The GPU compares length > (1 + max_strain) * rest in float; written the same way here so that the
-  // two disagree only for a spring within rounding of the limit.
+  // The GPU compares length > (1 + max_strain) * rest in float; here the squares in double (no square root a
+  // spring), so that the two disagree only for a spring within rounding of the limit. NaN compares false
+  // either way.
   const double stretch = 1.0 + limits.max_strain;
   for (std::size_t k = s0; k < s1; ++k) {
     const Spring& s = topo.springs[k];
     if (!cloth.springEnabled(s.type)) continue;
-    if (glm::distance(glm::dvec3(x[s.a]), glm::dvec3(x[s.b])) > stretch * s.rest) {
+    const glm::dvec3 d = glm::dvec3(x[s.a]) - glm::dvec3(x[s.b]);
+    const double most = stretch * s.rest;
+    if (glm::dot(d, d) > most * most) {
       raise(Health::kOverstretched, s.a);
       raise(Health::kOverstretched, s.b);
     }
