@@ -129,31 +129,74 @@ TEST(MeshFeatures, ABoxHasTwelveEdgesAndEightCornersAndATableItsRim) {
   EXPECT_EQ(findFeatures(*torus.meshes.at(0).mesh).edges.size(), 0u) << "13 degrees a step at most";
 }
 
+// The edges the grid's cell of p lists (none beyond the grid).
+std::set<std::uint32_t> listedEdges(const FeatureGrid& g, dvec3 p) {
+  const glm::ivec3 cell(glm::floor((p - g.origin) / g.cell));
+  std::set<std::uint32_t> listed;
+  if (glm::all(glm::greaterThanEqual(cell, glm::ivec3(0))) && glm::all(glm::lessThan(cell, g.dims)))
+    for (std::uint32_t k = g.edge_start[g.index(cell)]; k < g.edge_start[g.index(cell) + 1]; ++k)
+      listed.insert(g.edges[k]);
+  return listed;
+}
+
+// How many (point, edge) pairs within reach were checked; fails where the point's cell misses such an edge.
+int expectCellsListEdgesWithinReach(const MeshFeatures& f, const FeatureGrid& g, double reach,
+                                    const std::vector<dvec3>& points) {
+  int checked = 0;
+  for (std::size_t n = 0; n < points.size(); ++n) {
+    const dvec3 p = points[n];
+    const std::set<std::uint32_t> listed = listedEdges(g, p);
+    for (std::uint32_t e = 0; e < f.edges.size(); ++e) {
+      const dvec3 a = f.edges[e].a, b = f.edges[e].b;
+      const double along = std::clamp(glm::dot(p - a, b - a) / glm::dot(b - a, b - a), 0.0, 1.0);
+      if (glm::distance(p, a + along * (b - a)) < reach) {
+        EXPECT_TRUE(listed.count(e)) << "point " << n << ", edge " << e;
+        ++checked;
+      }
+    }
+  }
+  return checked;
+}
+
 TEST(MeshFeatures, AGridCellListsEveryFeatureWithinReachOfAPointInIt) {
   const Scene table = loadScene(kScenes / "tablecloth.json");
   const MeshFeatures f = findFeatures(*table.meshes.at(0).mesh);
   const double reach = 0.05;
   const FeatureGrid g = buildFeatureGrid(f, reach);
-  int checked = 0;
+  EXPECT_EQ(g.cell, reach);
+  std::vector<dvec3> points;
   for (int n = 0; n < 400; ++n) {
     const dvec3 t(std::fmod(n * 0.618034, 1.0), std::fmod(n * 0.414214, 1.0), std::fmod(n * 0.732051, 1.0));
-    const dvec3 p = dvec3(-0.1, 0.6, -0.1) + t * dvec3(2.2, 0.3, 1.8);  // around the table's top
-    const glm::ivec3 cell(glm::floor((p - g.origin) / g.cell));
-    const bool inside = glm::all(glm::greaterThanEqual(cell, glm::ivec3(0))) && glm::all(glm::lessThan(cell, g.dims));
-    std::set<std::uint32_t> listed;
-    if (inside)
-      for (std::uint32_t k = g.edge_start[g.index(cell)]; k < g.edge_start[g.index(cell) + 1]; ++k)
-        listed.insert(g.edges[k]);
-    for (std::uint32_t e = 0; e < f.edges.size(); ++e) {
-      const dvec3 a = f.edges[e].a, b = f.edges[e].b;
-      const double along = std::clamp(glm::dot(p - a, b - a) / glm::dot(b - a, b - a), 0.0, 1.0);
-      if (glm::distance(p, a + along * (b - a)) < reach) {
-        ASSERT_TRUE(listed.count(e)) << "point " << n << ", edge " << e;
-        ++checked;
-      }
-    }
+    points.push_back(dvec3(-0.1, 0.6, -0.1) + t * dvec3(2.2, 0.3, 1.8));  // around the table's top
   }
-  EXPECT_GT(checked, 50);
+  EXPECT_GT(expectCellsListEdgesWithinReach(f, g, reach, points), 50);
+}
+
+// An obstacle kilometres across (or scaled past any scene's size by a hostile file: 1e28, whose cell count
+// overflowed) gets cells wider than the reach, at most kMaxFeatureCells of them, and still lists every edge
+// within reach of a point in a cell.
+TEST(MeshFeatures, AGridOverAHugeObstacleKeepsItsCellCountAndItsLists) {
+  const Scene table = loadScene(kScenes / "tablecloth.json");
+  const MeshFeatures original = findFeatures(*table.meshes.at(0).mesh);
+  for (double scale : {1e4, 1e28}) {
+    SCOPED_TRACE(scale);
+    MeshFeatures f = original;
+    for (FeatureEdge& e : f.edges) {
+      e.a *= scale;
+      e.b *= scale;
+    }
+    for (FeatureCorner& c : f.corners)
+      c.p *= scale;
+    const double reach = 0.05;
+    const FeatureGrid g = buildFeatureGrid(f, reach);
+    EXPECT_GT(g.cell, reach);
+    EXPECT_LE(double(g.dims.x) * g.dims.y * g.dims.z, kMaxFeatureCells);
+    EXPECT_EQ(g.edge_start.size(), std::size_t(g.dims.x) * g.dims.y * g.dims.z + 1);
+    std::vector<dvec3> points;  // beside every fifth edge, a third of the reach off it
+    for (std::size_t e = 0; e < f.edges.size(); e += 5)
+      points.push_back(glm::mix(f.edges[e].a, f.edges[e].b, 0.3) + dvec3(0.0, reach / 3, 0.0));
+    EXPECT_GT(expectCellsListEdgesWithinReach(f, g, reach, points), 50);
+  }
 }
 
 TEST(FaceAdjacency, AGridHasItsTrianglesEdgesOncePerPointAscending) {

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -260,6 +261,19 @@ TEST(MeshObstacle, APointDeepInsideIsPushedOutThroughTheNearestFace) {
 
 // The gauge against depths worked out by hand: a triangle whose corners are all outside a box, cutting its
 // edge, is inside by d / sqrt(2) at most; one through a sphere by r - (distance of its plane).
+// A box within float range but scaled far past any scene (a hostile file: 1e28 m corners) is an obstacle
+// like any other: the solver is made (its sharp edges' lookup grid once asked for more cells than a vector
+// holds) and the cloth, far from it, falls freely.
+TEST(MeshObstacle, AnObstacleScaledPastAnySceneIsMadeAndStepped) {
+  const Scene s = obstacleScene(boxObj({1e27, 1e27, 1e27}, {1e28, 2e28, 1e28}));
+  CpuSolver<float> cpu(s);
+  const auto start = cpu.positions();
+  for (int f = 0; f < 3; ++f)
+    cpu.stepFrame();
+  for (std::size_t i = 0; i < start.size(); ++i)
+    ASSERT_TRUE(std::isfinite(cpu.positions()[i].y) && cpu.positions()[i].y < start[i].y) << "point " << i;
+}
+
 TEST(Penetration, DeepestPointOfATriangleAcrossABoxEdge) {
   const Scene s = obstacleScene(boxObj({0, 0, 0}, {1, 1, 1}));
   const double d = 0.02;  // the edge (x = 1, y = 1) is d beyond the triangle's plane x + y = 2 - d sqrt(2)

@@ -82,7 +82,17 @@ FeatureGrid buildFeatureGrid(const MeshFeatures& features, double reach) {
     hi = glm::max(hi, c.p);
   }
   g.origin = lo - reach;
-  g.dims = glm::ivec3(glm::floor((hi - lo + 2.0 * reach) / reach)) + 1;
+  // Cells of `reach`, unless the features' box would need more than kMaxFeatureCells of them (an obstacle
+  // kilometres across, or one scaled past any scene's size: its count overflowed): then the cell doubles
+  // until they fit. A cell wider than the reach lists more features, and the lookup still reads one cell.
+  const glm::dvec3 span = hi - lo + 2.0 * reach;
+  auto cellsOf = [&](double cell) {
+    const glm::dvec3 d = glm::floor(span / cell) + 1.0;
+    return d.x * d.y * d.z;
+  };
+  while (!(cellsOf(g.cell) <= kMaxFeatureCells))
+    g.cell *= 2.0;
+  g.dims = glm::ivec3(glm::floor(span / g.cell)) + 1;
   g.origin_f = glm::vec3(g.origin);
   g.inv_cell_f = float(1.0 / g.cell);
   const std::size_t cells = std::size_t(g.dims.x) * std::size_t(g.dims.y) * std::size_t(g.dims.z);

@@ -53,7 +53,8 @@ double featureReach(double thickness, const FaceAdjacency& faces);
 
 // The features near each cell of a uniform grid, for a lookup by one cell: cell c lists every feature
 // within `reach` of its box, in ascending index, so a cloth edge or triangle whose middle lies in c finds
-// every feature within reach of its middle. Cells of edge `reach`, over the features' box grown by reach; a
+// every feature within reach of its middle. Cells of edge `reach` (doubled until there are at most
+// kMaxFeatureCells), over the features' box grown by reach; a
 // point beyond the grid has no feature within reach. Both solvers read the float constants.
 struct FeatureGrid {
   glm::dvec3 origin{0.0};
@@ -67,6 +68,9 @@ struct FeatureGrid {
     return (std::size_t(c.z) * std::size_t(dims.y) + std::size_t(c.y)) * std::size_t(dims.x) + std::size_t(c.x);
   }
 };
+
+// The most cells a feature grid has (each a uint32 start for edges and one for corners, on the GPU too).
+inline constexpr double kMaxFeatureCells = double(1 << 21);
 
 FeatureGrid buildFeatureGrid(const MeshFeatures& features, double reach);
 
