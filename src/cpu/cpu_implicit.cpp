@@ -4,6 +4,8 @@
 #include "cpu/cpu_solver_sweep.hpp"
 #include "cpu/parallel.hpp"
 
+#include <type_traits>
+
 namespace drape {
 
 // XPBD with Small Steps (Macklin et al. 2019): many substeps of few sweeps, each spring a distance
@@ -16,6 +18,15 @@ template <class T>
 void CpuSolver<T>::solveXpbd() {
   const bool displacement = form_ == VerletForm::Displacement;
   const int iterations = scene_.sim.iterations;
+  // A grid's single sweep by the grid kernels (8 springs of a colour at a time, the same bytes); more sweeps
+  // keep a multiplier a spring, in the colouring's order, and the gathers.
+  if constexpr (std::is_same_v<T, float>)
+    if (grid_ && iterations == 1) {
+      const ClothSpec& c = scene_.cloth;
+      const bool enabled[kSpringTypeCount] = {c.enable_structural, c.enable_shearing, c.enable_bending};
+      grid_->xpbd(x_, displacement ? &v_ : nullptr, alpha_tilde_.k, enabled);
+      return;
+    }
   if (iterations > 1) teamSingle([&] { lambda_.assign(colouring_.springs.size(), T(0)); });
   for (int sweep = 0; sweep < iterations; ++sweep)
     sweepColours([&](std::size_t k, std::uint32_t s, const Spring& sp) {

@@ -94,7 +94,7 @@ void CpuSolver<T>::refreshDerived() {
     drag_area_[i] = T(derived::dragArea(scene_.sim.wind.drag, c, topo_, i));
   }
   if constexpr (std::is_same_v<T, float>) {
-    if (grid_) grid_->setMasses(mass_);
+    if (grid_) grid_->setMasses(mass_, inv_mass_);
     if (kernels_) {
       const float pin = std::bit_cast<float>(~std::uint32_t(0));
       inv_mass3_.resize(3 * n);

@@ -46,8 +46,9 @@ struct GridStretchArgs {
   float *x, *y, *z;     // positions, padded layout, updated in place
   float *vx, *vy, *vz;  // displacements, the same corrections added (nullptr: not kept)
   const float* pinned;  // all bits set where pinned, padded layout
-  GridSprings springs;
+  GridSprings springs;  // XPBD: k[d] holds the direction's compliance over dt^2, alpha_tilde
   float limit = 1.1f;
+  const float* inv_mass = nullptr;  // XPBD: inverse masses, padded layout
 };
 
 // A self-collision list build's candidates of one point, in the order of the build's spatial grid: their
@@ -140,6 +141,9 @@ struct GridKernels {
   void (*forces)(const GridForceArgs&, int y0, int y1);
   // Provot's stretch limit over the springs of colour 2 * direction + parity (core/colouring.hpp).
   void (*stretchColour)(const GridStretchArgs&, int direction, int parity, int y0, int y1);
+  // One XPBD sweep's colour (physics::xpbdDistanceCorrection with the multiplier at 0, a single sweep's),
+  // each spring's ends moved by -w_a p and +w_b p.
+  void (*xpbdColour)(const GridStretchArgs&, int direction, int parity, int y0, int y1);
   // Verlet in displacement form (physics::integrateVerlet, then x += v) over vec3 arrays seen as floats,
   // [first, last) in floats: per float its point's inverse mass and pin mask (all bits set: pinned, which
   // keeps x and sets v to +0). Not grid-specific: it needs no neighbours.

@@ -201,6 +201,7 @@ struct Kernels : Lanes<V> {
 
   struct End {
     F x, y, z, vx, vy, vz, pinned;
+    F w;  // inverse mass (XPBD's ends only)
   };
 
   // One lane per spring a-b of the colour (valid lanes only): Provot's correction as limitStretchColoured
@@ -266,13 +267,70 @@ struct Kernels : Lanes<V> {
     return true;
   }
 
+  // One lane per spring a-b of the colour (valid lanes only): xpbdDistanceCorrection (cpu/physics.hpp) with
+  // lambda = 0, as solveXpbd's single sweep computes it, and its moves -w_a p at a and +w_b p at b, w 0 at a
+  // pinned end; a spring of length <= 0 gives p = 0, whose +-0 moves are still added, as the scalar code adds
+  // them. Returns whether anything is to be stored.
+  static bool xpbdSprings(End& a, End& b, F rest, F alpha, F valid, bool displacements) {
+    const F dx = V::sub(b.x, a.x), dy = V::sub(b.y, a.y), dz = V::sub(b.z, a.z);
+    const F len = V::sqrt(V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz)));
+    const F zero = V::set1(0.0f);
+    const F wa = V::select(a.pinned, zero, a.w), wb = V::select(b.pinned, zero, b.w);
+    const F move_a = V::andNot(a.pinned, valid), move_b = V::andNot(b.pinned, valid);
+    if (!V::any(V::bitOr(move_a, move_b))) return false;
+    // (-(len - rest) - alpha lambda) / (w_sum + alpha), lambda = 0
+    const F dlambda = V::div(V::sub(V::neg(V::sub(len, rest)), V::mul(alpha, zero)), V::add(V::add(wa, wb), alpha));
+    const F none = V::le(len, zero);
+    const F s = V::div(dlambda, len);
+    const F px = V::select(none, zero, V::mul(s, dx));
+    const F py = V::select(none, zero, V::mul(s, dy));
+    const F pz = V::select(none, zero, V::mul(s, dz));
+    const F na = V::neg(wa);
+    const F cax = V::mul(na, px), cay = V::mul(na, py), caz = V::mul(na, pz);
+    const F cbx = V::mul(wb, px), cby = V::mul(wb, py), cbz = V::mul(wb, pz);
+    a.x = V::select(move_a, V::add(a.x, cax), a.x);
+    a.y = V::select(move_a, V::add(a.y, cay), a.y);
+    a.z = V::select(move_a, V::add(a.z, caz), a.z);
+    b.x = V::select(move_b, V::add(b.x, cbx), b.x);
+    b.y = V::select(move_b, V::add(b.y, cby), b.y);
+    b.z = V::select(move_b, V::add(b.z, cbz), b.z);
+    if (!displacements) return true;  // x_prev stays: v = x - x_prev is the constrained displacement
+    a.vx = V::select(move_a, V::add(a.vx, cax), a.vx);
+    a.vy = V::select(move_a, V::add(a.vy, cay), a.vy);
+    a.vz = V::select(move_a, V::add(a.vz, caz), a.vz);
+    b.vx = V::select(move_b, V::add(b.vx, cbx), b.vx);
+    b.vy = V::select(move_b, V::add(b.vy, cby), b.vy);
+    b.vz = V::select(move_b, V::add(b.vz, cbz), b.vz);
+    return true;
+  }
+
+  // What a colour does to its springs: the stretch limit's correction, or XPBD's.
+  struct StretchRule {
+    static constexpr bool kWeights = false;
+    F limit;
+    explicit StretchRule(const GridStretchArgs& a) : limit(V::set1(a.limit)) {}
+    bool operator()(End& ea, End& eb, F rest, F valid, bool displacements, int) const {
+      return limitSprings(ea, eb, rest, limit, valid, displacements);
+    }
+  };
+  struct XpbdRule {
+    static constexpr bool kWeights = true;
+    const GridStretchArgs* args;
+    explicit XpbdRule(const GridStretchArgs& a) : args(&a) {}
+    bool operator()(End& ea, End& eb, F rest, F valid, bool displacements, int d) const {
+      return xpbdSprings(ea, eb, rest, V::set1(args->springs.k[d]), valid, displacements);
+    }
+  };
+
+  template <class Rule>
   static End loadEnd(const GridStretchArgs& a, std::ptrdiff_t q, bool displacements) {
-    End e{V::load(a.x + q), V::load(a.y + q), V::load(a.z + q), {}, {}, {}, V::load(a.pinned + q)};
+    End e{V::load(a.x + q), V::load(a.y + q), V::load(a.z + q), {}, {}, {}, V::load(a.pinned + q), {}};
     if (displacements) {
       e.vx = V::load(a.vx + q);
       e.vy = V::load(a.vy + q);
       e.vz = V::load(a.vz + q);
     }
+    if (Rule::kWeights) e.w = V::load(a.inv_mass + q);
     return e;
   }
   static void storeEnd(const GridStretchArgs& a, std::ptrdiff_t q, const End& e, bool displacements) {
@@ -287,16 +345,16 @@ struct Kernels : Lanes<V> {
 
   // A colour of a vertical or diagonal direction: the springs from row y to row y + dy, one per point of a
   // run of row y, so the a ends are consecutive and so are the b ends.
-  static void rowColour(const GridStretchArgs& a, int d, int row, bool displacements) {
+  template <class Rule>
+  static void rowColour(const GridStretchArgs& a, const Rule& rule, int d, int row, bool displacements) {
     const GridShape& g = a.shape;
     const int x_first = kDx[d] < 0 ? -kDx[d] : 0, x_end = kDx[d] > 0 ? g.W - kDx[d] : g.W;
     const std::ptrdiff_t offset = kDx[d] + std::ptrdiff_t(kDy[d]) * g.stride;
-    const F limit = V::set1(a.limit);
     for (int x0 = x_first; x0 < x_end; x0 += kW) {
       const std::ptrdiff_t q = at(g, x0, row);
       const F valid = V::lt(V::add(V::set1(float(x0)), V::iota()), V::set1(float(x_end)));
-      End ea = loadEnd(a, q, displacements), eb = loadEnd(a, q + offset, displacements);
-      if (!limitSprings(ea, eb, V::load(a.springs.rest[d] + q), limit, valid, displacements)) continue;
+      End ea = loadEnd<Rule>(a, q, displacements), eb = loadEnd<Rule>(a, q + offset, displacements);
+      if (!rule(ea, eb, V::load(a.springs.rest[d] + q), valid, displacements, d)) continue;
       storeEnd(a, q, ea, displacements);
       storeEnd(a, q + offset, eb, displacements);
     }
@@ -325,11 +383,11 @@ struct Kernels : Lanes<V> {
     split<kPairs>(V::load(p), V::load(p + kW), ea, eb);
   }
 
-  template <bool kPairs>
-  static void alternatingColour(const GridStretchArgs& a, int d, int parity, int row, bool displacements) {
+  template <bool kPairs, class Rule>
+  static void alternatingColour(const GridStretchArgs& a, const Rule& rule, int d, int parity, int row,
+                                bool displacements) {
     const GridShape& g = a.shape;
     const int dx = kDx[d];
-    const F limit = V::set1(a.limit);
     F lane_lo = V::iota(), lane_hi = V::add(V::iota(), V::set1(float(kW))), lane_a, lane_b;
     split<kPairs>(lane_lo, lane_hi, lane_a, lane_b);
     for (int x0 = dx * parity; x0 + dx < g.W; x0 += 2 * kW) {
@@ -347,7 +405,8 @@ struct Kernels : Lanes<V> {
         splitArray<kPairs>(a.vy + q, ea.vy, eb.vy);
         splitArray<kPairs>(a.vz + q, ea.vz, eb.vz);
       }
-      if (!limitSprings(ea, eb, rest, limit, valid, displacements)) continue;
+      if (Rule::kWeights) splitArray<kPairs>(a.inv_mass + q, ea.w, eb.w);
+      if (!rule(ea, eb, rest, valid, displacements, d)) continue;
       join<kPairs>(ea.x, eb.x, a.x + q);
       join<kPairs>(ea.y, eb.y, a.y + q);
       join<kPairs>(ea.z, eb.z, a.z + q);
@@ -361,19 +420,27 @@ struct Kernels : Lanes<V> {
 
   // Colour 2 d + parity (core/colouring.hpp, colourGridSprings): the springs of direction d whose start's
   // coordinate along it (x for horizontal directions, else y; halved for bending) has that parity.
-  static void stretchColour(const GridStretchArgs& a, int d, int parity, int y0, int y1) {
+  template <class Rule>
+  static void colour(const GridStretchArgs& a, int d, int parity, int y0, int y1) {
     const bool displacements = a.vx != nullptr;
+    const Rule rule(a);
     for (int row = y0; row < y1; ++row) {
       if (kDy[d] == 0) {
         if (d == 0)
-          alternatingColour<false>(a, d, parity, row, displacements);
+          alternatingColour<false>(a, rule, d, parity, row, displacements);
         else
-          alternatingColour<true>(a, d, parity, row, displacements);
+          alternatingColour<true>(a, rule, d, parity, row, displacements);
         continue;
       }
       const int along = kDy[d] == 2 ? row / 2 : row;
-      if (along % 2 == parity && row + kDy[d] < a.shape.H) rowColour(a, d, row, displacements);
+      if (along % 2 == parity && row + kDy[d] < a.shape.H) rowColour(a, rule, d, row, displacements);
     }
+  }
+  static void stretchColour(const GridStretchArgs& a, int d, int parity, int y0, int y1) {
+    colour<StretchRule>(a, d, parity, y0, y1);
+  }
+  static void xpbdColour(const GridStretchArgs& a, int d, int parity, int y0, int y1) {
+    colour<XpbdRule>(a, d, parity, y0, y1);
   }
 
   static void integrate(float* x, float* v, const float* f, const float* inv_mass3, const float* pinned3, float dt2,
@@ -450,6 +517,7 @@ struct Kernels : Lanes<V> {
             &fromSoa,
             &forces,
             &stretchColour,
+            &xpbdColour,
             &integrate,
             &Contact::pairTerms,
             &Contact::stencilFlags,

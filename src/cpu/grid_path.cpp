@@ -19,7 +19,7 @@ constexpr SpringType kDirectionType[6] = {SpringType::Structural, SpringType::St
 
 GridPath::GridPath(const Topology& topo, const std::vector<float>& rest, GridIsa isa)
     : shape_(GridShape::of(topo.W, topo.H)), kernels_(&gridKernels(isa)) {
-  for (std::vector<float>* a : {&x_, &y_, &z_, &vx_, &vy_, &vz_, &pinned_, &mass_, &rx_, &ry_, &rz_})
+  for (std::vector<float>* a : {&x_, &y_, &z_, &vx_, &vy_, &vz_, &pinned_, &mass_, &inv_mass_, &rx_, &ry_, &rz_})
     a->assign(shape_.size, 0.0f);
   for (std::vector<float>& r : rest_)
     r.assign(shape_.size, 0.0f);
@@ -40,10 +40,13 @@ GridPath::GridPath(const Topology& topo, const std::vector<float>& rest, GridIsa
     if (topo.pinned[i]) pinned_[std::size_t(shape_.at(int(i % w), int(i / w)))] = all_bits;
 }
 
-void GridPath::setMasses(const std::vector<float>& mass) {
+void GridPath::setMasses(const std::vector<float>& mass, const std::vector<float>& inv_mass) {
   const auto w = std::size_t(shape_.W);
-  for (std::size_t i = 0; i < mass.size(); ++i)
-    mass_[std::size_t(shape_.at(int(i % w), int(i / w)))] = mass[i];
+  for (std::size_t i = 0; i < mass.size(); ++i) {
+    const auto k = std::size_t(shape_.at(int(i % w), int(i / w)));
+    mass_[k] = mass[i];
+    inv_mass_[k] = inv_mass[i];
+  }
 }
 
 GridSprings GridPath::springs(const float k[3], const bool enabled[3]) const {
@@ -94,31 +97,45 @@ void GridPath::stencilFlags(const std::vector<glm::vec3>& x, const int* du, cons
 
 void GridPath::limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,
                             const bool enabled[3]) {
+  const float unit[3] = {1, 1, 1};
+  GridStretchArgs args = colourArgs(v != nullptr, springs(unit, enabled));
+  args.limit = limit;
+  sweepColours(x, v, args, passes, kernels_->stretchColour);
+}
+
+void GridPath::xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float alpha_tilde[3],
+                    const bool enabled[3]) {
+  GridStretchArgs args = colourArgs(v != nullptr, springs(alpha_tilde, enabled));
+  args.inv_mass = inv_mass_.data();
+  sweepColours(x, v, args, 1, kernels_->xpbdColour);
+}
+
+GridStretchArgs GridPath::colourArgs(bool displacements, const GridSprings& s) {
+  return GridStretchArgs{shape_,
+                         x_.data(),
+                         y_.data(),
+                         z_.data(),
+                         displacements ? vx_.data() : nullptr,
+                         displacements ? vy_.data() : nullptr,
+                         displacements ? vz_.data() : nullptr,
+                         pinned_.data(),
+                         s};
+}
+
+void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const GridStretchArgs& args,
+                            int passes, ColourKernel colour) {
   const GridKernels& kern = *kernels_;
-  float* vx = v ? vx_.data() : nullptr;
   teamRange(0, shape_.H, [&](long long y0, long long y1) {
     kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1));
     if (v) kern.toSoa(shape_, &v->data()->x, vx_.data(), vy_.data(), vz_.data(), int(y0), int(y1));
   });
-  const float unit[3] = {1, 1, 1};
-  GridStretchArgs args{shape_,
-                       x_.data(),
-                       y_.data(),
-                       z_.data(),
-                       vx,
-                       v ? vy_.data() : nullptr,
-                       v ? vz_.data() : nullptr,
-                       pinned_.data(),
-                       springs(unit, enabled),
-                       limit};
   // The colours in order (colourGridSprings: 2 * direction + parity); a colour's springs share no point and
   // every spring starts in the row its thread owns, so a colour is split by rows with a barrier after it.
   for (int pass = 0; pass < passes; ++pass)
     for (int d = 0; d < 6; ++d) {
       if (!args.springs.enabled[d]) continue;
       for (int parity = 0; parity < 2; ++parity)
-        teamRange(0, shape_.H,
-                  [&](long long y0, long long y1) { kern.stretchColour(args, d, parity, int(y0), int(y1)); });
+        teamRange(0, shape_.H, [&](long long y0, long long y1) { colour(args, d, parity, int(y0), int(y1)); });
     }
   teamRange(0, shape_.H, [&](long long y0, long long y1) {
     kern.fromSoa(shape_, x_.data(), y_.data(), z_.data(), &x.data()->x, int(y0), int(y1));

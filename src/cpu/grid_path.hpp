@@ -1,4 +1,4 @@
-// The float solver's grid path: forces and the Gauss-Seidel stretch limit of a grid cloth with the grid
+// The float solver's grid path: forces, the Gauss-Seidel stretch limit and XPBD's sweep of a grid cloth with the grid
 // kernels (cpu/grid_kernels.hpp), the positions and displacements copied into a padded structure of arrays
 // for the pass and back after it. The bytes are the general path's (tests/grid_path_test.cpp); the mesh path
 // and double keep the gathers over the adjacency and the colouring.
@@ -20,7 +20,7 @@ class GridPath {
   GridPath(const Topology& topo, const std::vector<float>& rest, GridIsa isa);
 
   const GridKernels& kernels() const { return *kernels_; }
-  void setMasses(const std::vector<float>& mass);
+  void setMasses(const std::vector<float>& mass, const std::vector<float>& inv_mass);
 
   // Called by every thread of a team (or by one thread alone): each splits the rows and ends with a barrier.
   // enabled[t] and k[t] per spring type.
@@ -35,13 +35,21 @@ class GridPath {
   // `passes` Gauss-Seidel passes over the 12 colours in order; v nullptr when it is not a displacement.
   void limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,
                     const bool enabled[3]);
+  // One XPBD sweep (a single one: its multipliers start and stay at 0) over the colours in order, with the
+  // compliances over dt^2 per spring type.
+  void xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float alpha_tilde[3], const bool enabled[3]);
 
  private:
+  using ColourKernel = void (*)(const GridStretchArgs&, int, int, int, int);
   GridSprings springs(const float k[3], const bool enabled[3]) const;
+  GridStretchArgs colourArgs(bool displacements, const GridSprings& springs);
+  // x (and v) into the padded arrays, `passes` sweeps of `colour` over the colours in order, and back.
+  void sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const GridStretchArgs& args, int passes,
+                    ColourKernel colour);
 
   GridShape shape_;
   const GridKernels* kernels_;
-  std::vector<float> x_, y_, z_, vx_, vy_, vz_, pinned_, mass_;
+  std::vector<float> x_, y_, z_, vx_, vy_, vz_, pinned_, mass_, inv_mass_;
   std::vector<float> rx_, ry_, rz_;  // rest positions, as the float solver rounds them
   std::vector<float> rest_[6];       // per direction, at each spring's start a
 };
