@@ -83,7 +83,7 @@ struct BenchRun {
   // count where other work on the machine took the cores). 0 where not measured.
   double cpu_share = 0;
   // What the roofline's work model needs of the scene.
-  int spheres = 0, planes = 0, stretch_passes = 1;
+  int spheres = 0, planes = 0, stretch_passes = 1, iterations = 1;
 };
 
 struct BenchReport {

@@ -33,6 +33,7 @@ void recordCpuDetails(const Solver& solver, const Scene& scene, BenchRun& run) {
   run.spheres = int(scene.spheres.size());
   run.planes = int(scene.planes.size());
   run.stretch_passes = scene.sim.stretch_passes;
+  run.iterations = scene.sim.iterations;
   if (const auto* cpu = dynamic_cast<const CpuSolver<float>*>(&solver)) {
     run.grid_kernels = cpu->gridKernels();
     // A mid-sized cloth's trial may have run some substeps on one thread: the way most of them ran.
@@ -62,10 +63,23 @@ nlohmann::json peaksJson(const std::vector<MachinePeak>& peaks) {
 }
 
 std::optional<PassWork> passWork(const BenchRun& run, const std::string& pass) {
-  if (run.integrator != "verlet" || run.solver != "cpu") return std::nullopt;
+  const bool xpbd = run.integrator == "xpbd";
+  if ((run.integrator != "verlet" && !xpbd) || run.solver != "cpu") return std::nullopt;
   const double n = run.size;
   const double ends = 2 * gridSprings(n) / (n * n);  // spring ends a point (12 inside the cloth)
   const bool grid = !run.grid_kernels.empty();
+  if (xpbd && pass == "forces")
+    // The prediction's forces: gravity times mass (3). Bytes: the mass read, the forces written.
+    return PassWork{3, 0, 4 + 12};
+  if (xpbd && pass == "xpbd_solve" && grid && run.iterations == 1) {
+    // Per spring (xpbdSprings): d (3), |d|^2 (5), sqrt, len - rest (1), alpha 0 and its subtraction (2),
+    // w_a + w_b + alpha (2), dlambda = / , s = dlambda / len, p = s d (3), -w_a p and w_b p (6), added to x and v
+    // at both ends (12): 34 adds and multiplies, a square root and two divisions. Bytes: as the stretch limit's
+    // (x and v copied in and back, the pin masks, six rest lengths) and the inverse masses (4).
+    const double springs = gridSprings(n) / (n * n);
+    return PassWork{34 * springs, 3 * springs, 96 + 28 + 4};
+  }
+  if (xpbd && pass != "integrate" && pass != "self_collide" && pass != "collide") return std::nullopt;
   if (pass == "forces" && grid)
     // Per spring, once (springRow): d (3), |d|^2 (3 mul, 2 add), sqrt, len - rest, k (), / len; per spring
     // end (addSpring): d again (3), s d (3), f += (3); gravity times mass (3). Bytes: the positions read as

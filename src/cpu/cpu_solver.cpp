@@ -258,10 +258,17 @@ void CpuSolver<T>::accumulateForces() {
   // 1.5x slower here: the per-spring pass scatters its reads and writes, while this loop reads one
   // point's neighbourhood, which is mostly in cache.
   const long long n = (long long)x_.size();
+  // XPBD's and VBD's prediction (or a cloth with every spring type off): no neighbour to visit, and without
+  // wind the force is the weight alone.
+  const bool any_spring = enabled[0] || enabled[1] || enabled[2];
+  if (!any_spring && !wind.enabled) {
+    parallelFor(0, n, threads_, [&](long long p) { f_[std::size_t(p)] = gravity * mass_[std::size_t(p)]; });
+    return;
+  }
   parallelFor(0, n, threads_, [&](long long p) {
     const std::size_t i = std::size_t(p);
     vec3 f = gravity * mass_[i];
-    for (std::uint32_t e = topo_.offsets[i]; e < topo_.offsets[i + 1]; ++e) {
+    for (std::uint32_t e = topo_.offsets[i]; any_spring && e < topo_.offsets[i + 1]; ++e) {
       const Neighbor& nb = topo_.adjacency[e];
       const int type = int(nb.type);
       if (enabled[type]) f += physics::springForce(x_[i], x_[nb.other], rest_adjacent_[e], stiffness_.k[type]);
