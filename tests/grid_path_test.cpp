@@ -1,6 +1,6 @@
 // The float solver's grid path (SIMD across points, cpu/grid_path.hpp) against its general path (gathers over
-// the adjacency and the colouring), byte for byte: per pass (forces, the stretch limit, XPBD's sweep) from a
-// disturbed state, and over whole runs (Verlet and XPBD); with
+// the adjacency and the colouring), byte for byte: per pass (forces, the stretch limit, XPBD's and VBD's sweeps)
+// from a disturbed state, and over whole runs (Verlet, XPBD, VBD); with
 // each instruction set this CPU has; and a substep's team of two threads against one thread.
 #include "cpu/cpu_solver.hpp"
 #include "same_bytes.hpp"
@@ -109,6 +109,16 @@ TEST_P(GridPathEquality, EachPassGivesTheGeneralPathsBytes) {
     ASSERT_FALSE(sameBytes(before_xpbd, general.positions())) << "XPBD had nothing to do";
     EXPECT_TRUE(sameBytes(general.positions(), grid.positions())) << "XPBD " << grid.gridKernels();
     EXPECT_TRUE(sameBytes(general.displacements(), grid.displacements())) << "XPBD " << grid.gridKernels();
+    // VBD's sweep (its point colours are made for a VBD scene only).
+    if (scene.sim.integrator != Integrator::Vbd) continue;
+    disturb(general, 13);
+    disturb(grid, 13);
+    const std::vector<glm::vec3> before_vbd = general.positions();
+    general.solveVbd();
+    grid.solveVbd();
+    ASSERT_FALSE(sameBytes(before_vbd, general.positions())) << "VBD had nothing to do";
+    EXPECT_TRUE(sameBytes(general.positions(), grid.positions())) << "VBD " << grid.gridKernels();
+    EXPECT_TRUE(sameBytes(general.displacements(), grid.displacements())) << "VBD " << grid.gridKernels();
   }
 }
 
@@ -145,6 +155,15 @@ INSTANTIATE_TEST_SUITE_P(Cases, GridPathEquality, ::testing::Values(
     GridCase{.name = "xpbd_previous_position", .file = "", .w = 17, .h = 17, .form = VerletForm::PreviousPosition,
              .integrator = Integrator::Xpbd},
     GridCase{.name = "xpbd_three_sweeps", .file = "pinned4.json", .w = 20, .h = 20, .integrator = Integrator::Xpbd,
+             .iterations = 3},
+    GridCase{.name = "vbd", .file = "pinned2.json", .integrator = Integrator::Vbd},
+    GridCase{.name = "vbd_stiff_sphere", .file = "sphere.json", .w = 23, .h = 17, .integrator = Integrator::Vbd,
+             .ks = 1e6},
+    GridCase{.name = "vbd_no_bending_vertical", .file = "", .w = 19, .h = 13, .vertical = true, .bending = false,
+             .integrator = Integrator::Vbd},
+    GridCase{.name = "vbd_previous_position", .file = "", .w = 17, .h = 17, .form = VerletForm::PreviousPosition,
+             .integrator = Integrator::Vbd},
+    GridCase{.name = "vbd_three_sweeps", .file = "pinned4.json", .w = 20, .h = 20, .integrator = Integrator::Vbd,
              .iterations = 3}),
     [](const auto& test) { return test.param.name; });
 // clang-format on

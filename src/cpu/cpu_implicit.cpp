@@ -66,6 +66,14 @@ void CpuSolver<T>::solveVbd() {
   const bool displacement = form_ == VerletForm::Displacement;
   const int iterations = scene_.sim.iterations;
   const T dt2 = dt_ * dt_;
+  // A grid's single sweep by the grid kernels, 8 points of a colour at a time (the same bytes); more sweeps need
+  // the prediction kept a point and keep the gathers.
+  if constexpr (std::is_same_v<T, float>)
+    if (grid_ && iterations == 1) {
+      grid_->vbd(x_, displacement ? &v_ : nullptr, stiffness_.k, enabled, dt2, point_colouring_.start,
+                 point_colouring_.points);
+      return;
+    }
   if (iterations > 1) teamSingle([&] { inertia_target_.resize(x_.size()); });
   for (int sweep = 0; sweep < iterations; ++sweep)
     for (int colour = 0; colour < point_colouring_.colourCount(); ++colour) {

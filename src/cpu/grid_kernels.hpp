@@ -51,6 +51,18 @@ struct GridStretchArgs {
   const float* inv_mass = nullptr;  // XPBD: inverse masses, padded layout
 };
 
+// VBD's sweep over one colour's points (a single sweep: the multiplier-free Newton step from the prediction).
+struct GridVbdArgs {
+  GridShape shape;
+  float *x, *y, *z;             // positions, padded layout, updated in place
+  float *vx, *vy, *vz;          // displacements, the same steps added (nullptr: not kept)
+  const float* pinned;          // all bits set where pinned, padded layout
+  const float* inv_mass;        // padded layout
+  GridSprings springs;          // rest lengths and stiffness per direction
+  float dt2 = 0;                // dt^2 as the solver rounds it
+  const std::uint32_t* points;  // the colour's points, ascending (PointColouring)
+};
+
 // A self-collision list build's candidates of one point, in the order of the build's spatial grid: their
 // positions, and on a grid cloth their column and row (exact small integers as floats) with which the build
 // passes over the pairs the springs hold or the stencil tests.
@@ -144,6 +156,9 @@ struct GridKernels {
   // One XPBD sweep's colour (physics::xpbdDistanceCorrection with the multiplier at 0, a single sweep's),
   // each spring's ends moved by -w_a p and +w_b p.
   void (*xpbdColour)(const GridStretchArgs&, int direction, int parity, int y0, int y1);
+  // VBD's Newton steps (physics::vbdAddSpring over the adjacency's order, vbdStep) of points [first, last) of
+  // args.points, 8 at a time by gathers: no two of them share a spring.
+  void (*vbdPoints)(const GridVbdArgs&, long long first, long long last);
   // Verlet in displacement form (physics::integrateVerlet, then x += v) over vec3 arrays seen as floats,
   // [first, last) in floats: per float its point's inverse mass and pin mask (all bits set: pinned, which
   // keeps x and sets v to +0). Not grid-specific: it needs no neighbours.

@@ -110,6 +110,35 @@ void GridPath::xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const 
   sweepColours(x, v, args, 1, kernels_->xpbdColour);
 }
 
+void GridPath::vbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float k[3], const bool enabled[3],
+                   float dt2, const std::vector<std::uint32_t>& colour_start,
+                   const std::vector<std::uint32_t>& points) {
+  const GridKernels& kern = *kernels_;
+  teamRange(0, shape_.H, [&](long long y0, long long y1) {
+    kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1));
+    if (v) kern.toSoa(shape_, &v->data()->x, vx_.data(), vy_.data(), vz_.data(), int(y0), int(y1));
+  });
+  const GridVbdArgs args{shape_,
+                         x_.data(),
+                         y_.data(),
+                         z_.data(),
+                         v ? vx_.data() : nullptr,
+                         v ? vy_.data() : nullptr,
+                         v ? vz_.data() : nullptr,
+                         pinned_.data(),
+                         inv_mass_.data(),
+                         springs(k, enabled),
+                         dt2,
+                         points.data()};
+  // A colour's points share no spring: split between the threads, a barrier after each colour.
+  for (std::size_t c = 0; c + 1 < colour_start.size(); ++c)
+    teamRange(colour_start[c], colour_start[c + 1], [&](long long lo, long long hi) { kern.vbdPoints(args, lo, hi); });
+  teamRange(0, shape_.H, [&](long long y0, long long y1) {
+    kern.fromSoa(shape_, x_.data(), y_.data(), z_.data(), &x.data()->x, int(y0), int(y1));
+    if (v) kern.fromSoa(shape_, vx_.data(), vy_.data(), vz_.data(), &v->data()->x, int(y0), int(y1));
+  });
+}
+
 GridStretchArgs GridPath::colourArgs(bool displacements, const GridSprings& s) {
   return GridStretchArgs{shape_,
                          x_.data(),

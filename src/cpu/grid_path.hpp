@@ -1,7 +1,7 @@
-// The float solver's grid path: forces, the Gauss-Seidel stretch limit and XPBD's sweep of a grid cloth with the grid
-// kernels (cpu/grid_kernels.hpp), the positions and displacements copied into a padded structure of arrays
-// for the pass and back after it. The bytes are the general path's (tests/grid_path_test.cpp); the mesh path
-// and double keep the gathers over the adjacency and the colouring.
+// The float solver's grid path: forces, the Gauss-Seidel stretch limit and XPBD's and VBD's sweeps of a grid cloth with
+// the grid kernels (cpu/grid_kernels.hpp), the positions and displacements copied into a padded structure of arrays for
+// the pass and back after it. The bytes are the general path's (tests/grid_path_test.cpp); the mesh path and double
+// keep the gathers over the adjacency and the colouring.
 #pragma once
 
 #include "core/topology.hpp"
@@ -38,6 +38,10 @@ class GridPath {
   // One XPBD sweep (a single one: its multipliers start and stay at 0) over the colours in order, with the
   // compliances over dt^2 per spring type.
   void xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float alpha_tilde[3], const bool enabled[3]);
+  // One VBD sweep over the point colours in order (each colour's points ascending; no two share a spring):
+  // the Newton step of each free point from the prediction, with the stiffnesses per spring type.
+  void vbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float k[3], const bool enabled[3], float dt2,
+           const std::vector<std::uint32_t>& colour_start, const std::vector<std::uint32_t>& points);
 
  private:
   using ColourKernel = void (*)(const GridStretchArgs&, int, int, int, int);

@@ -76,6 +76,10 @@ struct Sse2 {
     gz = load(c);
     live = load(m);
   }
+  // base[idx[l]] in lane l: loaded one by one.
+  static F gather(const float* base, const std::int32_t* idx) {
+    return _mm_set_ps(base[idx[3]], base[idx[2]], base[idx[1]], base[idx[0]]);
+  }
   // Two vectors of consecutive points, lo = p0..p3 and hi = p4..p7, split into even and odd points (in an
   // order of their own, undone by interleave), or into pairs (p0 p1, p4 p5) and (p2 p3, p6 p7).
   static F evens(F lo, F hi) { return _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)); }
@@ -172,6 +176,10 @@ struct Avx2 {
     gx = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), x, j3, live, 4);
     gy = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), x + 1, j3, live, 4);
     gz = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), x + 2, j3, live, 4);
+  }
+  // base[idx[l]] in lane l (every index valid).
+  static F gather(const float* base, const std::int32_t* idx) {
+    return _mm256_i32gather_ps(base, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(idx)), 4);
   }
   static F evens(F lo, F hi) { return _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)); }
   static F odds(F lo, F hi) { return _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1)); }
