@@ -114,10 +114,7 @@ void GridPath::vbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const f
                    float dt2, const std::vector<std::uint32_t>& colour_start,
                    const std::vector<std::uint32_t>& points) {
   const GridKernels& kern = *kernels_;
-  teamRange(0, shape_.H, [&](long long y0, long long y1) {
-    kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1));
-    if (v) kern.toSoa(shape_, &v->data()->x, vx_.data(), vy_.data(), vz_.data(), int(y0), int(y1));
-  });
+  copyIn(x, v);
   const GridVbdArgs args{shape_,
                          x_.data(),
                          y_.data(),
@@ -133,6 +130,19 @@ void GridPath::vbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const f
   // A colour's points share no spring: split between the threads, a barrier after each colour.
   for (std::size_t c = 0; c + 1 < colour_start.size(); ++c)
     teamRange(colour_start[c], colour_start[c + 1], [&](long long lo, long long hi) { kern.vbdPoints(args, lo, hi); });
+  copyOut(x, v);
+}
+
+void GridPath::copyIn(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>* v) {
+  const GridKernels& kern = *kernels_;
+  teamRange(0, shape_.H, [&](long long y0, long long y1) {
+    kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1));
+    if (v) kern.toSoa(shape_, &v->data()->x, vx_.data(), vy_.data(), vz_.data(), int(y0), int(y1));
+  });
+}
+
+void GridPath::copyOut(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v) {
+  const GridKernels& kern = *kernels_;
   teamRange(0, shape_.H, [&](long long y0, long long y1) {
     kern.fromSoa(shape_, x_.data(), y_.data(), z_.data(), &x.data()->x, int(y0), int(y1));
     if (v) kern.fromSoa(shape_, vx_.data(), vy_.data(), vz_.data(), &v->data()->x, int(y0), int(y1));
@@ -154,10 +164,7 @@ GridStretchArgs GridPath::colourArgs(bool displacements, const GridSprings& s) {
 void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const GridStretchArgs& args,
                             int passes, ColourKernel colour) {
   const GridKernels& kern = *kernels_;
-  teamRange(0, shape_.H, [&](long long y0, long long y1) {
-    kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1));
-    if (v) kern.toSoa(shape_, &v->data()->x, vx_.data(), vy_.data(), vz_.data(), int(y0), int(y1));
-  });
+  copyIn(x, v);
   // The colours in order (colourGridSprings: 2 * direction + parity); a colour's springs share no point and
   // every spring starts in the row its thread owns, so a colour is split by rows with a barrier after it.
   for (int pass = 0; pass < passes; ++pass)
@@ -166,10 +173,7 @@ void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v
       for (int parity = 0; parity < 2; ++parity)
         teamRange(0, shape_.H, [&](long long y0, long long y1) { colour(args, d, parity, int(y0), int(y1)); });
     }
-  teamRange(0, shape_.H, [&](long long y0, long long y1) {
-    kern.fromSoa(shape_, x_.data(), y_.data(), z_.data(), &x.data()->x, int(y0), int(y1));
-    if (v) kern.fromSoa(shape_, vx_.data(), vy_.data(), vz_.data(), &v->data()->x, int(y0), int(y1));
-  });
+  copyOut(x, v);
 }
 
 }  // namespace drape
