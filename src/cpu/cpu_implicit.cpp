@@ -18,13 +18,13 @@ template <class T>
 void CpuSolver<T>::solveXpbd() {
   const bool displacement = form_ == VerletForm::Displacement;
   const int iterations = scene_.sim.iterations;
-  // A grid's single sweep by the grid kernels (8 springs of a colour at a time, the same bytes); more sweeps
-  // keep a multiplier a spring, in the colouring's order, and the gathers.
+  // A grid's sweeps by the grid kernels (8 springs of a colour at a time, the multipliers at the springs'
+  // starts: the same bytes).
   if constexpr (std::is_same_v<T, float>)
-    if (grid_ && iterations == 1) {
+    if (grid_) {
       const ClothSpec& c = scene_.cloth;
       const bool enabled[kSpringTypeCount] = {c.enable_structural, c.enable_shearing, c.enable_bending};
-      grid_->xpbd(x_, displacement ? &v_ : nullptr, alpha_tilde_.k, enabled);
+      grid_->xpbd(x_, displacement ? &v_ : nullptr, alpha_tilde_.k, enabled, iterations);
       return;
     }
   if (iterations > 1) teamSingle([&] { lambda_.assign(colouring_.springs.size(), T(0)); });

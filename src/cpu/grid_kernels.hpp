@@ -49,6 +49,7 @@ struct GridStretchArgs {
   GridSprings springs;  // XPBD: k[d] holds the direction's compliance over dt^2, alpha_tilde
   float limit = 1.1f;
   const float* inv_mass = nullptr;  // XPBD: inverse masses, padded layout
+  float* lambda[6] = {};            // XPBD of several sweeps: each spring's multiplier at its start; else none (0)
 };
 
 // VBD's sweep over one colour's points (a single sweep: the multiplier-free Newton step from the prediction).
@@ -153,8 +154,8 @@ struct GridKernels {
   void (*forces)(const GridForceArgs&, int y0, int y1);
   // Provot's stretch limit over the springs of colour 2 * direction + parity (core/colouring.hpp).
   void (*stretchColour)(const GridStretchArgs&, int direction, int parity, int y0, int y1);
-  // One XPBD sweep's colour (physics::xpbdDistanceCorrection with the multiplier at 0, a single sweep's),
-  // each spring's ends moved by -w_a p and +w_b p.
+  // One XPBD sweep's colour (physics::xpbdDistanceCorrection with the springs' multipliers, or 0 where
+  // lambda is not kept), each spring's ends moved by -w_a p and +w_b p.
   void (*xpbdColour)(const GridStretchArgs&, int direction, int parity, int y0, int y1);
   // VBD's Newton steps (physics::vbdAddSpring over the adjacency's order, vbdStep) of points [first, last) of
   // args.points, 8 at a time by gathers: no two of them share a spring.

@@ -268,18 +268,21 @@ struct Kernels : Lanes<V> {
   }
 
   // One lane per spring a-b of the colour (valid lanes only): xpbdDistanceCorrection (cpu/physics.hpp) with
-  // lambda = 0, as solveXpbd's single sweep computes it, and its moves -w_a p at a and +w_b p at b, w 0 at a
-  // pinned end; a spring of length <= 0 gives p = 0, whose +-0 moves are still added, as the scalar code adds
-  // them. Returns whether anything is to be stored.
-  static bool xpbdSprings(End& a, End& b, F rest, F alpha, F valid, bool displacements) {
+  // the spring's multiplier lambda (0 in a single sweep), as solveXpbd computes it, and its moves -w_a p at a
+  // and +w_b p at b, w 0 at a pinned end; lambda += dlambda where an end may move (a spring pinned at both ends
+  // is skipped, as there). A spring of length <= 0 gives p = 0, whose +-0 moves are still added, as the
+  // scalar code adds them. Returns whether anything is to be stored.
+  static bool xpbdSprings(End& a, End& b, F rest, F alpha, F& lambda, F valid, bool displacements) {
     const F dx = V::sub(b.x, a.x), dy = V::sub(b.y, a.y), dz = V::sub(b.z, a.z);
     const F len = V::sqrt(V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz)));
     const F zero = V::set1(0.0f);
     const F wa = V::select(a.pinned, zero, a.w), wb = V::select(b.pinned, zero, b.w);
     const F move_a = V::andNot(a.pinned, valid), move_b = V::andNot(b.pinned, valid);
-    if (!V::any(V::bitOr(move_a, move_b))) return false;
-    // (-(len - rest) - alpha lambda) / (w_sum + alpha), lambda = 0
-    const F dlambda = V::div(V::sub(V::neg(V::sub(len, rest)), V::mul(alpha, zero)), V::add(V::add(wa, wb), alpha));
+    const F moves = V::bitOr(move_a, move_b);
+    if (!V::any(moves)) return false;
+    // (-(len - rest) - alpha lambda) / (w_sum + alpha)
+    const F dlambda = V::div(V::sub(V::neg(V::sub(len, rest)), V::mul(alpha, lambda)), V::add(V::add(wa, wb), alpha));
+    lambda = V::select(moves, V::add(lambda, dlambda), lambda);
     const F none = V::le(len, zero);
     const F s = V::div(dlambda, len);
     const F px = V::select(none, zero, V::mul(s, dx));
@@ -305,11 +308,12 @@ struct Kernels : Lanes<V> {
   }
 
   // What a colour does to its springs: the stretch limit's correction, or XPBD's.
+  // lambda: the springs' multipliers where the colour's kernel keeps them (GridStretchArgs::lambda), else 0.
   struct StretchRule {
     static constexpr bool kWeights = false;
     F limit;
     explicit StretchRule(const GridStretchArgs& a) : limit(V::set1(a.limit)) {}
-    bool operator()(End& ea, End& eb, F rest, F valid, bool displacements, int) const {
+    bool operator()(End& ea, End& eb, F rest, F&, F valid, bool displacements, int) const {
       return limitSprings(ea, eb, rest, limit, valid, displacements);
     }
   };
@@ -317,8 +321,8 @@ struct Kernels : Lanes<V> {
     static constexpr bool kWeights = true;
     const GridStretchArgs* args;
     explicit XpbdRule(const GridStretchArgs& a) : args(&a) {}
-    bool operator()(End& ea, End& eb, F rest, F valid, bool displacements, int d) const {
-      return xpbdSprings(ea, eb, rest, V::set1(args->springs.k[d]), valid, displacements);
+    bool operator()(End& ea, End& eb, F rest, F& lambda, F valid, bool displacements, int d) const {
+      return xpbdSprings(ea, eb, rest, V::set1(args->springs.k[d]), lambda, valid, displacements);
     }
   };
 
@@ -354,9 +358,11 @@ struct Kernels : Lanes<V> {
       const std::ptrdiff_t q = at(g, x0, row);
       const F valid = V::lt(V::add(V::set1(float(x0)), V::iota()), V::set1(float(x_end)));
       End ea = loadEnd<Rule>(a, q, displacements), eb = loadEnd<Rule>(a, q + offset, displacements);
-      if (!rule(ea, eb, V::load(a.springs.rest[d] + q), valid, displacements, d)) continue;
+      F lambda = a.lambda[d] ? V::load(a.lambda[d] + q) : V::set1(0.0f);
+      if (!rule(ea, eb, V::load(a.springs.rest[d] + q), lambda, valid, displacements, d)) continue;
       storeEnd(a, q, ea, displacements);
       storeEnd(a, q + offset, eb, displacements);
+      if (a.lambda[d]) V::store(a.lambda[d] + q, lambda);
     }
   }
 
@@ -406,7 +412,10 @@ struct Kernels : Lanes<V> {
         splitArray<kPairs>(a.vz + q, ea.vz, eb.vz);
       }
       if (Rule::kWeights) splitArray<kPairs>(a.inv_mass + q, ea.w, eb.w);
-      if (!rule(ea, eb, rest, valid, displacements, d)) continue;
+      F lambda = V::set1(0.0f), others = lambda;  // others: the b ends' slots, put back as they were
+      if (a.lambda[d]) splitArray<kPairs>(a.lambda[d] + q, lambda, others);
+      if (!rule(ea, eb, rest, lambda, valid, displacements, d)) continue;
+      if (a.lambda[d]) join<kPairs>(lambda, others, a.lambda[d] + q);
       join<kPairs>(ea.x, eb.x, a.x + q);
       join<kPairs>(ea.y, eb.y, a.y + q);
       join<kPairs>(ea.z, eb.z, a.z + q);

@@ -104,10 +104,17 @@ void GridPath::limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v
 }
 
 void GridPath::xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float alpha_tilde[3],
-                    const bool enabled[3]) {
+                    const bool enabled[3], int sweeps) {
   GridStretchArgs args = colourArgs(v != nullptr, springs(alpha_tilde, enabled));
   args.inv_mass = inv_mass_.data();
-  sweepColours(x, v, args, 1, kernels_->xpbdColour);
+  // Several sweeps keep a multiplier a spring, from 0 each substep (Small Steps); one never reads it.
+  if (sweeps > 1)
+    for (int d = 0; d < 6; ++d) {
+      if (!args.springs.enabled[d]) continue;
+      teamSingle([&] { lambda_[d].assign(shape_.size, 0.0f); });
+      args.lambda[d] = lambda_[d].data();
+    }
+  sweepColours(x, v, args, sweeps, kernels_->xpbdColour);
 }
 
 void GridPath::vbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float k[3], const bool enabled[3],

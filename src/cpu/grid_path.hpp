@@ -35,9 +35,10 @@ class GridPath {
   // `passes` Gauss-Seidel passes over the 12 colours in order; v nullptr when it is not a displacement.
   void limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,
                     const bool enabled[3]);
-  // One XPBD sweep (a single one: its multipliers start and stay at 0) over the colours in order, with the
-  // compliances over dt^2 per spring type.
-  void xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float alpha_tilde[3], const bool enabled[3]);
+  // XPBD's `sweeps` sweeps over the colours in order, with the compliances over dt^2 per spring type; the
+  // multipliers start at 0 (one sweep never reads them).
+  void xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float alpha_tilde[3], const bool enabled[3],
+            int sweeps);
   // One VBD sweep over the point colours in order (each colour's points ascending; no two share a spring):
   // the Newton step of each free point from the prediction, with the stiffnesses per spring type.
   void vbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float k[3], const bool enabled[3], float dt2,
@@ -59,6 +60,7 @@ class GridPath {
   std::vector<float> x_, y_, z_, vx_, vy_, vz_, pinned_, mass_, inv_mass_;
   std::vector<float> rx_, ry_, rz_;  // rest positions, as the float solver rounds them
   std::vector<float> rest_[6];       // per direction, at each spring's start a
+  std::vector<float> lambda_[6];     // XPBD of several sweeps: per direction, each spring's multiplier
 };
 
 }  // namespace drape
