@@ -66,11 +66,10 @@ void CpuSolver<T>::solveVbd() {
   const bool displacement = form_ == VerletForm::Displacement;
   const int iterations = scene_.sim.iterations;
   const T dt2 = dt_ * dt_;
-  // A grid's single sweep by the grid kernels, 8 points of a colour at a time (the same bytes); more sweeps need
-  // the prediction kept a point and keep the gathers.
+  // A grid's sweeps by the grid kernels, 8 points of a colour at a time (the same bytes).
   if constexpr (std::is_same_v<T, float>)
-    if (grid_ && iterations == 1) {
-      grid_->vbd(x_, displacement ? &v_ : nullptr, stiffness_.k, enabled, dt2, point_colouring_.start,
+    if (grid_) {
+      grid_->vbd(x_, displacement ? &v_ : nullptr, stiffness_.k, enabled, dt2, iterations, point_colouring_.start,
                  point_colouring_.points);
       return;
     }

@@ -52,7 +52,7 @@ struct GridStretchArgs {
   float* lambda[6] = {};            // XPBD of several sweeps: each spring's multiplier at its start; else none (0)
 };
 
-// VBD's sweep over one colour's points (a single sweep: the multiplier-free Newton step from the prediction).
+// VBD's sweeps over one colour's points: each point's Newton step (sweep 0 from the prediction).
 struct GridVbdArgs {
   GridShape shape;
   float *x, *y, *z;             // positions, padded layout, updated in place
@@ -62,6 +62,10 @@ struct GridVbdArgs {
   GridSprings springs;          // rest lengths and stiffness per direction
   float dt2 = 0;                // dt^2 as the solver rounds it
   const std::uint32_t* points;  // the colour's points, ascending (PointColouring)
+  // Several sweeps: each point's prediction, padded layout, written in sweep 0 and read by the later ones
+  // (nullptr: a single sweep).
+  float *target_x = nullptr, *target_y = nullptr, *target_z = nullptr;
+  int sweep = 0;
 };
 
 // A self-collision list build's candidates of one point, in the order of the build's spatial grid: their

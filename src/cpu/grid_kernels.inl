@@ -480,6 +480,12 @@ struct Kernels : Lanes<V> {
       const F inertia = V::div(one, V::mul(V::gather(a.inv_mass, q), dt2));  // m / dt^2
       F fx = zero, fy = zero, fz = zero, hxx = inertia, hyy = inertia, hzz = inertia, hxy = zero, hxz = zero,
         hyz = zero;
+      if (a.target_x && a.sweep > 0) {  // (-inertia) (x - y)
+        const F ni = V::neg(inertia);
+        fx = V::mul(ni, V::sub(X, V::gather(a.target_x, q)));
+        fy = V::mul(ni, V::sub(Y, V::gather(a.target_y, q)));
+        fz = V::mul(ni, V::sub(Z, V::gather(a.target_z, q)));
+      }
       // vbdAddSpring in the lanes of `exists`
       const auto spring = [&](F exists, const float* rest_at_base, std::ptrdiff_t other, F k) {
         for (int l = 0; l < kW; ++l)
@@ -535,8 +541,20 @@ struct Kernels : Lanes<V> {
         V::store(vz, V::add(V::gather(a.vz, q), sz));
       }
       const int write = V::bits(moves);
+      alignas(32) float px0[kW], py0[kW], pz0[kW];
+      const bool keep_target = a.target_x && a.sweep == 0;
+      if (keep_target) {
+        V::store(px0, X);
+        V::store(py0, Y);
+        V::store(pz0, Z);
+      }
       for (int l = 0; l < count; ++l) {
         if (!(write >> l & 1)) continue;
+        if (keep_target) {
+          a.target_x[q[l]] = px0[l];
+          a.target_y[q[l]] = py0[l];
+          a.target_z[q[l]] = pz0[l];
+        }
         a.x[q[l]] = nx[l];
         a.y[q[l]] = ny[l];
         a.z[q[l]] = nz[l];

@@ -118,25 +118,37 @@ void GridPath::xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const 
 }
 
 void GridPath::vbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float k[3], const bool enabled[3],
-                   float dt2, const std::vector<std::uint32_t>& colour_start,
+                   float dt2, int sweeps, const std::vector<std::uint32_t>& colour_start,
                    const std::vector<std::uint32_t>& points) {
   const GridKernels& kern = *kernels_;
   copyIn(x, v);
-  const GridVbdArgs args{shape_,
-                         x_.data(),
-                         y_.data(),
-                         z_.data(),
-                         v ? vx_.data() : nullptr,
-                         v ? vy_.data() : nullptr,
-                         v ? vz_.data() : nullptr,
-                         pinned_.data(),
-                         inv_mass_.data(),
-                         springs(k, enabled),
-                         dt2,
-                         points.data()};
+  if (sweeps > 1)
+    teamSingle([&] {
+      for (std::vector<float>* t : {&tx_, &ty_, &tz_})
+        t->resize(shape_.size);
+    });
+  GridVbdArgs args{shape_,
+                   x_.data(),
+                   y_.data(),
+                   z_.data(),
+                   v ? vx_.data() : nullptr,
+                   v ? vy_.data() : nullptr,
+                   v ? vz_.data() : nullptr,
+                   pinned_.data(),
+                   inv_mass_.data(),
+                   springs(k, enabled),
+                   dt2,
+                   points.data()};
+  if (sweeps > 1) {
+    args.target_x = tx_.data();
+    args.target_y = ty_.data();
+    args.target_z = tz_.data();
+  }
   // A colour's points share no spring: split between the threads, a barrier after each colour.
-  for (std::size_t c = 0; c + 1 < colour_start.size(); ++c)
-    teamRange(colour_start[c], colour_start[c + 1], [&](long long lo, long long hi) { kern.vbdPoints(args, lo, hi); });
+  for (args.sweep = 0; args.sweep < sweeps; ++args.sweep)
+    for (std::size_t c = 0; c + 1 < colour_start.size(); ++c)
+      teamRange(colour_start[c], colour_start[c + 1],
+                [&](long long lo, long long hi) { kern.vbdPoints(args, lo, hi); });
   copyOut(x, v);
 }
 

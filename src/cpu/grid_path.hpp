@@ -39,10 +39,11 @@ class GridPath {
   // multipliers start at 0 (one sweep never reads them).
   void xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float alpha_tilde[3], const bool enabled[3],
             int sweeps);
-  // One VBD sweep over the point colours in order (each colour's points ascending; no two share a spring):
-  // the Newton step of each free point from the prediction, with the stiffnesses per spring type.
+  // VBD's `sweeps` sweeps over the point colours in order (each colour's points ascending; no two share a
+  // spring): each free point's Newton step, with the stiffnesses per spring type; the first sweep keeps the
+  // prediction for the later ones.
   void vbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float k[3], const bool enabled[3], float dt2,
-           const std::vector<std::uint32_t>& colour_start, const std::vector<std::uint32_t>& points);
+           int sweeps, const std::vector<std::uint32_t>& colour_start, const std::vector<std::uint32_t>& points);
 
  private:
   using ColourKernel = void (*)(const GridStretchArgs&, int, int, int, int);
@@ -60,6 +61,7 @@ class GridPath {
   std::vector<float> x_, y_, z_, vx_, vy_, vz_, pinned_, mass_, inv_mass_;
   std::vector<float> rx_, ry_, rz_;  // rest positions, as the float solver rounds them
   std::vector<float> rest_[6];       // per direction, at each spring's start a
+  std::vector<float> tx_, ty_, tz_;  // VBD of several sweeps: each point's prediction
   std::vector<float> lambda_[6];     // XPBD of several sweeps: per direction, each spring's multiplier
 };
 
