@@ -182,7 +182,6 @@ GridStretchArgs GridPath::colourArgs(bool displacements, const GridSprings& s) {
 
 void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const GridStretchArgs& args,
                             int passes, ColourKernel colour) {
-  const GridKernels& kern = *kernels_;
   copyIn(x, v);
   // The colours in order (colourGridSprings: 2 * direction + parity); a colour's springs share no point and
   // every spring starts in the row its thread owns, so a colour is split by rows with a barrier after it.
