@@ -2,8 +2,9 @@
 // per instruction set. Each lane follows the scalar code of cpu/physics.hpp operation for operation: the
 // comments name the function whose arithmetic a block repeats. Nothing here may be a non-inline symbol
 // shared with other units (see simd.hpp), so everything but the table at the end is in an unnamed namespace.
-// The forces, stretch colours, integration and probes are here; self-collision's and the collisions' kernels
-// in cpu/grid_kernels_contact.inl, which this file includes.
+// The forces, the stretch and XPBD colours and integration are here; self-collision's and the collisions'
+// kernels in cpu/grid_kernels_contact.inl, VBD's in cpu/grid_kernels_vbd.inl, the machine probes in
+// cpu/grid_kernels_probes.inl, which this file includes.
 #include "cpu/grid_kernels.hpp"
 #include "cpu/simd.hpp"
 
@@ -46,6 +47,8 @@ struct Lanes {
 }  // namespace drape
 
 #include "cpu/grid_kernels_contact.inl"
+#include "cpu/grid_kernels_probes.inl"
+#include "cpu/grid_kernels_vbd.inl"
 
 namespace drape {
 namespace {
@@ -57,6 +60,8 @@ struct Kernels : Lanes<V> {
   using Lanes<V>::onGrid;
   using Lanes<V>::sum;
   using Contact = ContactKernels<V>;
+  using Vbd = VbdKernels<V>;
+  using Probes = ProbeKernels<V>;
 
   static void toSoa(const GridShape& g, const float* aos, float* x, float* y, float* z, int y0, int y1) {
     for (int row = y0; row < y1; ++row) {
@@ -452,120 +457,6 @@ struct Kernels : Lanes<V> {
     colour<XpbdRule>(a, d, parity, y0, y1);
   }
 
-  // VBD, one sweep: each lane one point of the colour, as solveVbd computes it (f = 0 and the block m/dt^2 I
-  // from the prediction, then vbdAddSpring for every enabled spring in the adjacency's order: per direction
-  // the spring that ends at the point, then the one that starts there; then vbdStep), the point and its
-  // neighbours gathered by their padded indices and the point scattered back. Lanes past `last` repeat the
-  // first point and are dropped.
-  static void vbdPoints(const GridVbdArgs& a, long long first, long long last) {
-    const GridShape& g = a.shape;
-    const bool displacements = a.vx != nullptr;
-    const F zero = V::set1(0.0f), one = V::set1(1.0f), dt2 = V::set1(a.dt2);
-    alignas(32) std::int32_t q[kW], o[kW];
-    alignas(32) float xs_lane[kW], ys_lane[kW];
-    for (long long k0 = first; k0 < last; k0 += kW) {
-      const int count = int(std::min<long long>(kW, last - k0));
-      for (int l = 0; l < kW; ++l) {
-        const std::uint32_t i = a.points[k0 + (l < count ? l : 0)];
-        const int px = int(i % std::uint32_t(g.W)), py = int(i / std::uint32_t(g.W));
-        q[l] = std::int32_t(at(g, px, py));
-        xs_lane[l] = float(px);
-        ys_lane[l] = float(py);
-      }
-      const F px = V::load(xs_lane), py = V::load(ys_lane);
-      const F live = V::lt(V::iota(), V::set1(float(count)));
-      const F X = V::gather(a.x, q), Y = V::gather(a.y, q), Z = V::gather(a.z, q);
-      const F moves = V::andNot(V::gather(a.pinned, q), live);
-      if (!V::any(moves)) continue;
-      const F inertia = V::div(one, V::mul(V::gather(a.inv_mass, q), dt2));  // m / dt^2
-      F fx = zero, fy = zero, fz = zero, hxx = inertia, hyy = inertia, hzz = inertia, hxy = zero, hxz = zero,
-        hyz = zero;
-      if (a.target_x && a.sweep > 0) {  // (-inertia) (x - y)
-        const F ni = V::neg(inertia);
-        fx = V::mul(ni, V::sub(X, V::gather(a.target_x, q)));
-        fy = V::mul(ni, V::sub(Y, V::gather(a.target_y, q)));
-        fz = V::mul(ni, V::sub(Z, V::gather(a.target_z, q)));
-      }
-      // vbdAddSpring in the lanes of `exists`
-      const auto spring = [&](F exists, const float* rest_at_base, std::ptrdiff_t other, F k) {
-        for (int l = 0; l < kW; ++l)
-          o[l] = std::int32_t(q[l] + other);
-        const F dx = V::sub(V::gather(a.x, o), X), dy = V::sub(V::gather(a.y, o), Y), dz = V::sub(V::gather(a.z, o), Z);
-        const F rest = V::gather(rest_at_base, other < 0 ? o : q);
-        const F len = V::sqrt(V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz)));
-        const F on = V::andNot(V::le(len, zero), exists);  // the scalar code returns where len <= 0
-        const F c = V::div(V::mul(k, V::sub(len, rest)), len);
-        fx = V::select(on, V::add(fx, V::mul(c, dx)), fx);
-        fy = V::select(on, V::add(fy, V::mul(c, dy)), fy);
-        fz = V::select(on, V::add(fz, V::mul(c, dz)), fz);
-        const F s = V::select(V::lt(rest, len), V::sub(one, V::div(rest, len)), zero);
-        const F aa = V::div(V::mul(k, V::sub(one, s)), V::mul(len, len));
-        const F bb = V::mul(k, s);
-        const F ax = V::mul(aa, dx), ay = V::mul(aa, dy);
-        hxx = V::select(on, V::add(hxx, V::add(V::mul(ax, dx), bb)), hxx);
-        hyy = V::select(on, V::add(hyy, V::add(V::mul(ay, dy), bb)), hyy);
-        hzz = V::select(on, V::add(hzz, V::add(V::mul(V::mul(aa, dz), dz), bb)), hzz);
-        hxy = V::select(on, V::add(hxy, V::mul(ax, dy)), hxy);
-        hxz = V::select(on, V::add(hxz, V::mul(ax, dz)), hxz);
-        hyz = V::select(on, V::add(hyz, V::mul(ay, dz)), hyz);
-      };
-      for (int d = 0; d < 6; ++d) {
-        if (!a.springs.enabled[d]) continue;
-        const F k = V::set1(a.springs.k[d]);
-        const std::ptrdiff_t offset = kDx[d] + std::ptrdiff_t(kDy[d]) * g.stride;
-        const F rows_before = V::le(V::set1(float(kDy[d])), py);  // py - dy >= 0
-        const F rows_after = V::lt(V::add(py, V::set1(float(kDy[d]))), V::set1(float(g.H)));
-        spring(V::bitAnd(V::bitAnd(rows_before, onGrid(px, -kDx[d], g.W)), moves), a.springs.rest[d], -offset, k);
-        spring(V::bitAnd(V::bitAnd(rows_after, onGrid(px, kDx[d], g.W)), moves), a.springs.rest[d], offset, k);
-      }
-      // vbdStep: the LDL^T solve, no step where a pivot is not positive (NaN included)
-      const F d0 = hxx;
-      const F l10 = V::div(hxy, d0), l20 = V::div(hxz, d0);
-      const F d1 = V::sub(hyy, V::mul(l10, hxy));
-      const F l21 = V::div(V::sub(hyz, V::mul(l20, hxy)), d1);
-      const F d2 = V::sub(V::sub(hzz, V::mul(l20, hxz)), V::mul(V::mul(l21, l21), d1));
-      const F ok = V::bitAnd(V::bitAnd(V::lt(zero, d0), V::lt(zero, d1)), V::lt(zero, d2));
-      const F z0 = fx, z1 = V::sub(fy, V::mul(l10, z0));
-      const F z2 = V::sub(V::sub(fz, V::mul(l20, z0)), V::mul(l21, z1));
-      const F x2 = V::div(z2, d2);
-      const F x1 = V::sub(V::div(z1, d1), V::mul(l21, x2));
-      const F x0 = V::sub(V::sub(V::div(z0, d0), V::mul(l10, x1)), V::mul(l20, x2));
-      const F sx = V::select(ok, x0, zero), sy = V::select(ok, x1, zero), sz = V::select(ok, x2, zero);
-      alignas(32) float nx[kW], ny[kW], nz[kW], vx[kW], vy[kW], vz[kW];
-      V::store(nx, V::add(X, sx));
-      V::store(ny, V::add(Y, sy));
-      V::store(nz, V::add(Z, sz));
-      if (displacements) {
-        V::store(vx, V::add(V::gather(a.vx, q), sx));
-        V::store(vy, V::add(V::gather(a.vy, q), sy));
-        V::store(vz, V::add(V::gather(a.vz, q), sz));
-      }
-      const int write = V::bits(moves);
-      alignas(32) float px0[kW], py0[kW], pz0[kW];
-      const bool keep_target = a.target_x && a.sweep == 0;
-      if (keep_target) {
-        V::store(px0, X);
-        V::store(py0, Y);
-        V::store(pz0, Z);
-      }
-      for (int l = 0; l < count; ++l) {
-        if (!(write >> l & 1)) continue;
-        if (keep_target) {
-          a.target_x[q[l]] = px0[l];
-          a.target_y[q[l]] = py0[l];
-          a.target_z[q[l]] = pz0[l];
-        }
-        a.x[q[l]] = nx[l];
-        a.y[q[l]] = ny[l];
-        a.z[q[l]] = nz[l];
-        if (!displacements) continue;
-        a.vx[q[l]] = vx[l];
-        a.vy[q[l]] = vy[l];
-        a.vz[q[l]] = vz[l];
-      }
-    }
-  }
-
   static void integrate(float* x, float* v, const float* f, const float* inv_mass3, const float* pinned3, float dt2,
                         float keep, long long first, long long last) {
     const F dt2v = V::set1(dt2), keepv = V::set1(keep), zero = V::set1(0.0f);
@@ -587,52 +478,6 @@ struct Kernels : Lanes<V> {
     }
   }
 
-  static float probeAddMul(long long reps) {
-    const F m = V::set1(0.9999999f), c = V::set1(1e-7f);
-    F p0 = V::set1(1.0f), p1 = V::set1(1.1f), p2 = V::set1(1.2f), p3 = V::set1(1.3f), p4 = V::set1(1.4f),
-      p5 = V::set1(1.5f);
-    F s0 = V::set1(0.0f), s1 = s0, s2 = s0, s3 = s0, s4 = s0, s5 = s0;
-    for (long long r = 0; r < reps; ++r) {
-      p0 = V::mul(p0, m);
-      s0 = V::add(s0, c);
-      p1 = V::mul(p1, m);
-      s1 = V::add(s1, c);
-      p2 = V::mul(p2, m);
-      s2 = V::add(s2, c);
-      p3 = V::mul(p3, m);
-      s3 = V::add(s3, c);
-      p4 = V::mul(p4, m);
-      s4 = V::add(s4, c);
-      p5 = V::mul(p5, m);
-      s5 = V::add(s5, c);
-    }
-    return sum(V::add(V::add(V::add(p0, p1), V::add(p2, p3)), V::add(V::add(p4, p5), V::add(s0, s5)))) +
-           sum(V::add(V::add(s1, s2), V::add(s3, s4)));
-  }
-
-  static float probeDivSqrt(long long reps) {
-    const F c = V::set1(1.5f);
-    F r0 = V::set1(2.0f), r1 = V::set1(3.0f), r2 = V::set1(4.0f), r3 = V::set1(5.0f);
-    F q0 = V::set1(1.1f), q1 = V::set1(1.2f), q2 = V::set1(1.3f), q3 = V::set1(1.4f);
-    for (long long r = 0; r < reps; ++r) {
-      r0 = V::sqrt(r0);
-      q0 = V::div(c, q0);
-      r1 = V::sqrt(r1);
-      q1 = V::div(c, q1);
-      r2 = V::sqrt(r2);
-      q2 = V::div(c, q2);
-      r3 = V::sqrt(r3);
-      q3 = V::div(c, q3);
-    }
-    return sum(V::add(V::add(V::add(r0, r1), V::add(r2, r3)), V::add(V::add(q0, q1), V::add(q2, q3))));
-  }
-
-  static void probeTriad(float* a, const float* b, const float* c, long long n, float s) {
-    const F sv = V::set1(s);
-    for (long long i = 0; i < n; i += kW)
-      V::store(a + i, V::add(V::load(b + i), V::mul(sv, V::load(c + i))));
-  }
-
   static constexpr GridKernels table(const char* name) {
     return {name,
             kW,
@@ -641,7 +486,7 @@ struct Kernels : Lanes<V> {
             &forces,
             &stretchColour,
             &xpbdColour,
-            &vbdPoints,
+            &Vbd::vbdPoints,
             &integrate,
             &Contact::pairTerms,
             &Contact::stencilFlags,
@@ -649,9 +494,9 @@ struct Kernels : Lanes<V> {
             &Contact::collideObjects,
             &Contact::tileBoxes,
             &Contact::tilesMovedApart,
-            &probeAddMul,
-            &probeDivSqrt,
-            &probeTriad};
+            &Probes::probeAddMul,
+            &Probes::probeDivSqrt,
+            &Probes::probeTriad};
   }
 };
 

@@ -108,12 +108,15 @@ void GridPath::xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const 
   GridStretchArgs args = colourArgs(v != nullptr, springs(alpha_tilde, enabled));
   args.inv_mass = inv_mass_.data();
   // Several sweeps keep a multiplier a spring, from 0 each substep (Small Steps); one never reads it.
-  if (sweeps > 1)
-    for (int d = 0; d < 6; ++d) {
-      if (!args.springs.enabled[d]) continue;
-      teamSingle([&] { lambda_[d].assign(shape_.size, 0.0f); });
-      args.lambda[d] = lambda_[d].data();
-    }
+  if (sweeps > 1) {
+    // One thread zeroes them (one barrier, not one a direction); every thread then points at them.
+    teamSingle([&] {
+      for (int d = 0; d < 6; ++d)
+        if (args.springs.enabled[d]) lambda_[d].assign(shape_.size, 0.0f);
+    });
+    for (int d = 0; d < 6; ++d)
+      if (args.springs.enabled[d]) args.lambda[d] = lambda_[d].data();
+  }
   sweepColours(x, v, args, sweeps, kernels_->xpbdColour);
 }
 
