@@ -458,7 +458,7 @@ std::string accuracyMarkdown(const AccuracyReport& r) {
     for (int passes : o.stretch_passes) {
       md += fmt::format("\n{}, {} stretch pass{}:\n\n| substeps |", fig.title, passes, passes == 1 ? "" : "es");
       for (const std::string& solver : o.solvers)
-        md += " " + solverLabel(r, solver) + " |";
+        md += fmt::format(" {} |", solverLabel(r, solver));
       md += "\n|---|";
       for (std::size_t i = 0; i < o.solvers.size(); ++i)
         md += "---|";
@@ -466,7 +466,7 @@ std::string accuracyMarkdown(const AccuracyReport& r) {
       for (int steps : o.steps) {
         md += fmt::format("| {} |", steps);
         for (const std::string& solver : o.solvers)
-          md += " " + cell(findRun(r, solver, steps, passes), fig.value) + " |";
+          md += fmt::format(" {} |", cell(findRun(r, solver, steps, passes), fig.value));
         md += "\n";
       }
     }

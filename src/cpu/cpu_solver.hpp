@@ -177,7 +177,8 @@ class CpuSolver final : public Solver {
     std::vector<PairTermOut> hits;            // the pairs in range with their terms (GridKernels::pairTerms)
     std::vector<std::uint32_t> lower, upper;  // the stencil's pairs in range, for pairTerms
     std::vector<PairTerm> terms;
-    std::vector<std::uint32_t> touched;
+    std::vector<std::uint32_t> touched;  // the first `points` are the points with terms
+    std::size_t points = 0;
     std::vector<std::int32_t> chain;
     std::exception_ptr failure;
     long long summed = 0;  // terms summed this substep

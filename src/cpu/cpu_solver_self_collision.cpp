@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <span>
 #include <type_traits>
 #include <utility>
 
@@ -112,7 +113,8 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thic
       if (kernels_) {
         // Both ends' terms and cells side by side, the list's entries and then the stencil's pairs in range
         const auto take = [&](const std::uint32_t* a, const std::uint32_t* b, std::uint32_t from, std::uint32_t to) {
-          mine.hits.resize(to - from);
+          // Grown, never shrunk: a resize from the stencil's few to the list's many would zero them every substep
+          if (mine.hits.size() < to - from) mine.hits.resize(to - from);
           const int found = kernels_->pairTerms(&x_.data()->x, a, b, from, to, thickness, inv_range, mine.hits.data());
           for (int s = 0; s < found; ++s) {
             const PairTermOut& h = mine.hits[std::size_t(s)];
@@ -165,25 +167,36 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
     forEachDealtChunk(
         0, (long long)x_.size(), pair_chunk_, thread, (long long)pair_scratch_.size(),
         [&](long long lo, long long hi) { std::fill(correction_.begin() + lo, correction_.begin() + hi, vec3(0)); });
-    mine.terms.clear();
-    mine.touched.clear();
+    // Linked by point without a branch on whether the point is new (half the terms are, unpredictably): the
+    // arrays are sized for every term first, and only grown.
+    mine.points = 0;
+    std::size_t total = 0;
+    for (const PairScratch& part : pair_scratch_)
+      total += part.to[std::size_t(thread)].size();
+    if (mine.terms.size() < total) mine.terms.resize(total);
+    if (mine.touched.size() < total) mine.touched.resize(total);
+    PairTerm* const terms = mine.terms.data();
+    std::uint32_t* const touched = mine.touched.data();
+    std::size_t linked = 0, points = 0;
     for (const PairScratch& part : pair_scratch_)
       for (const FoundTerm& f : part.to[std::size_t(thread)]) {
         std::int32_t& first = first_term_[f.i];
-        if (first < 0) mine.touched.push_back(f.i);
-        mine.terms.push_back({f.j, f.order, first, f.c});
-        first = std::int32_t(mine.terms.size() - 1);
+        touched[points] = f.i;
+        points += first < 0;
+        terms[linked] = {f.j, f.order, first, f.c};
+        first = std::int32_t(linked++);
       }
+    mine.points = points;
     std::vector<std::int32_t>& chain = mine.chain;
-    for (const std::uint32_t i : mine.touched) {
+    for (const std::uint32_t i : std::span(touched, points)) {
       chain.clear();
-      for (std::int32_t t = first_term_[i]; t >= 0; t = mine.terms[std::size_t(t)].next) {
+      for (std::int32_t t = first_term_[i]; t >= 0; t = terms[t].next) {
         // Insertion by (order, partner): a point has a few terms.
-        const PairTerm& term = mine.terms[std::size_t(t)];
+        const PairTerm& term = terms[t];
         std::size_t k = chain.size();
         chain.push_back(t);
         for (; k > 0; --k) {
-          const PairTerm& before = mine.terms[std::size_t(chain[k - 1])];
+          const PairTerm& before = terms[chain[k - 1]];
           if (before.order < term.order || (before.order == term.order && before.j < term.j)) break;
           chain[k] = chain[k - 1];
         }
@@ -191,7 +204,7 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
       }
       vec3 sum(0);
       for (const std::int32_t t : chain)
-        sum += mine.terms[std::size_t(t)].c;
+        sum += terms[t].c;
       const int count = int(chain.size());
       correction_[i] = sum / (T(count) * steps);
       first_term_[i] = -1;
@@ -199,7 +212,7 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
     }
   } catch (...) {
     mine.failure = std::current_exception();
-    for (const std::uint32_t i : mine.touched)
+    for (const std::uint32_t i : std::span(mine.touched.data(), mine.points))
       first_term_[i] = -1;
   }
   return summed;
