@@ -21,11 +21,11 @@ using vec3 = glm::vec3;
 // contact distance of two spacings: the pairs two apart along a row sit exactly at the range at rest, where
 // each pair's rounding decides whether it is held, and the knight's-move pairs (2.24 spacings) are the ring
 // just beyond it.
-Scene crumplingCloth(int n) {
+Scene crumplingCloth(int n, double spacings = 1.0) {
   Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/selfCollision.json");
   scene.sim.self_collision = true;
   scene.cloth.num_width_points = scene.cloth.num_height_points = n;
-  scene.cloth.thickness = scene.cloth.width / double(n - 1);
+  scene.cloth.thickness = spacings * scene.cloth.width / double(n - 1);
   return scene;
 }
 
@@ -98,6 +98,19 @@ TEST(PairStencil, TheBytesAreTheListsAlone) {
   expectSameRun<double>(scene, list_only, CpuSolverOptions{.threads = 1}, 60, "double");
   expectSameRun<float>(scene, list_only, CpuSolverOptions{.threads = 2, .team_min_points = 0}, 60, "float, 2 threads");
   expectSameRun<float>(scene, list_only, CpuSolverOptions{.threads = 1, .grid_isa = GridIsa::Sse2}, 60, "float, SSE2");
+}
+
+// A contact distance of ten spacings: a ring of more offsets than a mask has bits, the last bit standing for
+// every offset from 63 on (CollisionPairs::stencilBit). Those partners are tested whenever the bit is set.
+TEST(PairStencil, AStencilOfMoreOffsetsThanBitsGivesTheListsBytes) {
+  const Scene scene = crumplingCloth(28, 5.0);
+  CpuSolver<float> probe(scene, CpuSolverOptions{.threads = 1});
+  probe.stepFrame();
+  ASSERT_GT(probe.collisionPairs().stencil().size(), 64u);
+  const CpuSolverOptions list_only{.threads = 1, .pair_stencil = false};
+  expectSameRun<float>(scene, list_only, CpuSolverOptions{.threads = 1}, 25, "float");
+  expectSameRun<float>(scene, list_only, CpuSolverOptions{.threads = 2, .team_min_points = 0}, 25, "float, 2 threads");
+  expectSameRun<double>(scene, list_only, CpuSolverOptions{.threads = 1}, 25, "double");
 }
 
 // pinned2 refined to 192 x 192 with CS184's thickness (19 mm of contact distance over 5.2 mm spacing): the ring

@@ -133,10 +133,10 @@ void CollisionPairs<T>::makeStencil() {
 }
 
 template <class T>
-std::uint32_t CollisionPairs<T>::stencilMask(const std::vector<vec3>& x, std::size_t i) const {
+StencilMask CollisionPairs<T>::stencilMask(const std::vector<vec3>& x, std::size_t i) const {
   const int u = u_[i], v = v_[i];
   const T range2 = range_ * range_;
-  std::uint32_t mask = 0;
+  StencilMask mask = 0;
   for (std::size_t k = 0; k < stencil_.size(); ++k) {
     const Offset& o = stencil_[k];
     if (!onGrid(u + o.du, v + o.dv)) continue;

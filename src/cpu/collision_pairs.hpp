@@ -32,6 +32,9 @@
 
 namespace drape {
 
+// Per point, the stencil offsets whose partners are in range (CollisionPairs::stencilBit)
+using StencilMask = std::uint64_t;
+
 template <class T>
 class CollisionPairs {
  public:
@@ -100,21 +103,23 @@ class CollisionPairs {
   // Which of point i's stencil partners are within `range` and not held (a NaN distance counts): bit
   // stencilBit(k) for offset k (GridKernels::stencilFlags computes the same on a float grid). A partner whose
   // bit is clear adds no term to the point's sum.
-  std::uint32_t stencilMask(const std::vector<vec3>& x, std::size_t i) const;
-  // Offset k's bit in a stencil mask; every offset from 31 on shares the last (the set is looked at whole).
-  static std::uint32_t stencilBit(int k) { return std::uint32_t(1) << (k < 31 ? k : 31); }
+  StencilMask stencilMask(const std::vector<vec3>& x, std::size_t i) const;
+  // Offset k's bit in a stencil mask; every offset from 63 on shares the last (the set is looked at whole).
+  // 64 bits: at 256 x 256 with CS184's thickness the stencil has 40 offsets, and a shared bit sent nine
+  // partners to be tested where one was in range.
+  static StencilMask stencilBit(int k) { return StencilMask(1) << (k < 63 ? k : 63); }
 
   // Calls g(j) for every candidate of point i, ascending: its list and its stencil partners, merged; of the
   // stencil, only the offsets whose bits `mask` has (stencilMask), as the others add no term.
   template <class G>
-  void forEachCandidate(std::size_t i, std::uint32_t mask, G&& g) const {
+  void forEachCandidate(std::size_t i, StencilMask mask, G&& g) const {
     const std::uint32_t *a = begin(i), *e = end(i);
     if (!stencil_.empty() && mask != 0) {
       const int u = int(i % std::size_t(w_)), v = int(i / std::size_t(w_));
       // The set bits in ascending order are the offsets in ascending step: the merge stays ascending.
-      for (std::uint32_t m = mask; m != 0; m &= m - 1) {
+      for (StencilMask m = mask; m != 0; m &= m - 1) {
         const std::size_t bit = std::size_t(std::countr_zero(m));
-        const std::size_t last = std::min(bit < 31 ? bit + 1 : stencil_.size(), stencil_.size());
+        const std::size_t last = std::min(bit < 63 ? bit + 1 : stencil_.size(), stencil_.size());
         for (std::size_t k = bit; k < last; ++k) {
           const Offset& o = stencil_[k];
           if (!onGrid(u + o.du, v + o.dv)) continue;
@@ -131,12 +136,12 @@ class CollisionPairs {
   // Calls g(j) for point i's stencil partners j > i whose bits `mask` has (stencilMask) and that the springs
   // do not hold, in no particular order: each stencil pair once, from its lower end.
   template <class G>
-  void forEachForwardPartner(std::size_t i, std::uint32_t mask, G&& g) const {
+  void forEachForwardPartner(std::size_t i, StencilMask mask, G&& g) const {
     const int u = int(i % std::size_t(w_)), v = int(i / std::size_t(w_));
-    // The set bits of the forward offsets only: the last bit stands for every offset from 31 on.
-    for (std::uint32_t m = mask & forward_bits_; m != 0; m &= m - 1) {
+    // The set bits of the forward offsets only: the last bit stands for every offset from 63 on.
+    for (StencilMask m = mask & forward_bits_; m != 0; m &= m - 1) {
       const std::size_t bit = std::size_t(std::countr_zero(m));
-      const std::size_t first = std::max(bit, stencil_.size() / 2), last = bit < 31 ? bit + 1 : stencil_.size();
+      const std::size_t first = std::max(bit, stencil_.size() / 2), last = bit < 63 ? bit + 1 : stencil_.size();
       for (std::size_t k = first; k < last; ++k) {
         const Offset& o = stencil_[k];
         if (!onGrid(u + o.du, v + o.dv)) continue;
@@ -147,7 +152,7 @@ class CollisionPairs {
   }
   template <class G>
   void forEachCandidate(std::size_t i, G&& g) const {
-    forEachCandidate(i, ~std::uint32_t(0), g);
+    forEachCandidate(i, ~StencilMask(0), g);
   }
   long long rebuilds() const { return rebuilds_; }
   long long entriesBuilt() const { return entries_built_; }  // pairCount summed over the builds
@@ -236,7 +241,7 @@ class CollisionPairs {
   const GridKernels* kernels_ = nullptr;
   int box_ = -1;
   std::vector<Offset> stencil_;
-  std::uint32_t forward_bits_ = 0;  // the stencil bits of its second half, the offsets of positive step
+  StencilMask forward_bits_ = 0;  // the stencil bits of its second half, the offsets of positive step
   std::vector<int> du_, dv_;
   std::vector<std::uint8_t> mixed_;             // per stencil offset: some of its pairs are held at rest, some not
   T stencil_range_ = -1, stencil_margin_ = -1;  // what stencil_ was made for
@@ -263,7 +268,7 @@ inline int cellOrder(glm::ivec3 cell_i, glm::ivec3 cell_j) {
 // stencil_mask: the point's stencilMask (all bits: every stencil partner is looked at).
 template <class T, class F>
 void forEachOrderedPair(const CollisionPairs<T>& pairs, std::size_t i, const std::vector<glm::vec<3, T>>& x,
-                        T thickness, T inv_range, F&& f, std::uint32_t stencil_mask = ~std::uint32_t(0)) {
+                        T thickness, T inv_range, F&& f, StencilMask stencil_mask = ~StencilMask(0)) {
   using vec3 = glm::vec<3, T>;
   constexpr int kHeld = 24;  // the folded selfCollision scene has at most 5 terms a point
   struct Term {

@@ -158,7 +158,7 @@ class CpuSolver final : public Solver {
   std::vector<T> rest_;           // per spring, in T
   std::vector<T> rest_adjacent_;  // per adjacency entry, in T
   CollisionPairs<T> pairs_;
-  std::vector<std::uint32_t> near_;  // per point: its stencil partners in range this substep (stencilMask)
+  std::vector<StencilMask> near_;  // per point: its stencil partners in range this substep (stencilMask)
   // selfCollide(): a term point i gets from its pair with j, as found (routed to the thread that sums i's
   // terms), and as that thread links it to i's other terms.
   struct FoundTerm {
@@ -173,7 +173,8 @@ class CpuSolver final : public Solver {
     vec3 c;
   };
   struct alignas(64) PairScratch {            // one per thread of the team, on cache lines of their own
-    std::vector<std::vector<FoundTerm>> to;   // per thread of the team: the terms found here for its points
+    std::vector<std::vector<FoundTerm>> to;   // per thread of the team: the terms found here for its points,
+    std::vector<std::size_t> sent;            // this substep's the first sent[t] of to[t] (only grown)
     std::vector<PairTermOut> hits;            // the pairs in range with their terms (GridKernels::pairTerms)
     std::vector<std::uint32_t> lower, upper;  // the stencil's pairs in range, for pairTerms
     std::vector<PairTerm> terms;
@@ -185,7 +186,9 @@ class CpuSolver final : public Solver {
   };
   std::vector<PairScratch> pair_scratch_;
   long long pair_chunk_ = 1;  // selfCollide's points are dealt to the team in chunks of this many (teamChunks)
-  std::vector<std::int32_t> first_term_;  // per point: its first term in its thread's scratch, or -1
+  std::vector<std::uint16_t> pair_owner_;  // per point: the thread that chunk deals it to, in a team of
+  int pair_owner_team_ = 0;                // this many
+  std::vector<std::int32_t> first_term_;   // per point: its first term in its thread's scratch, or -1
   SpringColouring colouring_;
   Tethers tethers_;  // empty until the scene asks for tethers
   std::vector<T> tether_rest_;

@@ -27,13 +27,21 @@ void CpuSolver<T>::selfCollide() {
       pairs_.configure(range, derived::pairSkin(pair_margin_, range, shortest_spring_));
       near_.resize(x_.size());
       first_term_.resize(x_.size(), -1);
-      pair_scratch_.resize(std::size_t(teamSize()));
+      const int team = teamSize();
+      pair_scratch_.resize(std::size_t(team));
       for (PairScratch& scratch : pair_scratch_) {
-        scratch.to.resize(std::size_t(teamSize()));
-        for (std::vector<FoundTerm>& part : scratch.to)
-          part.clear();
+        scratch.to.resize(std::size_t(team));
+        scratch.sent.assign(std::size_t(team), 0);
       }
-      pair_chunk_ = dealChunk((long long)x_.size(), teamSize());
+      const long long chunk = dealChunk((long long)x_.size(), team);
+      // Whose each point is, looked up: chunkOwner's two 64-bit divisions a term were a third of routing them
+      if (team > 1 && (chunk != pair_chunk_ || pair_owner_.size() != x_.size() || pair_owner_team_ != team)) {
+        pair_owner_.resize(x_.size());
+        for (std::size_t i = 0; i < x_.size(); ++i)
+          pair_owner_[i] = std::uint16_t(chunkOwner(0, (long long)i, chunk, team));
+        pair_owner_team_ = team;
+      }
+      pair_chunk_ = chunk;
       pairs_.startCheck(x_);
     } catch (...) {
       failure_ = std::current_exception();
@@ -91,11 +99,19 @@ void CpuSolver<T>::selfCollide() {
 template <class T>
 void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thickness, T inv_range, PairScratch& mine) {
   try {
-    const int team = int(mine.to.size());
-    const auto send = [&](std::uint32_t i, std::uint32_t j, int order, vec3 c) {
+    // The lower end i of every pair found here is in [lo, hi), this thread's; the upper end j may be another's.
+    const std::size_t own = std::size_t(teamThread());
+    const bool alone = mine.to.size() == 1;
+    const auto send = [&](std::size_t to, std::uint32_t i, std::uint32_t j, int order, vec3 c) {
       if (c == vec3(0) || topo_.pinned[i]) return;
-      // One thread owns every point: no need for chunkOwner's two divisions a term
-      mine.to[team == 1 ? 0 : std::size_t(chunkOwner(0, i, pair_chunk_, team))].push_back({i, j, order, c});
+      std::vector<FoundTerm>& terms = mine.to[to];
+      std::size_t& sent = mine.sent[to];
+      if (sent == terms.size()) terms.resize(2 * sent + 64);  // only grown: no reallocation check a term
+      terms[sent++] = {i, j, order, c};
+    };
+    const auto both = [&](std::uint32_t i, std::uint32_t j, int order_i, int order_j, vec3 ci, vec3 cj) {
+      send(own, i, j, order_i, ci);
+      send(alone ? 0 : std::size_t(pair_owner_[j]), j, i, order_j, cj);
     };
     const auto pair = [&](std::uint32_t i, std::uint32_t j) {
       vec3 ci, cj;
@@ -104,8 +120,7 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thic
       const glm::ivec3 cell_i = HashGrid<T>::cellOf(x_[i], inv_range), cell_j = HashGrid<T>::cellOf(x_[j], inv_range);
       const int order_i = cellOrder(cell_i, cell_j);
       if (order_i < 0) return;
-      send(i, j, order_i, ci);
-      send(j, i, cellOrder(cell_j, cell_i), cj);
+      both(i, j, order_i, cellOrder(cell_j, cell_i), ci, cj);
     };
     const std::uint32_t first = pairs_.forwardStart(std::size_t(lo)), last = pairs_.forwardStart(std::size_t(hi));
     const std::uint32_t *owner = pairs_.forwardOwners(), *partner = pairs_.forwardPartners();
@@ -125,8 +140,7 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thic
             }
             const vec3 ci(h.ci[0], h.ci[1], h.ci[2]), cj(h.cj[0], h.cj[1], h.cj[2]);
             if ((ci == vec3(0) && cj == vec3(0)) || h.order_i < 0) continue;
-            send(i, j, h.order_i, ci);
-            send(j, i, h.order_j, cj);
+            both(i, j, h.order_i, h.order_j, ci, cj);
           }
         };
         take(owner, partner, first, last);
@@ -172,14 +186,14 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
     mine.points = 0;
     std::size_t total = 0;
     for (const PairScratch& part : pair_scratch_)
-      total += part.to[std::size_t(thread)].size();
+      total += part.sent[std::size_t(thread)];
     if (mine.terms.size() < total) mine.terms.resize(total);
     if (mine.touched.size() < total) mine.touched.resize(total);
     PairTerm* const terms = mine.terms.data();
     std::uint32_t* const touched = mine.touched.data();
     std::size_t linked = 0, points = 0;
     for (const PairScratch& part : pair_scratch_)
-      for (const FoundTerm& f : part.to[std::size_t(thread)]) {
+      for (const FoundTerm& f : std::span(part.to[std::size_t(thread)].data(), part.sent[std::size_t(thread)])) {
         std::int32_t& first = first_term_[f.i];
         touched[points] = f.i;
         points += first < 0;

@@ -107,10 +107,10 @@ struct GridStencilArgs {
   int count = 0;
   float range2 = 0;
   // Per point, in point order: the bit of stencil offset k set where its partner there is in range (bit k,
-  // bit 31 for every k from 31 on: CollisionPairs::stencilBit). The offsets passed are the stencil's second
+  // bit 63 for every k from 63 on: CollisionPairs::stencilBit). The offsets passed are the stencil's second
   // half (forward); offset k of them is the whole stencil's half + k from the lower point and half - 1 - k
   // from the higher.
-  std::uint32_t* flags;
+  std::uint64_t* flags;
   int half = 0;
 };
 

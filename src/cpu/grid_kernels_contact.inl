@@ -7,8 +7,8 @@ namespace drape {
 namespace {
 
 // CollisionPairs::stencilBit, kept here: the kernels' translation units share no inline function with the rest.
-std::uint32_t stencilBit(int k) {
-  return std::uint32_t(1) << (k < 31 ? k : 31);
+std::uint64_t stencilBit(int k) {
+  return std::uint64_t(1) << (k < 63 ? k : 63);
 }
 
 template <class V>
@@ -91,7 +91,7 @@ struct ContactKernels : Lanes<V> {
         const F X = V::load(a.x + q), Y = V::load(a.y + q), Z = V::load(a.z + q);
         const F us = V::add(V::set1(float(u0)), V::iota());
         const F own = V::lt(us, V::set1(float(g.W)));
-        std::uint32_t* mine = a.flags + std::ptrdiff_t(v) * g.W + u0;
+        std::uint64_t* mine = a.flags + std::ptrdiff_t(v) * g.W + u0;
         for (int k = 0; k < a.count; ++k) {
           if (v + a.dv[k] < 0 || v + a.dv[k] >= g.H) continue;
           // The padding keeps every partner load inside the arrays (|du| <= kMaxStencilBox < 2 rows)
@@ -107,8 +107,8 @@ struct ContactKernels : Lanes<V> {
             pair = V::andNot(V::lt(e2, r2), pair);
           }
           if (int bits = V::bits(pair); bits != 0) {
-            std::uint32_t* theirs = mine + std::ptrdiff_t(a.dv[k]) * g.W + a.du[k];
-            const std::uint32_t forward = stencilBit(a.half + k), backward = stencilBit(a.half - 1 - k);
+            std::uint64_t* theirs = mine + std::ptrdiff_t(a.dv[k]) * g.W + a.du[k];
+            const std::uint64_t forward = stencilBit(a.half + k), backward = stencilBit(a.half - 1 - k);
             // Both rows this thread's alone: plain ORs (an atomic one costs about 20 cycles here)
             if (v >= y0 + reach && v + a.dv[k] < y1)
               for (; bits != 0; bits &= bits - 1) {

@@ -79,7 +79,7 @@ void GridPath::forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f
 }
 
 void GridPath::stencilFlags(const std::vector<glm::vec3>& x, const int* du, const int* dv, const std::uint8_t* mixed,
-                            int count, float range2, std::vector<std::uint32_t>& flags) {
+                            int count, float range2, std::vector<std::uint64_t>& flags) {
   const GridKernels& kern = *kernels_;
   teamRange(0, shape_.H, [&](long long y0, long long y1) {
     kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1));
@@ -87,7 +87,7 @@ void GridPath::stencilFlags(const std::vector<glm::vec3>& x, const int* du, cons
   // Each pair once, from the end whose index is lower (the stencil's second half), flagging both ends: the
   // flags are cleared first, each thread its rows, and then only ever OR'ed.
   teamRange(0, shape_.H, [&](long long y0, long long y1) {
-    std::fill(flags.begin() + y0 * shape_.W, flags.begin() + y1 * shape_.W, std::uint32_t(0));
+    std::fill(flags.begin() + y0 * shape_.W, flags.begin() + y1 * shape_.W, std::uint64_t(0));
   });
   const int half = count / 2;
   const GridStencilArgs args{shape_,    x_.data(), y_.data(),    z_.data(),    rx_.data(), ry_.data(),   rz_.data(),

@@ -31,7 +31,7 @@ class GridPath {
   // the whole stencil, sorted by dv * W + du (its second half mirrors its first). Called by every thread of a
   // team, or by one thread alone.
   void stencilFlags(const std::vector<glm::vec3>& x, const int* du, const int* dv, const std::uint8_t* mixed, int count,
-                    float range2, std::vector<std::uint32_t>& flags);
+                    float range2, std::vector<std::uint64_t>& flags);
   // `passes` Gauss-Seidel passes over the 12 colours in order; v nullptr when it is not a displacement.
   void limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,
                     const bool enabled[3]);
