@@ -39,9 +39,9 @@ TEST(Roofline, OnlyPassesTheModelCoversHaveWork) {
   EXPECT_FALSE(passWork(gridRun(50, ""), "forces")) << "the mesh path's gathers are not modelled";
   EXPECT_FALSE(passWork(gridRun(50, ""), "limit_stretch"));
   EXPECT_TRUE(passWork(gridRun(50, ""), "integrate")) << "integrate needs no grid";
-  BenchRun vbd = gridRun(50, "avx2");
-  vbd.integrator = "vbd";
-  EXPECT_FALSE(passWork(vbd, "integrate")) << "VBD is not modelled";
+  BenchRun other = gridRun(50, "avx2");
+  other.integrator = "implicit-euler";
+  EXPECT_FALSE(passWork(other, "integrate")) << "an integrator the model does not know";
   BenchRun cpu64 = gridRun(50, "avx2");
   cpu64.solver = "cpu64";
   EXPECT_FALSE(passWork(cpu64, "forces"));
@@ -75,6 +75,33 @@ TEST(Roofline, XpbdsSweepIsASquareRootAndTwoDivisionsASpring) {
   BenchRun three = xpbd;
   three.iterations = 3;
   EXPECT_FALSE(passWork(three, "xpbd_solve"));
+}
+
+// VBD: the prediction's forces are gravity alone, as XPBD's; a sweep is a square root and three divisions a
+// spring end and seven divisions a point (the 3 x 3 solve), each later sweep all of it again; the mesh path's
+// sweep and the stretch limit are not modelled.
+TEST(Roofline, VbdsSweepIsFourRootsAndDivisionsASpringEndAndSevenAPoint) {
+  BenchRun vbd = gridRun(2048, "avx2");
+  vbd.integrator = "vbd";
+  EXPECT_DOUBLE_EQ(passWork(vbd, "forces")->addmul, 3);
+  EXPECT_DOUBLE_EQ(passWork(vbd, "integrate")->addmul, passWork(gridRun(2048, "avx2"), "integrate")->addmul);
+  const std::optional<PassWork> one = passWork(vbd, "vbd_solve");
+  ASSERT_TRUE(one);
+  EXPECT_NEAR(one->divsqrt, 4 * 12 + 7, 0.2);
+  EXPECT_NEAR(one->addmul, 38 * 12 + 27, 0.5);
+  BenchRun three = vbd;
+  three.iterations = 3;
+  const std::optional<PassWork> more = passWork(three, "vbd_solve");
+  ASSERT_TRUE(more);
+  EXPECT_DOUBLE_EQ(more->divsqrt, 3 * one->divsqrt);
+  EXPECT_DOUBLE_EQ(more->addmul, 3 * one->addmul + 2 * 6);
+  EXPECT_DOUBLE_EQ(more->bytes, one->bytes + 36);
+  EXPECT_FALSE(passWork(vbd, "limit_stretch"));
+  EXPECT_FALSE(passWork(vbd, "xpbd_solve"));
+  EXPECT_FALSE(passWork(gridRun(2048, "avx2"), "vbd_solve")) << "Verlet has no sweep";
+  BenchRun mesh = vbd;
+  mesh.grid_kernels = "";
+  EXPECT_FALSE(passWork(mesh, "vbd_solve"));
 }
 
 TEST(Roofline, ShareIsTheLeastTimeOverTheMeasuredOne) {

@@ -63,12 +63,12 @@ nlohmann::json peaksJson(const std::vector<MachinePeak>& peaks) {
 }
 
 std::optional<PassWork> passWork(const BenchRun& run, const std::string& pass) {
-  const bool xpbd = run.integrator == "xpbd";
-  if ((run.integrator != "verlet" && !xpbd) || run.solver != "cpu") return std::nullopt;
+  const bool xpbd = run.integrator == "xpbd", vbd = run.integrator == "vbd";
+  if ((run.integrator != "verlet" && !xpbd && !vbd) || run.solver != "cpu") return std::nullopt;
   const double n = run.size;
   const double ends = 2 * gridSprings(n) / (n * n);  // spring ends a point (12 inside the cloth)
   const bool grid = !run.grid_kernels.empty();
-  if (xpbd && pass == "forces")
+  if ((xpbd || vbd) && pass == "forces")
     // The prediction's forces: gravity times mass (3). Bytes: the mass read, the forces written.
     return PassWork{3, 0, 4 + 12};
   if (xpbd && pass == "xpbd_solve" && grid && run.iterations == 1) {
@@ -79,7 +79,20 @@ std::optional<PassWork> passWork(const BenchRun& run, const std::string& pass) {
     const double springs = gridSprings(n) / (n * n);
     return PassWork{34 * springs, 3 * springs, 96 + 28 + 4};
   }
-  if (xpbd && pass != "integrate" && pass != "self_collide" && pass != "collide") return std::nullopt;
+  if (vbd && pass == "vbd_solve" && grid) {
+    // A sweep visits every point once (vbdPoints). Per spring end (vbdAddSpring): d (3), |d|^2 (5), sqrt,
+    // the force k (len - rest) / len d added (8 and a division), s = 1 - rest / len (1 and a division),
+    // a = k (1 - s) / len^2 (3 and a division), b = k s (1), the Hessian's six terms (2 + 3 + 3 + 4 + 6):
+    // 38 adds and multiplies, a square root and three divisions. Per point: m / dt^2 (1 and a division),
+    // vbdStep's LDL^T solve (20 and six divisions), x and v moved (6); from the second sweep on, the inertia's
+    // pull to the prediction (6). Bytes: as XPBD's sweep (x and v copied in and back, the pin masks, six rest
+    // lengths, the inverse masses); several sweeps keep the prediction (12 written, 12 read a later sweep).
+    // The gathers of a colour's scattered points are not modelled: the ratio to the roofline says what they cost.
+    const double sweeps = std::max(1, run.iterations);
+    return PassWork{sweeps * (38 * ends + 27) + (sweeps - 1) * 6, sweeps * (4 * ends + 7),
+                    96 + 28 + 4 + (sweeps > 1 ? 12 * sweeps : 0)};
+  }
+  if ((xpbd || vbd) && pass != "integrate" && pass != "self_collide" && pass != "collide") return std::nullopt;
   if (pass == "forces" && grid)
     // Per spring, once (springRow): d (3), |d|^2 (3 mul, 2 add), sqrt, len - rest, k (), / len; per spring
     // end (addSpring): d again (3), s d (3), f += (3); gravity times mass (3). Bytes: the positions read as

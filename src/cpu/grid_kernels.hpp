@@ -55,13 +55,15 @@ struct GridStretchArgs {
 // VBD's sweeps over one colour's points: each point's Newton step (sweep 0 from the prediction).
 struct GridVbdArgs {
   GridShape shape;
-  float *x, *y, *z;             // positions, padded layout, updated in place
-  float *vx, *vy, *vz;          // displacements, the same steps added (nullptr: not kept)
-  const float* pinned;          // all bits set where pinned, padded layout
-  const float* inv_mass;        // padded layout
-  GridSprings springs;          // rest lengths and stiffness per direction
-  float dt2 = 0;                // dt^2 as the solver rounds it
-  const std::uint32_t* points;  // the colour's points, ascending (PointColouring)
+  float *x, *y, *z;       // positions, padded layout, updated in place
+  float *vx, *vy, *vz;    // displacements, the same steps added (nullptr: not kept)
+  const float* pinned;    // all bits set where pinned, padded layout
+  const float* inv_mass;  // padded layout
+  GridSprings springs;    // rest lengths and stiffness per direction
+  float dt2 = 0;          // dt^2 as the solver rounds it
+  // The colours' points (PointColouring's order): each one's padded index, column and row (exact floats)
+  const std::int32_t* padded;
+  const float *column, *row;
   // Several sweeps: each point's prediction, padded layout, written in sweep 0 and read by the later ones
   // (nullptr: a single sweep).
   float *target_x = nullptr, *target_y = nullptr, *target_z = nullptr;

@@ -26,11 +26,10 @@ struct VbdKernels : Lanes<V> {
     for (long long k0 = first; k0 < last; k0 += kW) {
       const int count = int(std::min<long long>(kW, last - k0));
       for (int l = 0; l < kW; ++l) {
-        const std::uint32_t i = a.points[k0 + (l < count ? l : 0)];
-        const int px = int(i % std::uint32_t(g.W)), py = int(i / std::uint32_t(g.W));
-        q[l] = std::int32_t(at(g, px, py));
-        xs_lane[l] = float(px);
-        ys_lane[l] = float(py);
+        const long long e = k0 + (l < count ? l : 0);
+        q[l] = a.padded[e];
+        xs_lane[l] = a.column[e];
+        ys_lane[l] = a.row[e];
       }
       const F px = V::load(xs_lane), py = V::load(ys_lane);
       const F live = V::lt(V::iota(), V::set1(float(count)));

@@ -62,7 +62,11 @@ class GridPath {
   std::vector<float> rx_, ry_, rz_;  // rest positions, as the float solver rounds them
   std::vector<float> rest_[6];       // per direction, at each spring's start a
   std::vector<float> tx_, ty_, tz_;  // VBD of several sweeps: each point's prediction
-  std::vector<float> lambda_[6];     // XPBD of several sweeps: per direction, each spring's multiplier
+  // VBD: the colours' points the sweeps were last given, and each one's padded index, column and row
+  std::vector<std::uint32_t> vbd_points_;
+  std::vector<std::int32_t> vbd_padded_;
+  std::vector<float> vbd_column_, vbd_row_;
+  std::vector<float> lambda_[6];  // XPBD of several sweeps: per direction, each spring's multiplier
 };
 
 }  // namespace drape
