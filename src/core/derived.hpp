@@ -55,17 +55,18 @@ inline std::uint64_t hashBucketCount(std::uint64_t points) {
 namespace drape {
 // Skin of the self-collision candidate lists, in units of the range 2*thickness (chosen by measurement:
 // docs/design.md section 6). Both solvers' default.
-inline constexpr double kDefaultPairMargin = 0.5;
+inline constexpr double kDefaultPairMargin = 0.75;
 }  // namespace drape
 
 namespace drape::derived {
-// The lists' skin for a contact distance `range`: `margin` of it, or on a cloth finer than half of it,
-// `margin` of two spacings (the shortest structural spring at rest). There the stencil tests the ring of
+// The lists' skin for a contact distance `range`: `margin` of it, or on a cloth finer than three quarters of
+// it, `margin` of 4/3 spacings (the shortest structural spring at rest). There the stencil tests the ring of
 // unheld pairs between range and range + skin every substep, so the skin is its depth in lattice spacings:
 // one at the default (half a spacing ran pinned2 at 128^2 and 256^2 with CS184's thickness 7% and 13% slower,
-// rebuilding twice as often; docs/contact.md). In T, as each solver computes it.
+// rebuilding twice as often, 1.5 spacings 20% slower, its ring wider; docs/contact.md). In T, as each solver
+// computes it.
 template <class T>
 T pairSkin(double margin, T range, double shortest_spring) {
-  return T(margin) * std::min(range, T(2) * T(shortest_spring));
+  return T(margin) * std::min(range, T(4.0 / 3.0) * T(shortest_spring));
 }
 }  // namespace drape::derived

@@ -17,7 +17,7 @@ struct GpuSolverOptions {
   bool timing = false;               // time every pass (GL timer queries; else glFinish + wall clock, which stalls)
   HealthLimits health{};             // what health() reports as a blow-up
   std::size_t max_buffer_bytes = 0;  // largest buffer allowed; 0: GL_MAX_SHADER_STORAGE_BLOCK_SIZE
-  double pair_margin = kDefaultPairMargin;  // self-collision list skin / (2*thickness), as CpuSolverOptions
+  double pair_margin = kDefaultPairMargin;  // self-collision list skin (derived::pairSkin), as CpuSolverOptions
   std::size_t pair_capacity = 0;            // list entries the buffer holds at first; 0: estimated from the cloth
   // Nonzero terms of a point's self-collision sum kept in registers while its list is swept once; a
   // point with more sums them by sweeping its list again per cell order (same bits, more gathers). -1:
