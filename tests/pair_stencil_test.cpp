@@ -113,6 +113,66 @@ TEST(PairStencil, AStencilOfMoreOffsetsThanBitsGivesTheListsBytes) {
   expectSameRun<double>(scene, list_only, CpuSolverOptions{.threads = 1}, 25, "double");
 }
 
+// The adaptive skin (CpuSolverOptions::adaptive_skin): the lists of a cloth that falls flat onto a plane and
+// lies there never wear out, so once one has lasted 256 substeps the skin narrows (a rebuild); a cloth that
+// falls onto a sphere narrows it during the fall, and widens it again once its lists wear out within a few
+// substeps, draped and sliding. Each run gives the bytes of the fixed skin.
+TEST(PairSkin, FollowsTheClothAndKeepsTheBytes) {
+  const auto bundled = [](const char* name) {
+    Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/" + name);
+    scene.sim.self_collision = true;  // as CS184's files run
+    return scene;
+  };
+  const CpuSolverOptions fixed_skin{.threads = 1, .adaptive_skin = false};
+  const Scene still = bundled("plane.json");
+  CpuSolver<float> adaptive(still, CpuSolverOptions{.threads = 1}), fixed(still, fixed_skin);
+  for (int f = 0; f < 12; ++f) {  // 360 substeps
+    adaptive.stepFrame();
+    fixed.stepFrame();
+  }
+  EXPECT_FALSE(adaptive.wideSkin());
+  EXPECT_EQ(adaptive.skinSwitches(), 1);
+  EXPECT_TRUE(fixed.wideSkin());
+  EXPECT_EQ(fixed.skinSwitches(), 0);
+  EXPECT_EQ(adaptive.readPositions(), fixed.readPositions());
+  EXPECT_EQ(adaptive.readDisplacements(), fixed.readDisplacements());
+
+  const Scene draping = bundled("sphere.json");
+  CpuSolver<float> follows(draping, CpuSolverOptions{.threads = 1});
+  int narrowed = 0, widened = 0;
+  bool wide = true;
+  for (int f = 0; f < 90; ++f) {
+    follows.stepFrame();
+    narrowed += wide && !follows.wideSkin();
+    widened += !wide && follows.wideSkin();
+    wide = follows.wideSkin();
+  }
+  std::printf("[ sphere ] skin narrowed %d and widened %d times (%d switches)\n", narrowed, widened,
+              follows.skinSwitches());
+  EXPECT_GE(narrowed, 1) << "the fall: lists that do not wear out";
+  EXPECT_GE(widened, 1) << "on the sphere: lists that wear out";
+  expectSameRun<float>(draping, fixed_skin, CpuSolverOptions{.threads = 1}, 90, "sphere, adaptive skin");
+  expectSameRun<float>(draping, fixed_skin, CpuSolverOptions{.threads = 2, .team_min_points = 0}, 90,
+                       "sphere, adaptive skin, 2 threads");
+}
+
+// A skin that changes is a build: lists made with a narrow skin do not hold every pair a wide one's check lets
+// come into range (the adaptive skin switches by configure).
+TEST(PairSkin, ANewSkinRebuildsTheLists) {
+  CollisionPairs<float> pairs;
+  std::vector<vec3> x;
+  for (int k = 0; k < 64; ++k)
+    x.emplace_back(0.01f * float(k % 8), 0.01f * float(k / 8), 0.0f);
+  pairs.configure(0.02f, 0.01f);
+  ASSERT_TRUE(pairs.update(x, 1));
+  EXPECT_FALSE(pairs.update(x, 1)) << "nothing moved";
+  pairs.configure(0.02f, 0.015f);
+  EXPECT_TRUE(pairs.update(x, 1)) << "a wider skin";
+  pairs.configure(0.02f, 0.01f);
+  EXPECT_TRUE(pairs.update(x, 1)) << "a narrower skin";
+  EXPECT_FALSE(pairs.update(x, 1));
+}
+
 // pinned2 refined to 192 x 192 with CS184's thickness (19 mm of contact distance over 5.2 mm spacing): the ring
 // of unheld pairs just beyond 19 mm was most of the list; on the stencil, the list keeps what folds bring in.
 TEST(PairStencil, AFineClothListsAFractionOfWhatItDidWithoutTheStencil) {

@@ -42,6 +42,7 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
     : scene_(std::move(scene)), topo_(buildTopology(scene_.cloth)), form_(options.form) {
   threads_ = options.threads > 0 ? options.threads : std::max(omp_get_num_procs(), 1);
   pair_margin_ = options.pair_margin;
+  adaptive_skin_ = options.adaptive_skin;
   rest_.reserve(topo_.springs.size());
   shortest_spring_ = std::numeric_limits<double>::infinity();
   for (const Spring& s : topo_.springs) {
@@ -153,6 +154,9 @@ void CpuSolver<T>::reset() {
   team_substeps_ = 0;
   pair_terms_ = 0;
   pairs_.invalidate();
+  wide_skin_ = true;
+  skin_switches_ = 0;
+  list_built_at_ = last_list_life_ = -1;
 }
 
 template <class T>

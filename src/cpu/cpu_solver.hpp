@@ -39,6 +39,10 @@ struct CpuSolverOptions {
   // list skin / min(2*thickness, 4/3 of the shortest structural spring at rest) (derived::pairSkin); 0 rebuilds
   // the list every substep
   double pair_margin = kDefaultPairMargin;
+  // The skin follows the cloth: pair_margin while its lists wear out, 2/3 of it once a list has lasted
+  // kSettledSubsteps (a still cloth gains nothing from the wide skin's ring on the stencil), back when a narrow
+  // list lasts under kBusySubsteps. The same bytes either way; false keeps pair_margin.
+  bool adaptive_skin = true;
   // Self-collision skips the pairs closer than 2*thickness at rest (physics::heldAtRest); false collides them
   // too, as CS184 does, to measure what skipping changes.
   bool skip_held_pairs = true;
@@ -112,6 +116,8 @@ class CpuSolver final : public Solver {
   long long teamSubsteps() const { return team_substeps_; }  // substeps run on the team since reset()
   const TeamTrial* teamTrial() const { return trial_ ? &*trial_ : nullptr; }  // where a trial decides
   long long pairTerms() const { return pair_terms_; }  // self-collision: pairs in range summed, both ends
+  bool wideSkin() const { return wide_skin_; }         // the lists' skin now: pair_margin (else 2/3 of it)
+  int skinSwitches() const { return skin_switches_; }
   // What the last Jacobi pass (selfCollide, or the Jacobi stretch limit) added to each point: its bits, which a
   // position rounds away.
   const std::vector<vec3>& corrections() const { return correction_; }
@@ -153,6 +159,12 @@ class CpuSolver final : public Solver {
   std::vector<float> pinned1_;              // float: per point, its pin mask
   std::exception_ptr failure_;              // thrown inside step()'s team, rethrown once it is over
   double pair_margin_ = kDefaultPairMargin;
+  // The adaptive skin (CpuSolverOptions::adaptive_skin): the substep the lists were last built at, how many
+  // substeps the list before them lasted (-1: unknown)
+  static constexpr long long kSettledSubsteps = 256, kBusySubsteps = 32;
+  bool adaptive_skin_ = true, wide_skin_ = true;
+  int skin_switches_ = 0;
+  long long list_built_at_ = -1, last_list_life_ = -1;
   double shortest_spring_ = 0;  // m, the shortest structural spring's rest length
   std::vector<vec3> x_, v_, f_, correction_;
   std::vector<T> rest_;           // per spring, in T

@@ -24,7 +24,17 @@ void CpuSolver<T>::selfCollide() {
   // step() to rethrow after the region.
   teamSingle([&] {
     try {
-      pairs_.configure(range, derived::pairSkin(pair_margin_, range, shortest_spring_));
+      // A switch of skin is a build (configure): narrow once a list has lasted kSettledSubsteps, wide again when
+      // a narrow one lasted under kBusySubsteps.
+      if (adaptive_skin_ && wide_skin_ && list_built_at_ >= 0 && substeps_ - list_built_at_ >= kSettledSubsteps) {
+        wide_skin_ = false;
+        ++skin_switches_;
+      } else if (adaptive_skin_ && !wide_skin_ && last_list_life_ >= 0 && last_list_life_ < kBusySubsteps) {
+        wide_skin_ = true;
+        ++skin_switches_;
+      }
+      const double margin = wide_skin_ ? pair_margin_ : pair_margin_ * (2.0 / 3.0);
+      pairs_.configure(range, derived::pairSkin(margin, range, shortest_spring_));
       near_.resize(x_.size());
       first_term_.resize(x_.size(), -1);
       const int team = teamSize();
@@ -56,6 +66,8 @@ void CpuSolver<T>::selfCollide() {
     }
     teamSingle([&] {
       if (std::exception_ptr e = pairs_.takeFailure()) failure_ = e;
+      last_list_life_ = list_built_at_ >= 0 ? substeps_ - list_built_at_ : -1;
+      list_built_at_ = substeps_;
     });
     if (failure_) return;
   }
