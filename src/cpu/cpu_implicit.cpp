@@ -69,8 +69,7 @@ void CpuSolver<T>::solveVbd() {
   // A grid's sweeps by the grid kernels, 8 points of a colour at a time (the same bytes).
   if constexpr (std::is_same_v<T, float>)
     if (grid_) {
-      grid_->vbd(x_, displacement ? &v_ : nullptr, stiffness_.k, enabled, dt2, iterations, point_colouring_.start,
-                 point_colouring_.points);
+      grid_->vbd(x_, displacement ? &v_ : nullptr, stiffness_.k, enabled, dt2, iterations, point_colouring_.start);
       return;
     }
   if (iterations > 1) teamSingle([&] { inertia_target_.resize(x_.size()); });

@@ -127,8 +127,10 @@ void CpuSolver<T>::refreshDerived() {
   stiffness_.k[int(SpringType::Bending)] = T(derived::bendingStiffness(c));
   for (int t = 0; t < kSpringTypeCount; ++t)
     alpha_tilde_.k[t] = T(derived::xpbdAlphaTilde(c, scene_.sim, SpringType(t)));
-  if (scene_.sim.integrator == Integrator::Vbd && point_colouring_.start.empty())
+  if (scene_.sim.integrator == Integrator::Vbd && point_colouring_.start.empty()) {
     point_colouring_ = colourPoints(topo_);
+    if (grid_) grid_->setVbdPoints(point_colouring_.points);
+  }
   // Built the first time a scene or a live change asks for them: a Dijkstra search over the cloth.
   if (scene_.sim.tethers && tether_rest_.empty() && tethers_.slots == 0) {
     tethers_ = buildTethers(topo_);

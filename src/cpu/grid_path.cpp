@@ -120,30 +120,28 @@ void GridPath::xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const 
   sweepColours(x, v, args, sweeps, kernels_->xpbdColour);
 }
 
+void GridPath::setVbdPoints(const std::vector<std::uint32_t>& points) {
+  vbd_padded_.resize(points.size());
+  vbd_column_.resize(points.size());
+  vbd_row_.resize(points.size());
+  const auto w = std::uint32_t(shape_.W);
+  for (std::size_t e = 0; e < points.size(); ++e) {
+    const int u = int(points[e] % w), row = int(points[e] / w);
+    vbd_padded_[e] = std::int32_t(shape_.at(u, row));
+    vbd_column_[e] = float(u);
+    vbd_row_[e] = float(row);
+  }
+}
+
 void GridPath::vbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float k[3], const bool enabled[3],
-                   float dt2, int sweeps, const std::vector<std::uint32_t>& colour_start,
-                   const std::vector<std::uint32_t>& points) {
+                   float dt2, int sweeps, const std::vector<std::uint32_t>& colour_start) {
   const GridKernels& kern = *kernels_;
   copyIn(x, v);
-  teamSingle([&] {
-    if (sweeps > 1)
+  if (sweeps > 1)
+    teamSingle([&] {
       for (std::vector<float>* t : {&tx_, &ty_, &tz_})
         t->resize(shape_.size);
-    // The points' places, worked out once: two divisions a lane each sweep were a fifth of the kernel's time
-    if (vbd_points_ != points) {
-      vbd_points_ = points;
-      vbd_padded_.resize(points.size());
-      vbd_column_.resize(points.size());
-      vbd_row_.resize(points.size());
-      const auto w = std::uint32_t(shape_.W);
-      for (std::size_t e = 0; e < points.size(); ++e) {
-        const int u = int(points[e] % w), row = int(points[e] / w);
-        vbd_padded_[e] = std::int32_t(shape_.at(u, row));
-        vbd_column_[e] = float(u);
-        vbd_row_[e] = float(row);
-      }
-    }
-  });
+    });
   GridVbdArgs args{shape_,
                    x_.data(),
                    y_.data(),

@@ -42,8 +42,11 @@ class GridPath {
   // VBD's `sweeps` sweeps over the point colours in order (each colour's points ascending; no two share a
   // spring): each free point's Newton step, with the stiffnesses per spring type; the first sweep keeps the
   // prediction for the later ones.
+  // The colours' points (PointColouring::points), each one's padded index, column and row worked out once:
+  // two divisions a lane each sweep were a fifth of the kernel's time. Before vbd().
+  void setVbdPoints(const std::vector<std::uint32_t>& points);
   void vbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float k[3], const bool enabled[3], float dt2,
-           int sweeps, const std::vector<std::uint32_t>& colour_start, const std::vector<std::uint32_t>& points);
+           int sweeps, const std::vector<std::uint32_t>& colour_start);
 
  private:
   using ColourKernel = void (*)(const GridStretchArgs&, int, int, int, int);
@@ -62,8 +65,7 @@ class GridPath {
   std::vector<float> rx_, ry_, rz_;  // rest positions, as the float solver rounds them
   std::vector<float> rest_[6];       // per direction, at each spring's start a
   std::vector<float> tx_, ty_, tz_;  // VBD of several sweeps: each point's prediction
-  // VBD: the colours' points the sweeps were last given, and each one's padded index, column and row
-  std::vector<std::uint32_t> vbd_points_;
+  // VBD: the colours' points' padded indices, columns and rows (setVbdPoints)
   std::vector<std::int32_t> vbd_padded_;
   std::vector<float> vbd_column_, vbd_row_;
   std::vector<float> lambda_[6];  // XPBD of several sweeps: per direction, each spring's multiplier
