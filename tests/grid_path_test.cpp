@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <string>
 #include <vector>
@@ -206,6 +207,65 @@ TEST(GridPathSignedZeros, AClothWithinTheLimitKeepsTheGeneralPathsSignsOfZero) {
     grid.solveXpbd();
     EXPECT_TRUE(sameBytes(general.positions(), grid.positions())) << "XPBD " << grid.gridKernels();
     EXPECT_TRUE(sameBytes(general.displacements(), grid.displacements())) << "XPBD " << grid.gridKernels();
+  }
+}
+
+// A cloth at rest with a -0 in two rows only, one in a position (a coordinate that was +0) and one in a
+// displacement: those rows' springs take the kernels' full path, which turns the -0s to +0 as the scalar code
+// does, while the other rows' springs, all within the limit, are skipped on their positions alone.
+TEST(GridPathSignedZeros, RowsWithoutAMinusZeroAreSkippedAndTheOthersKeepTheGeneralPathsBytes) {
+  const int w = 21, h = 12;
+  const Scene scene = sceneFor(GridCase{.name = "zeros", .file = "", .w = w, .h = h});
+  for (GridIsa isa : isas()) {
+    CpuSolver<float> general(scene, CpuSolverOptions{.threads = 1, .grid_path = false});
+    CpuSolver<float> grid(scene, CpuSolverOptions{.threads = 1, .grid_isa = isa});
+    std::vector<glm::dvec3> x = general.readPositions(), v(x.size(), glm::dvec3(0.0));
+    int placed = 0;
+    for (int c = 0; c < 3 && placed == 0; ++c)  // the first column lies on a coordinate 0
+      if (x[std::size_t(5 * w)][c] == 0.0) {
+        x[std::size_t(5 * w)][c] = -0.0;
+        ++placed;
+      }
+    ASSERT_EQ(placed, 1) << "the first column must lie on a coordinate plane";
+    v[std::size_t(8 * w + 10)].y = -0.0;
+    general.setState(x, v);
+    grid.setState(x, v);
+    const std::vector<glm::vec3> before = general.positions(), before_v = general.displacements();
+    general.limitStretch();
+    grid.limitStretch();
+    ASSERT_FALSE(sameBytes(before, general.positions()) || sameBytes(before_v, general.displacements()))
+        << "both -0s must turn +0 on the general path";
+    EXPECT_TRUE(sameBytes(general.positions(), grid.positions())) << grid.gridKernels();
+    EXPECT_TRUE(sameBytes(general.displacements(), grid.displacements())) << grid.gridKernels();
+  }
+}
+
+// Points on top of their neighbours: springs of length 0, whose term springForce makes vec3(0) (its division
+// would give NaN). The kernels test for them only in rows whose springs have one; here a structural, a shear
+// and a bending spring in the interior, and springs on the top row and the right side, where the vectors are
+// masked. The forces must be the general path's bytes, and finite.
+TEST(GridPathForces, SpringsOfLengthZeroGiveTheGeneralPathsBytes) {
+  const int w = 29, h = 12;
+  const Scene scene = sceneFor(GridCase{.name = "coincident", .file = "", .w = w, .h = h});
+  for (GridIsa isa : isas()) {
+    CpuSolver<float> general(scene, CpuSolverOptions{.threads = 1, .grid_path = false});
+    CpuSolver<float> grid(scene, CpuSolverOptions{.threads = 1, .grid_isa = isa});
+    std::vector<glm::dvec3> x = general.readPositions(), v(x.size(), glm::dvec3(0.0));
+    const auto onto = [&](int u, int row, int ou, int orow) {
+      x[std::size_t(row * w + u)] = x[std::size_t(orow * w + ou)];
+    };
+    onto(13, 5, 12, 5);        // structural, interior
+    onto(14, 7, 13, 6);        // shear
+    onto(10, 9, 10, 7);        // bending
+    onto(0, 0, 1, 0);          // the top row, the left side
+    onto(w - 1, 3, w - 1, 4);  // the right side
+    general.setState(x, v);
+    grid.setState(x, v);
+    general.accumulateForces();
+    grid.accumulateForces();
+    for (const glm::vec3& f : grid.forces())
+      ASSERT_TRUE(std::isfinite(f.x) && std::isfinite(f.y) && std::isfinite(f.z)) << grid.gridKernels();
+    EXPECT_TRUE(sameBytes(general.forces(), grid.forces())) << grid.gridKernels();
   }
 }
 

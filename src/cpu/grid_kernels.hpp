@@ -50,6 +50,9 @@ struct GridStretchArgs {
   float limit = 1.1f;
   const float* inv_mass = nullptr;  // XPBD: inverse masses, padded layout
   float* lambda[6] = {};            // XPBD of several sweeps: each spring's multiplier at its start; else none (0)
+  // Per row, 1 where a coordinate of a position or displacement may be -0 (or nullptr: anywhere). The stretch
+  // limit skips what cannot change elsewhere: a colour's sweep makes no new -0 (x + c is -0 only for two -0s).
+  const std::uint8_t* signed_rows = nullptr;
 };
 
 // VBD's sweeps over one colour's points: each point's Newton step (sweep 0 from the prediction).
@@ -154,7 +157,9 @@ struct GridKernels {
   const char* name;  // "sse2", "avx2"
   int width;         // lanes
   // vec3 array <-> three padded arrays
-  void (*toSoa)(const GridShape&, const float* aos, float* x, float* y, float* z, int y0, int y1);
+  // signed_rows (or nullptr): set to 1 for each row with a coordinate that is -0, left as it is for the rest.
+  void (*toSoa)(const GridShape&, const float* aos, float* x, float* y, float* z, int y0, int y1,
+                std::uint8_t* signed_rows);
   void (*fromSoa)(const GridShape&, const float* x, const float* y, const float* z, float* aos, int y0, int y1);
   // Gravity and every enabled spring, summed per point in the adjacency's order (docs/design.md).
   void (*forces)(const GridForceArgs&, int y0, int y1);

@@ -9,6 +9,7 @@
 #include "cpu/simd.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -63,10 +64,12 @@ struct Kernels : Lanes<V> {
   using Vbd = VbdKernels<V>;
   using Probes = ProbeKernels<V>;
 
-  static void toSoa(const GridShape& g, const float* aos, float* x, float* y, float* z, int y0, int y1) {
+  static void toSoa(const GridShape& g, const float* aos, float* x, float* y, float* z, int y0, int y1,
+                    std::uint8_t* signed_rows) {
     for (int row = y0; row < y1; ++row) {
       const float* src = aos + 3 * std::ptrdiff_t(row) * g.W;
       const std::ptrdiff_t q = at(g, 0, row);
+      F negative_zero = V::set1(0.0f);
       int i = 0;
       for (; i + kW <= g.W; i += kW) {
         F X, Y, Z;
@@ -74,12 +77,18 @@ struct Kernels : Lanes<V> {
         V::store(x + q + i, X);
         V::store(y + q + i, Y);
         V::store(z + q + i, Z);
+        if (signed_rows)
+          negative_zero = V::bitOr(negative_zero, V::bitOr(V::negZero(X), V::bitOr(V::negZero(Y), V::negZero(Z))));
       }
+      bool tail_zero = false;
       for (; i < g.W; ++i) {
         x[q + i] = src[3 * i];
         y[q + i] = src[3 * i + 1];
         z[q + i] = src[3 * i + 2];
+        for (int c = 0; c < 3; ++c)
+          tail_zero = tail_zero || (src[3 * i + c] == 0.0f && std::signbit(src[3 * i + c]));
       }
+      if (signed_rows && (tail_zero || V::any(negative_zero))) signed_rows[row] = 1;
     }
   }
 
@@ -107,6 +116,7 @@ struct Kernels : Lanes<V> {
   struct SpringRows {
     std::vector<float> data;
     int row_floats = 0;
+    bool degenerate[3] = {};  // per row (of the three): some spring there has len <= 0, whose term is vec3(0)
     float* s(int row, int d) {
       return data.data() + std::size_t((row % 3) * 12 + 2 * d) * std::size_t(row_floats) + kPad;
     }
@@ -115,6 +125,8 @@ struct Kernels : Lanes<V> {
 
   static void springRow(const GridForceArgs& a, int row, SpringRows& rows) {
     const GridShape& g = a.shape;
+    const F zero = V::set1(0.0f);
+    F degenerate = zero;
     for (int d = 0; d < 6; ++d) {
       if (!a.springs.enabled[d] || row + kDy[d] >= g.H) continue;
       const F k = V::set1(a.springs.k[d]);
@@ -128,50 +140,84 @@ struct Kernels : Lanes<V> {
         const F len = V::sqrt(V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz)));
         V::store(s_out + x0, V::div(V::mul(k, V::sub(len, V::load(a.springs.rest[d] + q))), len));
         V::store(len_out + x0, len);
+        F none = V::le(len, zero);
+        if (x0 < 2 || x0 + kW + 2 > g.W)  // only the lanes of springs on the grid: the padding holds anything
+          none = V::bitAnd(none, V::bitAnd(onGrid(V::add(V::set1(float(x0)), V::iota()), kDx[d], g.W),
+                                           V::lt(V::add(V::set1(float(x0)), V::iota()), V::set1(float(g.W)))));
+        degenerate = V::bitOr(degenerate, none);
       }
     }
+    rows.degenerate[row % 3] = V::any(degenerate);
   }
 
   // f += springForce(x_i, x_other, rest, k) in the lanes of `exists` (the others keep f), from the spring's
   // s and len. kEvery: every lane's spring exists (a vector away from the grid's sides), so no mask.
-  template <bool kEvery>
+  // kDegenerate: a spring of these rows may have len <= 0 (springRow knows), where springForce returns
+  // vec3(0); the rest need not read len.
+  template <bool kEvery, bool kDegenerate>
   static void addSpring(const GridForceArgs& a, std::ptrdiff_t other, const float* s_at, const float* len_at, F exists,
                         F X, F Y, F Z, F& fx, F& fy, F& fz) {
     const F dx = V::sub(V::load(a.x + other), X);
     const F dy = V::sub(V::load(a.y + other), Y);
     const F dz = V::sub(V::load(a.z + other), Z);
     const F s = V::load(s_at);
-    const F zero = V::set1(0.0f), none = V::le(V::load(len_at), zero);  // springForce returns vec3(0) there
-    const F tx = V::add(fx, V::select(none, zero, V::mul(s, dx)));
-    const F ty = V::add(fy, V::select(none, zero, V::mul(s, dy)));
-    const F tz = V::add(fz, V::select(none, zero, V::mul(s, dz)));
+    F tx, ty, tz;
+    if constexpr (kDegenerate) {
+      const F none = V::le(V::load(len_at), V::set1(0.0f));  // +0 there: the bits of 0.0f
+      tx = V::add(fx, V::andNot(none, V::mul(s, dx)));
+      ty = V::add(fy, V::andNot(none, V::mul(s, dy)));
+      tz = V::add(fz, V::andNot(none, V::mul(s, dz)));
+    } else {
+      tx = V::add(fx, V::mul(s, dx));
+      ty = V::add(fy, V::mul(s, dy));
+      tz = V::add(fz, V::mul(s, dz));
+    }
     fx = kEvery ? tx : V::select(exists, tx, fx);
     fy = kEvery ? ty : V::select(exists, ty, fy);
     fz = kEvery ? tz : V::select(exists, tz, fz);
   }
 
-  // One vector of points' force sums: gravity, then per direction, in the adjacency's order, the spring
-  // that ends at the point and then the one that starts there (both ascending spring index,
-  // core/topology.cpp).
-  template <bool kInterior>
-  static void forceVector(const GridForceArgs& a, SpringRows& rows, int row, int x0, F gx, F gy, F gz) {
+  // A row's springs in the order a point adds them: per direction, in the adjacency's order, the spring that
+  // ends at the point and then the one that starts there (both ascending spring index, core/topology.cpp).
+  // Each as where its partner is and where its s and len are at x = 0 of the row, worked out once a row: a
+  // vector at a time they were a third of the kernel's instructions (a modulo and products a spring, reloaded
+  // after each store, which may alias anything).
+  struct Term {
+    std::ptrdiff_t other;  // the partner's padded index less the point's
+    const float *s, *len;  // add x0
+    int du;                // the partner's column less the point's
+  };
+  struct RowTerms {
+    Term term[12];
+    int count = 0;
+  };
+
+  static void rowTerms(const GridForceArgs& a, SpringRows& rows, int row, RowTerms& out) {
+    const GridShape& g = a.shape;
+    out.count = 0;
+    for (int d = 0; d < 6; ++d) {
+      if (!a.springs.enabled[d]) continue;
+      const std::ptrdiff_t offset = kDx[d] + std::ptrdiff_t(kDy[d]) * g.stride;
+      if (row - kDy[d] >= 0)
+        out.term[out.count++] = {-offset, rows.s(row - kDy[d], d) - kDx[d], rows.len(row - kDy[d], d) - kDx[d],
+                                 -kDx[d]};
+      if (row + kDy[d] < g.H) out.term[out.count++] = {offset, rows.s(row, d), rows.len(row, d), kDx[d]};
+    }
+  }
+
+  // One vector of points' force sums: gravity, then the row's springs in order.
+  template <bool kInterior, bool kDegenerate>
+  static void forceVector(const GridForceArgs& a, const RowTerms& terms, int row, int x0, F gx, F gy, F gz) {
     const GridShape& g = a.shape;
     const std::ptrdiff_t q = at(g, x0, row);
     const F X = V::load(a.x + q), Y = V::load(a.y + q), Z = V::load(a.z + q);
     const F m = V::load(a.mass + q);
     F fx = V::mul(gx, m), fy = V::mul(gy, m), fz = V::mul(gz, m);  // gravity * mass
     const F xs = V::add(V::set1(float(x0)), V::iota());
-    for (int d = 0; d < 6; ++d) {
-      if (!a.springs.enabled[d]) continue;
-      const std::ptrdiff_t offset = kDx[d] + std::ptrdiff_t(kDy[d]) * g.stride;
-      if (row - kDy[d] >= 0) {
-        const int from = x0 - kDx[d];
-        addSpring<kInterior>(a, q - offset, rows.s(row - kDy[d], d) + from, rows.len(row - kDy[d], d) + from,
-                             kInterior ? F{} : onGrid(xs, -kDx[d], g.W), X, Y, Z, fx, fy, fz);
-      }
-      if (row + kDy[d] < g.H)
-        addSpring<kInterior>(a, q + offset, rows.s(row, d) + x0, rows.len(row, d) + x0,
-                             kInterior ? F{} : onGrid(xs, kDx[d], g.W), X, Y, Z, fx, fy, fz);
+    for (int k = 0; k < terms.count; ++k) {
+      const Term& t = terms.term[k];
+      addSpring<kInterior, kDegenerate>(a, q + t.other, t.s + x0, t.len + x0, kInterior ? F{} : onGrid(xs, t.du, g.W),
+                                        X, Y, Z, fx, fy, fz);
     }
     float* out = a.forces + 3 * (std::ptrdiff_t(row) * g.W + x0);
     if (x0 + kW <= g.W) {
@@ -183,6 +229,19 @@ struct Kernels : Lanes<V> {
     }
   }
 
+  template <bool kDegenerate>
+  static void rowForces(const GridForceArgs& a, const RowTerms& terms, int row, F gx, F gy, F gz) {
+    const GridShape& g = a.shape;
+    // A spring reaches at most 2 columns to either side (kDx): vectors from x0 = 2 up to W - 2 - kW have
+    // every lane's neighbours on the grid.
+    for (int x0 = 0; x0 < g.W; x0 += kW) {
+      if (x0 >= 2 && x0 + kW + 2 <= g.W)
+        forceVector<true, kDegenerate>(a, terms, row, x0, gx, gy, gz);
+      else
+        forceVector<false, kDegenerate>(a, terms, row, x0, gx, gy, gz);
+    }
+  }
+
   static void forces(const GridForceArgs& a, int y0, int y1) {
     const GridShape& g = a.shape;
     static thread_local SpringRows rows;
@@ -191,16 +250,16 @@ struct Kernels : Lanes<V> {
     for (int row = std::max(y0 - 2, 0); row < y0; ++row)  // springs that end in the first rows
       springRow(a, row, rows);
     const F gx = V::set1(a.gravity[0]), gy = V::set1(a.gravity[1]), gz = V::set1(a.gravity[2]);
-    // A spring reaches at most 2 columns to either side (kDx): vectors from x0 = 2 up to W - 2 - kW have
-    // every lane's neighbours on the grid.
+    RowTerms terms;
     for (int row = y0; row < y1; ++row) {
       springRow(a, row, rows);
-      for (int x0 = 0; x0 < g.W; x0 += kW) {
-        if (x0 >= 2 && x0 + kW + 2 <= g.W)
-          forceVector<true>(a, rows, row, x0, gx, gy, gz);
-        else
-          forceVector<false>(a, rows, row, x0, gx, gy, gz);
-      }
+      rowTerms(a, rows, row, terms);
+      // A row's points end springs of that row and the two above
+      if (rows.degenerate[row % 3] || (row >= 1 && rows.degenerate[(row - 1) % 3]) ||
+          (row >= 2 && rows.degenerate[(row - 2) % 3]))
+        rowForces<true>(a, terms, row, gx, gy, gz);
+      else
+        rowForces<false>(a, terms, row, gx, gy, gz);
     }
   }
 
@@ -219,19 +278,26 @@ struct Kernels : Lanes<V> {
   // float implies sqrt(len^2) <= limit rest as rounded (the margin covers the three roundings), and a NaN or
   // a product that underflows fails the test and takes the full path. Adding +0 changes only a -0 and adding
   // -0 nothing, so such a vector is usually left as it is: returns whether anything is to be stored.
+  // Whether every valid lane's spring is within the limit by the test above (the fast path's).
+  static bool allClear(F ax, F ay, F az, F bx, F by, F bz, F rest, F limit, F valid) {
+    const F dx = V::sub(bx, ax), dy = V::sub(by, ay), dz = V::sub(bz, az);
+    const F len2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
+    const F max_len = V::mul(limit, rest);
+    const F clear = V::lt(len2, V::mul(V::mul(max_len, max_len), V::set1(1.0f - 0x1p-20f)));
+    constexpr int kAll = (1 << kW) - 1;
+    return ((V::bits(clear) | ~V::bits(valid)) & kAll) == kAll;
+  }
+
   static bool limitSprings(End& a, End& b, F rest, F limit, F valid, bool displacements) {
     const F dx = V::sub(b.x, a.x), dy = V::sub(b.y, a.y), dz = V::sub(b.z, a.z);
-    const F len2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
     const F max_len = V::mul(limit, rest);
     const F zero = V::set1(0.0f), one = V::set1(1.0f), half = V::set1(0.5f);
     const F share_a = V::select(a.pinned, zero, V::select(b.pinned, one, half));
     const F share_b = V::select(b.pinned, zero, V::select(a.pinned, one, half));
     const F same = V::eq(share_a, share_b);
     const F move_a = V::andNot(a.pinned, valid), move_b = V::andNot(b.pinned, valid);
-    constexpr int kAll = (1 << kW) - 1;
-    const F clear = V::lt(len2, V::mul(V::mul(max_len, max_len), V::set1(1.0f - 0x1p-20f)));
     F cax, cay, caz, cbx, cby, cbz;
-    if (((V::bits(clear) | ~V::bits(valid)) & kAll) == kAll) {
+    if (allClear(a.x, a.y, a.z, b.x, b.y, b.z, rest, limit, valid)) {
       const auto neg_zero = [](F p, F q, F r) {
         return V::bitOr(V::bitOr(V::negZero(p), V::negZero(q)), V::negZero(r));
       };
@@ -244,7 +310,7 @@ struct Kernels : Lanes<V> {
       cax = cay = caz = zero;
       cbx = cby = cbz = V::select(same, V::neg(zero), zero);
     } else {
-      const F len = V::sqrt(len2);
+      const F len = V::sqrt(V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz)));
       const F within = V::le(len, max_len);
       const F excess = V::sub(len, max_len);
       const F qa = V::div(V::mul(share_a, excess), len);
@@ -314,22 +380,33 @@ struct Kernels : Lanes<V> {
 
   // What a colour does to its springs: the stretch limit's correction, or XPBD's.
   // lambda: the springs' multipliers where the colour's kernel keeps them (GridStretchArgs::lambda), else 0.
+  // kSkipsClear: a vector of springs all within the limit changes nothing where no coordinate of their ends is
+  // -0 (adding +0 or -0 changes only a -0), so there it is skipped on its positions alone (skipsClear).
   struct StretchRule {
-    static constexpr bool kWeights = false;
+    static constexpr bool kWeights = false, kSkipsClear = true;
     F limit;
     explicit StretchRule(const GridStretchArgs& a) : limit(V::set1(a.limit)) {}
     bool operator()(End& ea, End& eb, F rest, F&, F valid, bool displacements, int) const {
       return limitSprings(ea, eb, rest, limit, valid, displacements);
     }
+    bool skipsClear(F ax, F ay, F az, F bx, F by, F bz, F rest, F valid) const {
+      return allClear(ax, ay, az, bx, by, bz, rest, limit, valid);
+    }
   };
   struct XpbdRule {
-    static constexpr bool kWeights = true;
+    static constexpr bool kWeights = true, kSkipsClear = false;
     const GridStretchArgs* args;
     explicit XpbdRule(const GridStretchArgs& a) : args(&a) {}
     bool operator()(End& ea, End& eb, F rest, F& lambda, F valid, bool displacements, int d) const {
       return xpbdSprings(ea, eb, rest, V::set1(args->springs.k[d]), lambda, valid, displacements);
     }
+    bool skipsClear(F, F, F, F, F, F, F, F) const { return false; }
   };
+
+  // Whether the rows row and row + dy, where a colour's springs from row end, hold no -0 (GridStretchArgs).
+  static bool unsignedRows(const GridStretchArgs& a, int row, int dy) {
+    return a.signed_rows && !a.signed_rows[row] && !a.signed_rows[row + dy];
+  }
 
   template <class Rule>
   static End loadEnd(const GridStretchArgs& a, std::ptrdiff_t q, bool displacements) {
@@ -359,9 +436,14 @@ struct Kernels : Lanes<V> {
     const GridShape& g = a.shape;
     const int x_first = kDx[d] < 0 ? -kDx[d] : 0, x_end = kDx[d] > 0 ? g.W - kDx[d] : g.W;
     const std::ptrdiff_t offset = kDx[d] + std::ptrdiff_t(kDy[d]) * g.stride;
+    const bool skips = Rule::kSkipsClear && unsignedRows(a, row, kDy[d]);
     for (int x0 = x_first; x0 < x_end; x0 += kW) {
       const std::ptrdiff_t q = at(g, x0, row);
       const F valid = V::lt(V::add(V::set1(float(x0)), V::iota()), V::set1(float(x_end)));
+      if (skips &&
+          rule.skipsClear(V::load(a.x + q), V::load(a.y + q), V::load(a.z + q), V::load(a.x + q + offset),
+                          V::load(a.y + q + offset), V::load(a.z + q + offset), V::load(a.springs.rest[d] + q), valid))
+        continue;
       End ea = loadEnd<Rule>(a, q, displacements), eb = loadEnd<Rule>(a, q + offset, displacements);
       F lambda = a.lambda[d] ? V::load(a.lambda[d] + q) : V::set1(0.0f);
       if (!rule(ea, eb, V::load(a.springs.rest[d] + q), lambda, valid, displacements, d)) continue;
@@ -401,6 +483,7 @@ struct Kernels : Lanes<V> {
     const int dx = kDx[d];
     F lane_lo = V::iota(), lane_hi = V::add(V::iota(), V::set1(float(kW))), lane_a, lane_b;
     split<kPairs>(lane_lo, lane_hi, lane_a, lane_b);
+    const bool skips = Rule::kSkipsClear && unsignedRows(a, row, 0);
     for (int x0 = dx * parity; x0 + dx < g.W; x0 += 2 * kW) {
       const std::ptrdiff_t q = at(g, x0, row);
       const F valid = V::lt(V::add(V::set1(float(x0)), lane_a), V::set1(float(g.W - dx)));
@@ -409,8 +492,9 @@ struct Kernels : Lanes<V> {
       splitArray<kPairs>(a.x + q, ea.x, eb.x);
       splitArray<kPairs>(a.y + q, ea.y, eb.y);
       splitArray<kPairs>(a.z + q, ea.z, eb.z);
-      splitArray<kPairs>(a.pinned + q, ea.pinned, eb.pinned);
       splitArray<kPairs>(a.springs.rest[d] + q, rest, unused);
+      if (skips && rule.skipsClear(ea.x, ea.y, ea.z, eb.x, eb.y, eb.z, rest, valid)) continue;
+      splitArray<kPairs>(a.pinned + q, ea.pinned, eb.pinned);
       if (displacements) {
         splitArray<kPairs>(a.vx + q, ea.vx, eb.vx);
         splitArray<kPairs>(a.vy + q, ea.vy, eb.vy);

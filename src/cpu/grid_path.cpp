@@ -23,6 +23,7 @@ GridPath::GridPath(const Topology& topo, const std::vector<float>& rest, GridIsa
     a->assign(shape_.size, 0.0f);
   for (std::vector<float>& r : rest_)
     r.assign(shape_.size, 0.0f);
+  signed_rows_.assign(std::size_t(shape_.H), 1);
   const auto w = std::uint32_t(topo.W);
   for (std::size_t s = 0; s < topo.springs.size(); ++s) {
     const Spring& sp = topo.springs[s];
@@ -65,7 +66,7 @@ void GridPath::forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f
   const GridKernels& kern = *kernels_;
   // Every row's neighbours must be in the arrays before any row's forces: a barrier between.
   teamRange(0, shape_.H, [&](long long y0, long long y1) {
-    kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1));
+    kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1), nullptr);
   });
   GridForceArgs args{shape_,
                      x_.data(),
@@ -82,7 +83,7 @@ void GridPath::stencilFlags(const std::vector<glm::vec3>& x, const int* du, cons
                             int count, float range2, std::vector<std::uint64_t>& flags) {
   const GridKernels& kern = *kernels_;
   teamRange(0, shape_.H, [&](long long y0, long long y1) {
-    kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1));
+    kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1), nullptr);
   });
   // Each pair once, from the end whose index is lower (the stencil's second half), flagging both ends: the
   // flags are cleared first, each thread its rows, and then only ever OR'ed.
@@ -100,6 +101,7 @@ void GridPath::limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v
   const float unit[3] = {1, 1, 1};
   GridStretchArgs args = colourArgs(v != nullptr, springs(unit, enabled));
   args.limit = limit;
+  args.signed_rows = signed_rows_.data();  // made by copyIn, before the colours read it
   sweepColours(x, v, args, passes, kernels_->stretchColour);
 }
 
@@ -172,8 +174,9 @@ void GridPath::vbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const f
 void GridPath::copyIn(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>* v) {
   const GridKernels& kern = *kernels_;
   teamRange(0, shape_.H, [&](long long y0, long long y1) {
-    kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1));
-    if (v) kern.toSoa(shape_, &v->data()->x, vx_.data(), vy_.data(), vz_.data(), int(y0), int(y1));
+    std::fill(signed_rows_.begin() + y0, signed_rows_.begin() + y1, std::uint8_t(0));
+    kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1), signed_rows_.data());
+    if (v) kern.toSoa(shape_, &v->data()->x, vx_.data(), vy_.data(), vz_.data(), int(y0), int(y1), signed_rows_.data());
   });
 }
 

@@ -68,7 +68,8 @@ class GridPath {
   // VBD: the colours' points' padded indices, columns and rows (setVbdPoints)
   std::vector<std::int32_t> vbd_padded_;
   std::vector<float> vbd_column_, vbd_row_;
-  std::vector<float> lambda_[6];  // XPBD of several sweeps: per direction, each spring's multiplier
+  std::vector<float> lambda_[6];           // XPBD of several sweeps: per direction, each spring's multiplier
+  std::vector<std::uint8_t> signed_rows_;  // per row, whether copyIn saw a -0 (GridStretchArgs::signed_rows)
 };
 
 }  // namespace drape
