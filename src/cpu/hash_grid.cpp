@@ -41,8 +41,11 @@ void HashGrid<T>::build(const std::vector<vec3>& points, T cell_size) {
     start_[b + 1] += start_[b];
   // Counting sort, stable: within a bucket, points keep ascending index (the GPU builds the same).
   fill_.assign(start_.begin(), start_.end() - 1);
-  for (std::size_t i = 0; i < n; ++i)
-    sorted_[fill_[bucket[i]]++] = std::uint32_t(i);
+  slot_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    slot_[i] = fill_[bucket[i]]++;
+    sorted_[slot_[i]] = std::uint32_t(i);
+  }
 }
 
 template class HashGrid<float>;

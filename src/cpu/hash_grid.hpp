@@ -67,10 +67,9 @@ class HashGrid {
   template <class F>
   void forEachForwardBucket(std::size_t i, F&& f) const {
     const glm::ivec3 c = cells_[i];
-    const auto after_i = [&](std::uint32_t s, std::uint32_t e) {  // a bucket lists its points in ascending index
-      return std::uint32_t(std::upper_bound(sorted_.begin() + s, sorted_.begin() + e, std::uint32_t(i)) -
-                           sorted_.begin());
-    };
+    // A bucket lists its points in ascending index: those after i follow its slot (a binary search a point
+    // was a third of the list builds' own time, in mispredicted branches)
+    const std::uint32_t after_i = slot_[i] + 1;
     if (dense_) {
       const glm::ivec3 r = c - box_min_;
       const auto row = [&](int dy, int dz, int x0, int x1) {  // cells x0..x1 (inclusive) of row (dy, dz)
@@ -81,7 +80,7 @@ class HashGrid {
         const std::uint32_t b = std::uint32_t((z * box_size_.y + y) * box_size_.x);
         std::uint32_t s = start_[b + std::uint32_t(lo)];
         const std::uint32_t e = start_[b + std::uint32_t(hi) + 1];
-        if (dy == 0 && dz == 0) s = after_i(start_[b + std::uint32_t(r.x)], start_[b + std::uint32_t(r.x) + 1]);
+        if (dy == 0 && dz == 0) s = after_i;
         if (s < e) f(s, e, c);
       };
       row(0, 0, 0, 1);  // i's cell from the point after i, and the next
@@ -96,7 +95,7 @@ class HashGrid {
       if (!bucketOf(n, b)) continue;
       std::uint32_t s = start_[b];
       const std::uint32_t e = start_[b + 1];
-      if (k == 13) s = after_i(s, e);
+      if (k == 13) s = after_i;
       if (s < e) f(s, e, n);
     }
   }
@@ -140,6 +139,7 @@ class HashGrid {
   std::vector<glm::ivec3> cells_;
   std::vector<std::uint32_t> start_;          // bucketCount + 1 prefix sums
   std::vector<std::uint32_t> sorted_;         // point indices grouped by bucket
+  std::vector<std::uint32_t> slot_;           // each point's slot in sorted_
   std::vector<std::uint32_t> bucket_, fill_;  // build's scratch, kept to spare the allocations
   std::uint32_t mask_ = 0;
   bool dense_ = false;
