@@ -159,13 +159,21 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thic
         if (stencil) {
           mine.lower.clear();
           mine.upper.clear();
-          for (long long p = lo; p < hi; ++p) {
+          // Most points have no stencil partner in range: they are passed over in a loop of their own, which
+          // keeps its index in a register (the loop with the calls kept it in memory: 5% of a substep of
+          // pinned2, which has none)
+          const StencilMask* near = near_.data();
+          const auto next = [near, hi](long long q) {
+            while (q < hi && near[q] == 0)
+              ++q;
+            return q;
+          };
+          for (long long p = next(lo); p < hi; p = next(p + 1)) {
             const std::size_t i = std::size_t(p);
-            if (near_[i] != 0)
-              pairs_.forEachForwardPartner(i, near_[i], [&](std::uint32_t j) {
-                mine.lower.push_back(std::uint32_t(i));
-                mine.upper.push_back(j);
-              });
+            pairs_.forEachForwardPartner(i, near[i], [&](std::uint32_t j) {
+              mine.lower.push_back(std::uint32_t(i));
+              mine.upper.push_back(j);
+            });
           }
           take(mine.lower.data(), mine.upper.data(), 0, std::uint32_t(mine.lower.size()));
         }
