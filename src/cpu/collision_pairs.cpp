@@ -358,6 +358,13 @@ template <class T>
 void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
   const std::size_t n = x.size();
   anchor_ = x;
+  for (int c = 0; c < 3; ++c) {
+    const float* p = c == 0 ? padded_.x : c == 1 ? padded_.y : padded_.z;
+    if (p)
+      padded_anchor_[c].assign(p, p + padded_.shape.size);
+    else
+      padded_anchor_[c].clear();
+  }
   if (tiled_ != n) makeTiles(n);
   T extent = range_ + margin_;
   for (const vec3& p : x)

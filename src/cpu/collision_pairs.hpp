@@ -56,6 +56,12 @@ class CollisionPairs {
   void setGrid(int w, int h);
   // Float: the instruction set's scanPairs for builds (default: one candidate at a time). The same lists.
   void setKernels(const GridKernels* kernels) { kernels_ = kernels; }
+  // Float grid with the kernels: the positions as they are now in a grid path's padded arrays (GridPath), for the
+  // checks and builds until the next call; nullptr: not given (the vec3s are read). The check then reads them
+  // and the anchors' copy in that layout made at the last build that had them. The same answers.
+  void setPaddedPositions(const GridShape* shape, const float* x, const float* y, const float* z) {
+    padded_ = shape ? Padded{*shape, x, y, z} : Padded{};
+  }
 
   // Makes the list valid for positions x (rebuilding if any point moved too far); returns whether it
   // rebuilt. threads: OpenMP threads for the per-point loops. Outside a team.
@@ -194,6 +200,12 @@ class CollisionPairs {
   std::vector<std::uint32_t> fill_;
   std::vector<std::uint32_t> forward_start_, forward_, forward_owner_;
   std::vector<vec3> anchor_;  // positions at the last build
+  struct Padded {
+    GridShape shape{};
+    const float *x = nullptr, *y = nullptr, *z = nullptr;
+  };
+  Padded padded_;                        // setPaddedPositions
+  std::vector<float> padded_anchor_[3];  // anchor_ in padded_'s layout, where the last build had it (else empty)
   // needsBuild()'s tiles, as runs of consecutive points, and per tile the box of its displacements since the build
   // and the box of its points
   static constexpr int kTileEdge = 8, kTilesAcross = 16;

@@ -60,10 +60,21 @@ void CollisionPairs<T>::boxTiles(const std::vector<vec3>& x, bool split) {
     if (kernels_ && edge_ > 0) {  // a grid's tiles, rows of several points at once
       static_assert(sizeof(TileBox) == 12 * sizeof(float));
       const int across = (w_ + edge_ - 1) / edge_, down = (h_ + edge_ - 1) / edge_;
+      TileBoxArgs args{&x.data()->x, &anchor_.data()->x, w_, h_, edge_, across, &boxes_.data()->dlo.x, 0, 0};
+      if (padded_.x && padded_anchor_[0].size() == padded_.shape.size) {
+        args.shape = padded_.shape;
+        args.px = padded_.x;
+        args.py = padded_.y;
+        args.pz = padded_.z;
+        args.ax = padded_anchor_[0].data();
+        args.ay = padded_anchor_[1].data();
+        args.az = padded_anchor_[2].data();
+      }
       const auto rows = [&](long long first, long long last) {
-        if (!kernels_->tileBoxes({&x.data()->x, &anchor_.data()->x, w_, h_, edge_, across, &boxes_.data()->dlo.x,
-                                  int(first), int(last)}))
-          moved_.set = true;
+        TileBoxArgs mine = args;
+        mine.tv0 = int(first);
+        mine.tv1 = int(last);
+        if (!kernels_->tileBoxes(mine)) moved_.set = true;
       };
       if (split)
         teamRange(0, down, rows);

@@ -22,6 +22,13 @@ void CpuSolver<T>::selfCollide() {
   // lists last. The bytes do not depend on it.
   // Every thread of a team shares the list check and the build; an exception (out of memory) is kept for
   // step() to rethrow after the region.
+  // On a grid path the check and the stencil read the positions from its padded arrays, loaded once here.
+  bool padded = false;
+  if constexpr (std::is_same_v<T, float>)
+    if (grid_) {
+      grid_->loadPositions(x_);
+      padded = true;
+    }
   teamSingle([&] {
     try {
       // A switch of skin is a build (configure): narrow once a list has lasted kSettledSubsteps, wide again when
@@ -52,6 +59,9 @@ void CpuSolver<T>::selfCollide() {
         pair_owner_team_ = team;
       }
       pair_chunk_ = chunk;
+      if constexpr (std::is_same_v<T, float>)
+        if (padded)
+          pairs_.setPaddedPositions(&grid_->shape(), grid_->positions(0), grid_->positions(1), grid_->positions(2));
       pairs_.startCheck(x_);
     } catch (...) {
       failure_ = std::current_exception();
@@ -74,10 +84,10 @@ void CpuSolver<T>::selfCollide() {
   const std::size_t stencil = pairs_.stencil().size();
   if (stencil > 0) {
     if constexpr (std::is_same_v<T, float>)
-      if (grid_)
-        grid_->stencilFlags(x_, pairs_.stencilDu(), pairs_.stencilDv(), pairs_.stencilMixed(), int(stencil),
-                            range * range, near_);
-    if (!std::is_same_v<T, float> || !grid_)
+      if (padded)
+        grid_->stencilFlags(pairs_.stencilDu(), pairs_.stencilDv(), pairs_.stencilMixed(), int(stencil), range * range,
+                            near_);
+    if (!padded)
       parallelFor(0, (long long)x_.size(), threads_,
                   [&](long long p) { near_[std::size_t(p)] = pairs_.stencilMask(x_, std::size_t(p)); });
   }
@@ -99,6 +109,7 @@ void CpuSolver<T>::selfCollide() {
       pair_terms_ += s.summed;  // pairs in range, counted from both ends for `drape simulate -v`
       if (s.failure && !failure_) failure_ = std::exchange(s.failure, nullptr);
     }
+    pairs_.setPaddedPositions(nullptr, nullptr, nullptr, nullptr);  // they change before the next substep's
   });
   if (failure_) return;
   applyCorrections();

@@ -250,7 +250,39 @@ struct ContactKernels : Lanes<V> {
         const int v0 = tv * a.edge, v1 = v0 + a.edge < a.h ? v0 + a.edge : a.h;
         F box[12] = {big, big, big, small, small, small, big, big, big, small, small, small};
         float tail[12] = {inf, inf, inf, -inf, -inf, -inf, inf, inf, inf, -inf, -inf, -inf};
-        for (int v = v0; v < v1; ++v)
+        // A vector of positions P and anchors A of `lanes` points of the tile (the others: the next tile's)
+        const auto add = [&](const F(&P)[3], const F(&A)[3], int lanes) {
+          if (lanes == kW) {
+            for (int c = 0; c < 3; ++c) {
+              const F d = V::sub(P[c], A[c]);
+              finite = V::add(finite, V::mul(d, zero));
+              box[c] = V::min(box[c], d);
+              box[3 + c] = V::max(box[3 + c], d);
+              box[6 + c] = V::min(box[6 + c], P[c]);
+              box[9 + c] = V::max(box[9 + c], P[c]);
+            }
+            return;
+          }
+          // The lanes past the tile hold the next tile's points: each box takes its neutral value there
+          const F live = V::lt(V::iota(), V::set1(float(lanes)));
+          for (int c = 0; c < 3; ++c) {
+            const F d = V::sub(P[c], A[c]);
+            finite = V::add(finite, V::mul(V::select(live, d, zero), zero));
+            box[c] = V::min(box[c], V::select(live, d, big));
+            box[3 + c] = V::max(box[3 + c], V::select(live, d, small));
+            box[6 + c] = V::min(box[6 + c], V::select(live, P[c], big));
+            box[9 + c] = V::max(box[9 + c], V::select(live, P[c], small));
+          }
+        };
+        if (a.px)  // padded rows: every load stays in the arrays
+          for (int v = v0; v < v1; ++v)
+            for (int u = u0; u < u1; u += kW) {
+              const std::ptrdiff_t q = at(a.shape, u, v);
+              const F P[3] = {V::load(a.px + q), V::load(a.py + q), V::load(a.pz + q)};
+              const F A[3] = {V::load(a.ax + q), V::load(a.ay + q), V::load(a.az + q)};
+              add(P, A, u1 - u < kW ? u1 - u : kW);
+            }
+        for (int v = v0; v < v1 && !a.px; ++v)
           for (int u = u0; u < u1; u += kW) {
             const std::ptrdiff_t i = std::ptrdiff_t(v) * a.w + u;
             const int lanes = u1 - u < kW ? u1 - u : kW;
@@ -269,27 +301,7 @@ struct ContactKernels : Lanes<V> {
             F P[3], A[3];
             V::loadVec3(a.x + 3 * i, P[0], P[1], P[2]);
             V::loadVec3(a.anchor + 3 * i, A[0], A[1], A[2]);
-            if (lanes == kW) {
-              for (int c = 0; c < 3; ++c) {
-                const F d = V::sub(P[c], A[c]);
-                finite = V::add(finite, V::mul(d, zero));
-                box[c] = V::min(box[c], d);
-                box[3 + c] = V::max(box[3 + c], d);
-                box[6 + c] = V::min(box[6 + c], P[c]);
-                box[9 + c] = V::max(box[9 + c], P[c]);
-              }
-              continue;
-            }
-            // The lanes past the tile hold the next tile's points: each box takes its neutral value there
-            const F live = V::lt(V::iota(), V::set1(float(lanes)));
-            for (int c = 0; c < 3; ++c) {
-              const F d = V::sub(P[c], A[c]);
-              finite = V::add(finite, V::mul(V::select(live, d, zero), zero));
-              box[c] = V::min(box[c], V::select(live, d, big));
-              box[3 + c] = V::max(box[3 + c], V::select(live, d, small));
-              box[6 + c] = V::min(box[6 + c], V::select(live, P[c], big));
-              box[9 + c] = V::max(box[9 + c], V::select(live, P[c], small));
-            }
+            add(P, A, lanes);
           }
         float* out = a.out + 12 * (std::ptrdiff_t(tv) * a.across + tu);
         for (int k = 0; k < 12; ++k) {

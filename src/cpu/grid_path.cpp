@@ -79,12 +79,16 @@ void GridPath::forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f
   teamRange(0, shape_.H, [&](long long y0, long long y1) { kern.forces(args, int(y0), int(y1)); });
 }
 
-void GridPath::stencilFlags(const std::vector<glm::vec3>& x, const int* du, const int* dv, const std::uint8_t* mixed,
-                            int count, float range2, std::vector<std::uint64_t>& flags) {
+void GridPath::loadPositions(const std::vector<glm::vec3>& x) {
   const GridKernels& kern = *kernels_;
   teamRange(0, shape_.H, [&](long long y0, long long y1) {
     kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1), nullptr);
   });
+}
+
+void GridPath::stencilFlags(const int* du, const int* dv, const std::uint8_t* mixed, int count, float range2,
+                            std::vector<std::uint64_t>& flags) {
+  const GridKernels& kern = *kernels_;
   // Each pair once, from the end whose index is lower (the stencil's second half), flagging both ends: the
   // flags are cleared first, each thread its rows, and then only ever OR'ed.
   teamRange(0, shape_.H, [&](long long y0, long long y1) {

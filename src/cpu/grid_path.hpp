@@ -26,12 +26,19 @@ class GridPath {
   // enabled[t] and k[t] per spring type.
   void forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f, glm::vec3 gravity, const float k[3],
               const bool enabled[3]);
-  // Self-collision's stencil over the positions x: flags[i] has bit stencilBit(k) set where point i's partner
-  // at stencil offset k is within sqrt(range2) and not held at rest (GridKernels::stencilFlags). du, dv, mixed:
-  // the whole stencil, sorted by dv * W + du (its second half mirrors its first). Called by every thread of a
-  // team, or by one thread alone.
-  void stencilFlags(const std::vector<glm::vec3>& x, const int* du, const int* dv, const std::uint8_t* mixed, int count,
-                    float range2, std::vector<std::uint64_t>& flags);
+  // The positions x into the padded arrays, where self-collision's check and stencil read them (positions()).
+  // Called by every thread of a team, or by one thread alone.
+  void loadPositions(const std::vector<glm::vec3>& x);
+  const GridShape& shape() const { return shape_; }
+  const float* positions(int coordinate) const {
+    return coordinate == 0 ? x_.data() : coordinate == 1 ? y_.data() : z_.data();
+  }
+  // Self-collision's stencil over the positions last loaded (loadPositions): flags[i] has bit stencilBit(k) set
+  // where point i's partner at stencil offset k is within sqrt(range2) and not held at rest
+  // (GridKernels::stencilFlags). du, dv, mixed: the whole stencil, sorted by dv * W + du (its second half mirrors
+  // its first). Called by every thread of a team, or by one thread alone.
+  void stencilFlags(const int* du, const int* dv, const std::uint8_t* mixed, int count, float range2,
+                    std::vector<std::uint64_t>& flags);
   // `passes` Gauss-Seidel passes over the 12 colours in order; v nullptr when it is not a displacement.
   void limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,
                     const bool enabled[3]);
