@@ -16,6 +16,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <set>
+#include <utility>
+#include <vector>
 
 namespace drape {
 namespace {
@@ -144,6 +146,50 @@ INSTANTIATE_TEST_SUITE_P(Cloths, CollisionPairsCase,
                                            PairCase{"settling", "selfCollision.json", kDefaultPairMargin, 60, 10},
                                            PairCase{"thin_margin", "selfCollision.json", 0.1, 20, 20}),
                          [](const auto& test) { return std::string(test.param.name); });
+
+// A build by cell (the grid's order, a cell's candidates copied into one run) lists the pairs a build by point
+// does: the folding selfCollision cloth and pinned2 refined to 100 x 100 with CS184's thickness (many points a
+// cell), float with the kernels and double without, at several substeps.
+TEST(CollisionPairs, ABuildByCellListsWhatABuildByPointDoes) {
+  Scene folding = cs184Scene("selfCollision.json");
+  Scene fine = cs184Scene("pinned2.json");
+  fine.cloth.num_width_points = fine.cloth.num_height_points = 100;
+  fine.cloth.pinned = {{0, 0}, {99, 0}};
+  for (const Scene* scene : {&folding, &fine}) {
+    CpuSolver<float> solver(*scene, CpuSolverOptions{.threads = 1});
+    const float range = 2.0f * float(scene->cloth.thickness);
+    const std::vector<vec3> rest(solver.topology().initial_positions.begin(),
+                                 solver.topology().initial_positions.end());
+    int compared = 0;
+    for (int f = 0; f < 40; ++f) {
+      solver.stepFrame();
+      if (f % 8 != 7) continue;
+      const std::vector<vec3>& x = solver.positions();
+      const auto lists = [&](CollisionPairs<float>::BuildOrder order, bool kernels) {
+        CollisionPairs<float> pairs;
+        pairs.setRest(rest);
+        pairs.setGrid(solver.topology().W, solver.topology().H);
+        if (kernels) pairs.setKernels(&gridKernels(GridIsa::Auto));
+        pairs.setBuildOrder(order);
+        pairs.configure(range, 0.75f * range);
+        EXPECT_TRUE(pairs.update(x, 1));
+        // A point's entries in the order its pairs were found, which the sums do not depend on: as a set
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+        for (std::size_t i = 0; i < x.size(); ++i)
+          for (std::uint32_t k = pairs.forwardStart(i); k < pairs.forwardStart(i + 1); ++k)
+            out.emplace_back(std::uint32_t(i), pairs.forwardPartners()[k]);
+        std::sort(out.begin(), out.end());
+        return out;
+      };
+      for (bool kernels : {true, false}) {
+        const auto by_point = lists(CollisionPairs<float>::BuildOrder::ByPoint, kernels);
+        EXPECT_EQ(lists(CollisionPairs<float>::BuildOrder::ByCell, kernels), by_point) << "frame " << f;
+        compared += by_point.empty() ? 0 : 1;
+      }
+    }
+    EXPECT_GT(compared, 0) << "no build listed a pair: the case compares nothing";
+  }
+}
 
 TEST(CollisionPairs, MarginZeroRebuildsEverySubstep) {
   CollisionPairs<float> pairs;

@@ -56,6 +56,10 @@ class CollisionPairs {
   void setGrid(int w, int h);
   // Float: the instruction set's scanPairs for builds (default: one candidate at a time). The same lists.
   void setKernels(const GridKernels* kernels) { kernels_ = kernels; }
+  // How a build on dense buckets goes through the points (findPairs): by cell where cells hold kPointsByCell points
+  // or more (Auto), or always one way; the same lists (tests compare them).
+  enum class BuildOrder { Auto, ByPoint, ByCell };
+  void setBuildOrder(BuildOrder order) { build_order_ = order; }
   // Float grid with the kernels: the positions as they are now in a grid path's padded arrays (GridPath), for the
   // checks and builds until the next call; nullptr: not given (the vec3s are read). The check then reads them
   // and the anchors' copy in that layout made at the last build that had them. The same answers.
@@ -228,6 +232,20 @@ class CollisionPairs {
   std::vector<std::uint8_t> kind_;    // OffsetKind per offset of the box [-box_, box_]^2
   void prepareBuild(const std::vector<vec3>& x, int threads);
   void findPairs(const std::vector<vec3>& x, int thread, long long first, long long last);
+  void findPairsByCell(const std::vector<vec3>& x, int thread, long long first, long long last);
+  static constexpr std::size_t kPointsByCell = 8;  // points a cell from which findPairs goes by cell
+  BuildOrder build_order_ = BuildOrder::Auto;
+  void setPoint(ScanArgs& scan, const std::vector<vec3>& x, std::size_t i) const;
+  void consider(std::uint32_t i, std::uint32_t j, std::vector<Pair>& mine) const;
+  struct CellRun {  // findPairsByCell's copy of a cell's forward candidates, per thread
+    struct Range {
+      std::uint32_t first, last, at;  // slots [first, last) of the grid's order at position `at` of the run
+    };
+    std::vector<Range> ranges;
+    std::vector<std::uint32_t> found;
+    std::vector<T> x, y, z, u, v;
+  };
+  std::vector<CellRun> cell_runs_;
   void assembleLists(std::size_t n);
   void finishBuild(const std::vector<vec3>& x);
   template <class F>

@@ -71,22 +71,10 @@ class HashGrid {
     // was a third of the list builds' own time, in mispredicted branches)
     const std::uint32_t after_i = slot_[i] + 1;
     if (dense_) {
-      const glm::ivec3 r = c - box_min_;
-      const auto row = [&](int dy, int dz, int x0, int x1) {  // cells x0..x1 (inclusive) of row (dy, dz)
-        const int y = r.y + dy, z = r.z + dz;
-        if (y < 0 || z < 0 || y >= box_size_.y || z >= box_size_.z) return;
-        const int lo = std::max(r.x + x0, 0), hi = std::min(r.x + x1, box_size_.x - 1);
-        if (lo > hi) return;
-        const std::uint32_t b = std::uint32_t((z * box_size_.y + y) * box_size_.x);
-        std::uint32_t s = start_[b + std::uint32_t(lo)];
-        const std::uint32_t e = start_[b + std::uint32_t(hi) + 1];
-        if (dy == 0 && dz == 0) s = after_i;
+      forEachForwardRange(c, [&](std::uint32_t s, std::uint32_t e, bool own) {
+        if (own) s = after_i;  // i's cell from the point after i, and the next
         if (s < e) f(s, e, c);
-      };
-      row(0, 0, 0, 1);  // i's cell from the point after i, and the next
-      row(1, 0, -1, 1);
-      for (int dy = -1; dy <= 1; ++dy)
-        row(dy, 1, -1, 1);
+      });
       return;
     }
     for (int k = 13; k < 27; ++k) {
@@ -99,6 +87,26 @@ class HashGrid {
       if (s < e) f(s, e, n);
     }
   }
+  // Dense buckets only: f(first, last, own) for the ranges of slots of cell c's forward cells, each a row of up
+  // to three cells; the first (own = true) is c's own row from c itself, the rest follow. Empty ranges too.
+  template <class F>
+  void forEachForwardRange(glm::ivec3 c, F&& f) const {
+    const glm::ivec3 r = c - box_min_;
+    const auto row = [&](int dy, int dz, int x0, int x1) {  // cells x0..x1 (inclusive) of row (dy, dz)
+      const int y = r.y + dy, z = r.z + dz;
+      if (y < 0 || z < 0 || y >= box_size_.y || z >= box_size_.z) return;
+      const int lo = std::max(r.x + x0, 0), hi = std::min(r.x + x1, box_size_.x - 1);
+      if (lo > hi) return;
+      const std::uint32_t b = std::uint32_t((z * box_size_.y + y) * box_size_.x);
+      f(start_[b + std::uint32_t(lo)], start_[b + std::uint32_t(hi) + 1], dy == 0 && dz == 0);
+    };
+    row(0, 0, 0, 1);
+    row(1, 0, -1, 1);
+    for (int dy = -1; dy <= 1; ++dy)
+      row(dy, 1, -1, 1);
+  }
+  glm::ivec3 cellOfPoint(std::size_t i) const { return cells_[i]; }
+  std::uint32_t occupiedBuckets() const { return occupied_; }
   bool inCell(std::uint32_t j, glm::ivec3 n) const { return dense_ || cells_[j] == n; }
   const std::vector<std::uint32_t>& sorted() const { return sorted_; }
 
@@ -142,6 +150,7 @@ class HashGrid {
   std::vector<std::uint32_t> slot_;           // each point's slot in sorted_
   std::vector<std::uint32_t> bucket_, fill_;  // build's scratch, kept to spare the allocations
   std::uint32_t mask_ = 0;
+  std::uint32_t occupied_ = 0;  // buckets holding a point
   bool dense_ = false;
   glm::ivec3 box_min_{}, box_size_{};
 };
