@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <exception>
 #include <limits>
 #include <new>
@@ -307,17 +308,13 @@ void CollisionPairs<T>::consider(std::uint32_t i, std::uint32_t j, std::vector<P
   if (rest_.empty() || !physics::heldAtRest(rest_[i], rest_[j], range_)) mine.push_back({i, j});
 }
 
-// Each pair once (half the cell lookups), into thread t's share; the lists made from them are sorted, so they
-// do not depend on how the points were split between threads. [lo, hi): points, or on dense buckets slots of
-// the grid's order (findPairsByCell).
+// Each pair once (half the cell lookups), into thread t's share; the lists made from them are grouped by point and
+// each point's sum orders its terms, so the bytes do not depend on how the points were split between threads nor
+// in what order they were found. [lo, hi): points, or on dense buckets slots of the grid's order (findPairsByCell).
 template <class T>
 void CollisionPairs<T>::findPairs(const std::vector<vec3>& x, int t, long long lo, long long hi) {
   const MemoryStage stage("listing the self-collision candidates of " + std::to_string(x.size()) + " points");
-  // By cell where cells hold many points (a fine cloth: 34 a cell at 256^2 with CS184's thickness, 0.975 of the
-  // run's time); where they hold a few (2.7 at 50^2) the copies cost what the partial vectors did.
-  const bool by_cell = build_order_ == BuildOrder::ByCell ||
-                       (build_order_ == BuildOrder::Auto && x.size() >= kPointsByCell * grid_.occupiedBuckets());
-  if (grid_.dense() && by_cell) return findPairsByCell(x, t, lo, hi);
+  if (grid_.dense() && build_order_ == BuildOrder::ByCell) return findPairsByCell(x, t, lo, hi);
   std::vector<Pair>& mine = found_[std::size_t(t)];  // cleared by prepareBuild: a team adds chunk after chunk
   std::vector<std::uint32_t> slots;
   ScanArgs scan = scan_;
@@ -355,7 +352,8 @@ void CollisionPairs<T>::setPoint(ScanArgs& scan, const std::vector<vec3>& x, std
 // Slots [lo, hi) of the grid's order, a cell's points at a time: the cell's forward ranges are copied once into
 // one run (its own row first, from the cell itself), and each point scans the run from the slot after its own.
 // One scan and one partial vector a point instead of one a range (five): the scans' lanes past a range were
-// about half of those a build tested.
+// about half of those a build tested. selfCollision (2.7 points a cell) 0.96 of the time, pinned2 at 256^2 with
+// CS184's thickness (34) 0.96-0.975.
 template <class T>
 void CollisionPairs<T>::findPairsByCell(const std::vector<vec3>& x, int t, long long lo, long long hi) {
   std::vector<Pair>& mine = found_[std::size_t(t)];
@@ -376,12 +374,15 @@ void CollisionPairs<T>::findPairsByCell(const std::vector<vec3>& x, int t, long 
       });
       for (std::vector<T>* a : {&run.x, &run.y, &run.z, &run.u, &run.v})
         if (a->size() < count + kPairScanPad) a->resize(count + kPairScanPad);  // the pad: read, lanes dropped
+      // Blocks of kCopyBlock, the last one past the range (the next range, copied after it, writes over that; the
+      // arrays are padded by kPairScanPad): a range holds a few candidates, and a copy call a range cost more
+      // than the scans it saved on a coarse cloth.
       for (const auto& r : run.ranges) {
-        std::copy(sx_.begin() + r.first, sx_.begin() + r.last, run.x.begin() + r.at);
-        std::copy(sy_.begin() + r.first, sy_.begin() + r.last, run.y.begin() + r.at);
-        std::copy(sz_.begin() + r.first, sz_.begin() + r.last, run.z.begin() + r.at);
-        std::copy(su_.begin() + r.first, su_.begin() + r.last, run.u.begin() + r.at);
-        std::copy(sv_.begin() + r.first, sv_.begin() + r.last, run.v.begin() + r.at);
+        const std::pair<const std::vector<T>*, std::vector<T>*> arrays[5] = {
+            {&sx_, &run.x}, {&sy_, &run.y}, {&sz_, &run.z}, {&su_, &run.u}, {&sv_, &run.v}};
+        for (const auto& [from, to] : arrays)
+          for (std::uint32_t k = 0; k < r.last - r.first; k += kCopyBlock)
+            std::memcpy(to->data() + r.at + k, from->data() + r.first + k, sizeof(T) * kCopyBlock);
       }
       if (run.found.size() < count) run.found.resize(count);
       ScanArgs in_run = scan;

@@ -56,9 +56,9 @@ class CollisionPairs {
   void setGrid(int w, int h);
   // Float: the instruction set's scanPairs for builds (default: one candidate at a time). The same lists.
   void setKernels(const GridKernels* kernels) { kernels_ = kernels; }
-  // How a build on dense buckets goes through the points (findPairs): by cell where cells hold kPointsByCell points
-  // or more (Auto), or always one way; the same lists (tests compare them).
-  enum class BuildOrder { Auto, ByPoint, ByCell };
+  // How a build on dense buckets goes through the points (findPairs): by cell (the default) or point by point,
+  // which hashed buckets always do; the same lists (tests compare them).
+  enum class BuildOrder { ByCell, ByPoint };
   void setBuildOrder(BuildOrder order) { build_order_ = order; }
   // Float grid with the kernels: the positions as they are now in a grid path's padded arrays (GridPath), for the
   // checks and builds until the next call; nullptr: not given (the vec3s are read). The check then reads them
@@ -233,8 +233,8 @@ class CollisionPairs {
   void prepareBuild(const std::vector<vec3>& x, int threads);
   void findPairs(const std::vector<vec3>& x, int thread, long long first, long long last);
   void findPairsByCell(const std::vector<vec3>& x, int thread, long long first, long long last);
-  static constexpr std::size_t kPointsByCell = 8;  // points a cell from which findPairs goes by cell
-  BuildOrder build_order_ = BuildOrder::Auto;
+  static constexpr std::uint32_t kCopyBlock = 8;  // findPairsByCell's copies, in blocks (<= kPairScanPad)
+  BuildOrder build_order_ = BuildOrder::ByCell;
   void setPoint(ScanArgs& scan, const std::vector<vec3>& x, std::size_t i) const;
   void consider(std::uint32_t i, std::uint32_t j, std::vector<Pair>& mine) const;
   struct CellRun {  // findPairsByCell's copy of a cell's forward candidates, per thread

@@ -33,10 +33,9 @@ void HashGrid<T>::build(const std::vector<vec3>& points, T cell_size) {
   sorted_.resize(n);
   std::vector<std::uint32_t>& bucket = bucket_;
   bucket.resize(n);
-  occupied_ = 0;
   for (std::size_t i = 0; i < n; ++i) {
     bucketOf(cells_[i], bucket[i]);
-    occupied_ += start_[bucket[i] + 1]++ == 0;
+    ++start_[bucket[i] + 1];
   }
   for (std::uint32_t b = 0; b < buckets; ++b)
     start_[b + 1] += start_[b];

@@ -106,7 +106,6 @@ class HashGrid {
       row(dy, 1, -1, 1);
   }
   glm::ivec3 cellOfPoint(std::size_t i) const { return cells_[i]; }
-  std::uint32_t occupiedBuckets() const { return occupied_; }
   bool inCell(std::uint32_t j, glm::ivec3 n) const { return dense_ || cells_[j] == n; }
   const std::vector<std::uint32_t>& sorted() const { return sorted_; }
 
@@ -150,7 +149,6 @@ class HashGrid {
   std::vector<std::uint32_t> slot_;           // each point's slot in sorted_
   std::vector<std::uint32_t> bucket_, fill_;  // build's scratch, kept to spare the allocations
   std::uint32_t mask_ = 0;
-  std::uint32_t occupied_ = 0;  // buckets holding a point
   bool dense_ = false;
   glm::ivec3 box_min_{}, box_size_{};
 };
