@@ -1,4 +1,4 @@
-// CpuSolver::sweepColours, which the stretch limit (cpu_solver.cpp) and XPBD (cpu_implicit.cpp) share. Only
+// CpuSolver::sweepColours, which the stretch limit (cpu_solver_stretch.cpp) and XPBD (cpu_implicit.cpp) share. Only
 // the solver's own translation units include it (and parallel.hpp with it): they are compiled with OpenMP.
 #pragma once
 
