@@ -119,6 +119,26 @@ TEST(TeamBytesContact, AListBuiltOnOneThreadAfterTheTeamHoldsOnlyItsOwnPairs) {
   EXPECT_TRUE(sameBytes(run.one.positions(), run.team.positions()));
 }
 
+// Which thread finds and sums a point's pairs moves with the work (balanceShares): the bytes must not. Shares as
+// uneven as the balance allows, either way round, through the fold.
+TEST(TeamBytesContact, UnevenPairSharesGiveOneThreadsBytes) {
+  for (const long long sixteenths : {1LL, 15LL}) {
+    OneThreadAndTeam run;
+    const auto n = (long long)run.one.positions().size();
+    const std::vector<long long> shares = {0, n * sixteenths / 16, n};
+    run.team.fixPairShares(shares);
+    for (int f = 0; f < 50; ++f) {
+      run.stepFrame();
+      if (f < 40) continue;
+      ASSERT_TRUE(sameBytes(run.one.positions(), run.team.positions())) << sixteenths << "/16, frame " << f;
+      ASSERT_TRUE(sameBytes(run.one.displacements(), run.team.displacements())) << sixteenths << "/16, frame " << f;
+    }
+    EXPECT_EQ(run.team.pairShares(), shares) << "fixed";
+    EXPECT_EQ(run.team.pairTerms(), run.one.pairTerms());
+    EXPECT_GT(run.one.pairTerms(), 100000) << "the cloth must be in contact with itself";
+  }
+}
+
 // From kSplitTiles tiles a team splits the lists' check (boxes and comparisons of the tiles) between its
 // threads: the same builds at the same substeps, so the same bytes.
 TEST(TeamBytesLarge, ATeamSharesTheListCheckOfALargeCloth) {

@@ -341,26 +341,34 @@ void CpuSolver<T>::tether() {
   });
 }
 
+// Coordinate by coordinate, so that the compiler adds whole vectors; every point gets its correction, a zero
+// one too (x + 0 turns a -0 into +0, as it always did).
+template <class T>
+void CpuSolver<T>::addCorrections(long long lo, long long hi) {
+  T* x = &x_.data()->x;
+  const T* c = &correction_.data()->x;
+  for (long long k = 3 * lo; k < 3 * hi; ++k)
+    x[k] += c[k];
+  // x_prev stays where it was: in displacement form that is v += c.
+  if (form_ == VerletForm::Displacement) {
+    T* v = &v_.data()->x;
+    for (long long k = 3 * lo; k < 3 * hi; ++k)
+      v[k] += c[k];
+  }
+}
+
+// In a team each thread adds its own points, the share every other pass gives it, so that no cache line of x_
+// moves between cores here.
 template <class T>
 void CpuSolver<T>::applyCorrections() {
-  // Coordinate by coordinate over blocks of points, so that the compiler adds whole vectors; every point gets
-  // its correction, a zero one too (x + 0 turns a -0 into +0, as it always did).
+  const long long n = (long long)x_.size();
+  if (inTeam()) {
+    teamRange(0, n, [&](long long lo, long long hi) { addCorrections(lo, hi); });
+    return;
+  }
   constexpr long long kBlock = 1024;
-  const long long n = (long long)x_.size(), blocks = (n + kBlock - 1) / kBlock;
-  const bool displacement = form_ == VerletForm::Displacement;
-  parallelFor(0, blocks, threads_, [&](long long b) {
-    const long long first = 3 * b * kBlock, last = 3 * std::min(n, (b + 1) * kBlock);
-    T* x = &x_.data()->x;
-    const T* c = &correction_.data()->x;
-    for (long long k = first; k < last; ++k)
-      x[k] += c[k];
-    // x_prev stays where it was: in displacement form that is v += c.
-    if (displacement) {
-      T* v = &v_.data()->x;
-      for (long long k = first; k < last; ++k)
-        v[k] += c[k];
-    }
-  });
+  parallelFor(0, (n + kBlock - 1) / kBlock, threads_,
+              [&](long long b) { addCorrections(b * kBlock, std::min(n, (b + 1) * kBlock)); });
 }
 
 template <class T>

@@ -116,7 +116,11 @@ class CpuSolver final : public Solver {
   long long teamSubsteps() const { return team_substeps_; }  // substeps run on the team since reset()
   const TeamTrial* teamTrial() const { return trial_ ? &*trial_ : nullptr; }  // where a trial decides
   long long pairTerms() const { return pair_terms_; }  // self-collision: pairs in range summed, both ends
-  bool wideSkin() const { return wide_skin_; }         // the lists' skin now: pair_margin (else 2/3 of it)
+  // Self-collision's shares of the points in a team (thread t: [bounds[t], bounds[t + 1])), moved towards equal
+  // times after each substep; fixPairShares sets them and keeps them (a test's uneven split).
+  const std::vector<long long>& pairShares() const { return pair_bounds_; }
+  void fixPairShares(std::vector<long long> bounds);
+  bool wideSkin() const { return wide_skin_; }  // the lists' skin now: pair_margin (else 2/3 of it)
   int skinSwitches() const { return skin_switches_; }
   // What the last Jacobi pass (selfCollide, or the Jacobi stretch limit) added to each point: its bits, which a
   // position rounds away.
@@ -127,7 +131,8 @@ class CpuSolver final : public Solver {
     T k[kSpringTypeCount];
   };
   void refreshDerived();
-  void applyCorrections();  // x += c, and v += c so that x_prev stays put
+  void applyCorrections();                          // x += c, and v += c so that x_prev stays put
+  void addCorrections(long long lo, long long hi);  // applyCorrections on points [lo, hi)
   void limitStretchColoured();
   void limitStretchJacobi();
   void buildFaceContacts();  // the meshes' features, their grids and the cloth's face adjacency
@@ -140,7 +145,7 @@ class CpuSolver final : public Solver {
   // selfCollide()'s sum, a pair at a time (cpu_solver_self_collision.cpp)
   struct PairScratch;
   void findPairHits(long long lo, long long hi, bool stencil, T thickness, T inv_range, PairScratch& mine);
-  long long sumPairTerms(int thread, T steps, PairScratch& mine);
+  long long sumPairTerms(int thread, long long lo, long long hi, T steps, PairScratch& mine);
   bool needsPass(int pass) const;
   template <class F>
   void timed(int pass, F&& f);
@@ -194,13 +199,24 @@ class CpuSolver final : public Solver {
     std::size_t points = 0;
     std::vector<std::int32_t> chain;
     std::exception_ptr failure;
-    long long summed = 0;  // terms summed this substep
+    long long summed = 0;   // terms summed this substep
+    double seconds = 0;     // this substep's pairs in range and sums, in a team
+    double per_point = -1;  // their seconds a point of the share, smoothed over substeps; -1: none yet
   };
   std::vector<PairScratch> pair_scratch_;
-  long long pair_chunk_ = 1;  // selfCollide's points are dealt to the team in chunks of this many (teamChunks)
-  std::vector<std::uint16_t> pair_owner_;  // per point: the thread that chunk deals it to, in a team of
-  int pair_owner_team_ = 0;                // this many
-  std::vector<std::int32_t> first_term_;   // per point: its first term in its thread's scratch, or -1
+  // In a team, thread t finds and sums the pairs of points [pair_bounds_[t], pair_bounds_[t + 1]): even shares
+  // at first, then moved towards equal times (balancePairShares).
+  std::vector<long long> pair_bounds_;
+  bool pair_shares_fixed_ = false;                     // fixPairShares
+  std::vector<double> pair_seconds_, pair_per_point_;  // balancePairShares' arguments, kept
+  int pairOwner(std::uint32_t j) const {
+    int t = 0;
+    while ((long long)j >= pair_bounds_[std::size_t(t) + 1])
+      ++t;
+    return t;
+  }
+  void balancePairShares();
+  std::vector<std::int32_t> first_term_;  // per point: its first term in its thread's scratch, or -1
   SpringColouring colouring_;
   Tethers tethers_;  // empty until the scene asks for tethers
   std::vector<T> tether_rest_;

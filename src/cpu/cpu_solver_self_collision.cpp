@@ -5,6 +5,7 @@
 #include "cpu/parallel.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <exception>
 #include <span>
 #include <type_traits>
@@ -49,16 +50,19 @@ void CpuSolver<T>::selfCollide() {
       for (PairScratch& scratch : pair_scratch_) {
         scratch.to.resize(std::size_t(team));
         scratch.sent.assign(std::size_t(team), 0);
+        // A failed substep's, rethrown by step(); it may have left the stencil's flags set (see below)
+        if (std::exchange(scratch.failure, nullptr)) std::fill(near_.begin(), near_.end(), StencilMask(0));
       }
-      const long long chunk = dealChunk((long long)x_.size(), team);
-      // Whose each point is, looked up: chunkOwner's two 64-bit divisions a term were a third of routing them
-      if (team > 1 && (chunk != pair_chunk_ || pair_owner_.size() != x_.size() || pair_owner_team_ != team)) {
-        pair_owner_.resize(x_.size());
-        for (std::size_t i = 0; i < x_.size(); ++i)
-          pair_owner_[i] = std::uint16_t(chunkOwner(0, (long long)i, chunk, team));
-        pair_owner_team_ = team;
+      // Each thread's share of the pairs: teamShare's at first (every other pass's)
+      const long long n = (long long)x_.size();
+      if (pair_bounds_.size() != std::size_t(team) + 1 || pair_bounds_.back() != n) {
+        pair_shares_fixed_ = false;
+        pair_bounds_.resize(std::size_t(team) + 1);
+        for (int t = 0; t <= team; ++t)
+          pair_bounds_[std::size_t(t)] = n * t / team;
+        for (PairScratch& scratch : pair_scratch_)
+          scratch.per_point = -1;
       }
-      pair_chunk_ = chunk;
       if constexpr (std::is_same_v<T, float>)
         if (padded)
           pairs_.setPaddedPositions(&grid_->shape(), grid_->positions(0), grid_->positions(1), grid_->positions(2));
@@ -95,24 +99,69 @@ void CpuSolver<T>::selfCollide() {
   // depend on the order points are visited (nor, on the GPU, on thread order). Each pair in range is found
   // once, from its lower end, with both ends' terms, each sent to the thread that owns its point; then each
   // point sums its terms in the order of forEachOrderedPair (the 27-cell query's, docs/design.md section 2),
-  // whichever thread found them. The points are dealt in chunks: a folded cloth's pairs crowd in its fold.
+  // whichever thread found them. Each thread takes a contiguous share of the points, at first the one every
+  // other pass gives it: the positions, the terms' heads and the corrections then stay in the cache of the core
+  // that writes them (dealing chunks of points in turn instead measured slower on 50 x 50: every line of them
+  // moved between the cores each substep). The shares then follow the pairs (balancePairShares): a refined
+  // cloth's contacts crowd where it wrinkles, and at 256 x 256 even shares left one thread most of them.
   const T inv_range = T(1) / range;
-  const long long n = (long long)x_.size();
   const T steps = T(scene_.sim.steps_per_frame);
-  PairScratch& mine = pair_scratch_[std::size_t(teamThread())];
-  teamChunks(0, n, pair_chunk_,
-             [&](long long lo, long long hi) { findPairHits(lo, hi, stencil > 0, thickness, inv_range, mine); });
-  mine.summed = sumPairTerms(teamThread(), steps, mine);
+  const int thread = teamThread();
+  PairScratch& mine = pair_scratch_[std::size_t(thread)];
+  const bool team = inTeam();
+  const auto start = team ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
+  const long long lo = team ? pair_bounds_[std::size_t(thread)] : 0;
+  const long long hi = team ? pair_bounds_[std::size_t(thread) + 1] : (long long)x_.size();
+  findPairHits(lo, hi, stencil > 0, thickness, inv_range, mine);
   teamBarrier();
-  teamSingle([&] {
-    for (PairScratch& s : pair_scratch_) {
+  // A thread's sums are its own points' corrections, computed from terms alone: it adds them at once, as no
+  // thread reads another's points until the barrier. The stencil's flags of its points are read: cleared for
+  // the next substep, whose stencilFlags comes after several barriers.
+  mine.summed = sumPairTerms(thread, lo, hi, steps, mine);
+  if (!mine.failure) addCorrections(lo, hi);
+  if (stencil > 0 && padded) std::fill(near_.begin() + lo, near_.begin() + hi, StencilMask(0));
+  if (team) mine.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  teamBarrier();
+  // Every thread reads the same flags after the barrier, so all take the same way (and pass the same barriers).
+  if (std::any_of(pair_scratch_.begin(), pair_scratch_.end(), [](const PairScratch& s) { return bool(s.failure); })) {
+    teamSingle([&] {
+      for (PairScratch& s : pair_scratch_)
+        if (s.failure && !failure_) failure_ = s.failure;
+    });
+    return;
+  }
+  // No thread reads these again before the next substep's first teamSingle: one thread takes them, no barrier.
+  if (thread == 0) {
+    for (const PairScratch& s : pair_scratch_)
       pair_terms_ += s.summed;  // pairs in range, counted from both ends for `drape simulate -v`
-      if (s.failure && !failure_) failure_ = std::exchange(s.failure, nullptr);
-    }
     pairs_.setPaddedPositions(nullptr, nullptr, nullptr, nullptr);  // they change before the next substep's
-  });
-  if (failure_) return;
-  applyCorrections();
+    if (team) balancePairShares();
+  }
+}
+
+// The team's shares of the pairs towards equal times (balanceShares), unless a test fixed them. Which thread
+// sums a point's terms does not change them (each point orders its own): the bytes do not depend on the shares.
+template <class T>
+void CpuSolver<T>::balancePairShares() {
+  constexpr double kSmoothing = 0.25;  // a substep's weight in the smoothed times
+  if (pair_shares_fixed_) return;
+  const std::size_t team = pair_scratch_.size();
+  pair_seconds_.resize(team);
+  pair_per_point_.resize(team);
+  for (std::size_t t = 0; t < team; ++t) {
+    pair_seconds_[t] = pair_scratch_[t].seconds;
+    pair_per_point_[t] = pair_scratch_[t].per_point;
+  }
+  balanceShares(pair_bounds_, pair_seconds_, pair_per_point_, kSmoothing,
+                std::max(1LL, pair_bounds_.back() / (16 * (long long)team)));
+  for (std::size_t t = 0; t < team; ++t)
+    pair_scratch_[t].per_point = pair_per_point_[t];
+}
+
+template <class T>
+void CpuSolver<T>::fixPairShares(std::vector<long long> bounds) {
+  pair_bounds_ = std::move(bounds);
+  pair_shares_fixed_ = true;
 }
 
 // The pairs in range of points [lo, hi) with a partner above them: the lists' forward pairs (their entries
@@ -134,7 +183,7 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thic
     };
     const auto both = [&](std::uint32_t i, std::uint32_t j, int order_i, int order_j, vec3 ci, vec3 cj) {
       send(own, i, j, order_i, ci);
-      send(alone ? 0 : std::size_t(pair_owner_[j]), j, i, order_j, cj);
+      send(alone ? 0 : std::size_t(pairOwner(j)), j, i, order_j, cj);
     };
     const auto pair = [&](std::uint32_t i, std::uint32_t j) {
       vec3 ci, cj;
@@ -203,15 +252,13 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thic
   }
 }
 
-// The points `thread` owns (teamChunks' deal): each one's terms, sent by every thread, summed in ascending
+// Points [lo, hi), thread `thread`'s share (pair_bounds_): each one's terms, sent by every thread, summed in ascending
 // (cell order, partner), into correction_; returns how many terms were summed.
 template <class T>
-long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
+long long CpuSolver<T>::sumPairTerms(int thread, long long lo, long long hi, T steps, PairScratch& mine) {
   long long summed = 0;
   try {
-    forEachDealtChunk(
-        0, (long long)x_.size(), pair_chunk_, thread, (long long)pair_scratch_.size(),
-        [&](long long lo, long long hi) { std::fill(correction_.begin() + lo, correction_.begin() + hi, vec3(0)); });
+    std::fill(correction_.begin() + lo, correction_.begin() + hi, vec3(0));
     // Linked by point without a branch on whether the point is new (half the terms are, unpredictably): the
     // arrays are sized for every term first, and only grown.
     mine.points = 0;
@@ -265,9 +312,13 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
 
 template void CpuSolver<float>::selfCollide();
 template void CpuSolver<double>::selfCollide();
+template void CpuSolver<float>::balancePairShares();
+template void CpuSolver<double>::balancePairShares();
+template void CpuSolver<float>::fixPairShares(std::vector<long long>);
+template void CpuSolver<double>::fixPairShares(std::vector<long long>);
 template void CpuSolver<float>::findPairHits(long long, long long, bool, float, float, PairScratch&);
 template void CpuSolver<double>::findPairHits(long long, long long, bool, double, double, PairScratch&);
-template long long CpuSolver<float>::sumPairTerms(int, float, PairScratch&);
-template long long CpuSolver<double>::sumPairTerms(int, double, PairScratch&);
+template long long CpuSolver<float>::sumPairTerms(int, long long, long long, float, PairScratch&);
+template long long CpuSolver<double>::sumPairTerms(int, long long, long long, double, PairScratch&);
 
 }  // namespace drape

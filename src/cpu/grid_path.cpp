@@ -90,10 +90,7 @@ void GridPath::stencilFlags(const int* du, const int* dv, const std::uint8_t* mi
                             std::vector<std::uint64_t>& flags) {
   const GridKernels& kern = *kernels_;
   // Each pair once, from the end whose index is lower (the stencil's second half), flagging both ends: the
-  // flags are cleared first, each thread its rows, and then only ever OR'ed.
-  teamRange(0, shape_.H, [&](long long y0, long long y1) {
-    std::fill(flags.begin() + y0 * shape_.W, flags.begin() + y1 * shape_.W, std::uint64_t(0));
-  });
+  // flags come in cleared and are only ever OR'ed.
   const int half = count / 2;
   const GridStencilArgs args{shape_,    x_.data(), y_.data(),    z_.data(),    rx_.data(), ry_.data(),   rz_.data(),
                              du + half, dv + half, mixed + half, count - half, range2,     flags.data(), half};

@@ -36,7 +36,8 @@ class GridPath {
   // Self-collision's stencil over the positions last loaded (loadPositions): flags[i] has bit stencilBit(k) set
   // where point i's partner at stencil offset k is within sqrt(range2) and not held at rest
   // (GridKernels::stencilFlags). du, dv, mixed: the whole stencil, sorted by dv * W + du (its second half mirrors
-  // its first). Called by every thread of a team, or by one thread alone.
+  // its first). flags: all zero on entry (the caller clears them where no barrier is needed: a thread sets
+  // bits in its neighbour's rows). Called by every thread of a team, or by one thread alone.
   void stencilFlags(const int* du, const int* dv, const std::uint8_t* mixed, int count, float range2,
                     std::vector<std::uint64_t>& flags);
   // `passes` Gauss-Seidel passes over the 12 colours in order; v nullptr when it is not a displacement.

@@ -12,6 +12,9 @@
 #include <omp.h>
 #endif
 
+#include <algorithm>
+#include <span>
+
 namespace drape {
 
 // OpenMP team for a loop of `items` iterations outside a team: one thread below kParallelItems, where
@@ -103,6 +106,30 @@ inline int chunkOwner(long long first, long long k, long long chunk, int threads
 inline long long dealChunk(long long items, int threads) {
   const long long chunk = items / (16LL * threads);
   return chunk > 64 ? chunk : 64;
+}
+
+// Contiguous shares of [0, n) moved towards equal times, where the work is not spread evenly (self-collision's
+// pairs crowd where a cloth folds): bounds (T + 1 of them, bounds[0] = 0, bounds[T] = n) gives thread t items
+// [bounds[t], bounds[t + 1]); it took seconds[t] for them. per_point[t], the thread's seconds an item smoothed
+// over calls (`smoothing` the weight of this one; negative for none yet), takes that in, and the shares become
+// inversely proportional to it, each at least `least` items (its rate stays measured, and a burst of noise on
+// one core cannot take all of its items).
+inline void balanceShares(std::span<long long> bounds, std::span<const double> seconds, std::span<double> per_point,
+                          double smoothing, long long least) {
+  const std::size_t team = seconds.size();
+  const long long n = bounds[team];
+  double speed_sum = 0;
+  for (std::size_t t = 0; t < team; ++t) {
+    const double mine = seconds[t] / double(std::max(bounds[t + 1] - bounds[t], 1LL));
+    per_point[t] = per_point[t] < 0 ? mine : per_point[t] + smoothing * (mine - per_point[t]);
+    speed_sum += 1 / std::max(per_point[t], 1e-12);
+  }
+  long long at = 0;
+  for (std::size_t t = 0; t + 1 < team; ++t) {
+    const auto share = (long long)(double(n) / std::max(per_point[t], 1e-12) / speed_sum);
+    at = std::clamp(at + share, at + least, n - (long long)(team - t - 1) * least);
+    bounds[t + 1] = at;
+  }
 }
 
 // body(k) for k in [first, last). In a team, this thread's share, then a barrier. Outside, split between
