@@ -81,25 +81,16 @@ void teamRange(long long first, long long last, F&& body) {
   teamBarrier();
 }
 
-// body(lo, hi) on the chunks of [first, last) that thread t of `threads` is dealt (below), with no barrier.
-template <class F>
-void forEachDealtChunk(long long first, long long last, long long chunk, long long t, long long threads, F&& body) {
-  for (long long lo = first + t * chunk; lo < last; lo += threads * chunk)
-    body(lo, lo + chunk < last ? lo + chunk : last);
-}
-
 // body(lo, hi) on this thread's chunks of [first, last), then a barrier: chunks of `chunk` items dealt in turn
 // (thread t takes chunks t, t + T, t + 2T, ...). Where an item's cost varies along the range (a cloth folded
-// at one end, its self-collision work there), dealing spreads the cost where a contiguous split would give
-// one thread most of it. Outside a team, every chunk.
+// at one end, its candidates there), dealing spreads the cost where a contiguous split would give one thread
+// most of it. Outside a team, every chunk.
 template <class F>
 void teamChunks(long long first, long long last, long long chunk, F&& body) {
-  forEachDealtChunk(first, last, chunk, teamThread(), teamSize(), body);
+  const long long threads = teamSize();
+  for (long long lo = first + teamThread() * chunk; lo < last; lo += threads * chunk)
+    body(lo, lo + chunk < last ? lo + chunk : last);
   teamBarrier();
-}
-// The thread teamChunks gives item k of [first, last) to.
-inline int chunkOwner(long long first, long long k, long long chunk, int threads) {
-  return int((k - first) / chunk % threads);
 }
 // A chunk for teamChunks: small enough that each of `threads` gets many, large enough to keep a thread's
 // items together.
