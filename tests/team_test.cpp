@@ -8,6 +8,7 @@
 #include "test_paths.hpp"
 
 #include <gtest/gtest.h>
+#include <sched.h>
 
 #include <cmath>
 
@@ -155,6 +156,23 @@ TEST(TeamBytesLarge, ATeamSharesTheListCheckOfALargeCloth) {
   EXPECT_LT(one.collisionPairs().rebuilds(), 150) << "and valid at least once";
   EXPECT_TRUE(sameBytes(one.positions(), team.positions()));
   EXPECT_TRUE(sameBytes(one.displacements(), team.displacements()));
+}
+
+// spreadTeam moves each thread once and gives it back its whole mask (the same code on every thread of the team):
+// the scheduler may still place it anywhere the process may run.
+TEST(SpreadTeam, MovesEachThreadOnceAndKeepsTheMask) {
+  cpu_set_t before, after;
+  CPU_ZERO(&before);
+  ASSERT_EQ(sched_getaffinity(0, sizeof before, &before), 0);
+  const int processors = CPU_COUNT(&before);
+  EXPECT_FALSE(spreadTeam(1)) << "one thread: nothing to spread";
+  EXPECT_FALSE(spreadTeam(processors + 1)) << "more threads than processors";
+  if (processors >= 2) {
+    EXPECT_TRUE(spreadTeam(2));
+  }
+  CPU_ZERO(&after);
+  ASSERT_EQ(sched_getaffinity(0, sizeof after, &after), 0);
+  EXPECT_TRUE(CPU_EQUAL(&before, &after)) << "the calling thread keeps every processor it had";
 }
 
 // What a trial sees when one way takes `solo` seconds a substep and the other `team`: it runs n substeps

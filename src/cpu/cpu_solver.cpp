@@ -62,6 +62,7 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
   team_ =
       threads_ > 1 && (long long)n >= std::min(options.team_min_points, options.team_trial_min_points) ? threads_ : 1;
   if (team_ > 1 && (long long)n < options.team_min_points) trial_.emplace(machineRoom(team_));
+  if (team_ > 1) spreadTeam(team_);
   if constexpr (std::is_same_v<T, float>)
     if (options.grid_path) {
       kernels_ = &drape::gridKernels(options.grid_isa);

@@ -2,12 +2,16 @@
 #include "cpu/team_trial.hpp"
 
 #include <omp.h>
+#include <sched.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace drape {
 
@@ -46,6 +50,34 @@ bool roomForTeam(int team, ProcessorTicks& last) {
 }
 
 }  // namespace
+
+bool spreadTeam(int team) {
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  if (team < 2 || sched_getaffinity(0, sizeof allowed, &allowed) != 0) return false;
+  std::vector<int> processors;
+  for (int c = 0; c < CPU_SETSIZE; ++c)
+    if (CPU_ISSET(c, &allowed)) processors.push_back(c);
+  if ((int)processors.size() < team) return false;
+  std::atomic<int> moved{0}, done{0};
+#pragma omp parallel num_threads(team)
+  {
+    const int t = omp_get_thread_num();
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(processors[std::size_t(t)], &one);
+    // Setting the mask moves the thread at once; the whole mask back leaves it there until the scheduler
+    // has a reason to move it.
+    if (sched_setaffinity(0, sizeof one, &one) == 0) moved.fetch_add(1);
+    sched_setaffinity(0, sizeof allowed, &allowed);
+    done.fetch_add(1);
+    // Yield rather than spin until the others have been here: one of them may be queued behind this thread.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(50);
+    while (done.load() < omp_get_num_threads() && std::chrono::steady_clock::now() < deadline)
+      sched_yield();
+  }
+  return moved.load() == team;
+}
 
 std::function<bool()> machineRoom(int team) {
   return [team, last = readProcessorTicks().value_or(ProcessorTicks{})]() mutable { return roomForTeam(team, last); };
