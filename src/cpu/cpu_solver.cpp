@@ -1,4 +1,5 @@
 #include "cpu/cpu_solver.hpp"
+#include "cpu/cpu_solver_sweep.hpp"
 #include "cpu/mesh_physics.hpp"
 #include "cpu/parallel.hpp"
 
@@ -225,6 +226,22 @@ void CpuSolver<T>::step() {
 }
 
 template <class T>
+void CpuSolver<T>::pointShare(int t, int team, long long& lo, long long& hi) const {
+  if (grid_) {
+    const long long rows = topo_.H, w = topo_.W;
+    lo = rows * t / team * w;
+    hi = rows * (t + 1) / team * w;
+    return;
+  }
+  const auto n = (long long)x_.size();
+  lo = n * t / team;
+  hi = n * (t + 1) / team;
+}
+
+// In a team a pass ends with a barrier, except where the next pass reads only the points its own thread wrote
+// in it (the same rows or points, pointShare): integrate after the grid forces (accumulateForces), collide_last
+// after the grid stretch limit copies its rows back, and the last pass, which the region's end waits for.
+template <class T>
 void CpuSolver<T>::runPasses() {
   timed(kForces, [&] { accumulateForces(); });
   timed(kIntegrate, [&] { integrate(); });
@@ -233,9 +250,9 @@ void CpuSolver<T>::runPasses() {
   if (needsPass(kSelfCollide)) timed(kSelfCollide, [&] { selfCollide(); });
   if (needsPass(kCollide)) timed(kCollide, [&] { collide(); });
   if (needsPass(kTether)) timed(kTether, [&] { tether(); });
-  if (needsPass(kLimitStretch)) timed(kLimitStretch, [&] { limitStretch(); });
+  if (needsPass(kLimitStretch)) timed(kLimitStretch, [&] { limitStretch(!needsPass(kCollideFaces)); });
   if (needsPass(kCollideFaces)) timed(kCollideFaces, [&] { collideFaces(); });
-  if (needsPass(kCollideLast)) timed(kCollideLast, [&] { collide(); });
+  if (needsPass(kCollideLast)) timed(kCollideLast, [&] { collide(false); });
 }
 
 template <class T>
@@ -255,7 +272,7 @@ void CpuSolver<T>::accumulateForces() {
   const vec3 gravity = vec3(scene_.sim.gravity);
   if constexpr (std::is_same_v<T, float>)
     if (grid_ && springs && !wind.enabled) {
-      grid_->forces(x_, f_, gravity, stiffness_.k, enabled);
+      grid_->forces(x_, f_, gravity, stiffness_.k, enabled, false);  // integrate reads its own rows' forces
       return;
     }
   const T time = T(double(substeps_) * scene_.sim.dt());
@@ -293,15 +310,16 @@ template <class T>
 void CpuSolver<T>::integrate() {
   const T dt2 = dt_ * dt_;
   const long long n = (long long)x_.size();
+  // By pointShare in a team: the grid forces end without a barrier (runPasses)
   if constexpr (std::is_same_v<T, float>)
     if (kernels_ && form_ == VerletForm::Displacement) {
-      teamRange(0, n, [&](long long lo, long long hi) {
+      forPoints([&](long long lo, long long hi) {
         kernels_->integrate(&x_.data()->x, &v_.data()->x, &f_.data()->x, inv_mass3_.data(), pinned3_.data(), dt2, keep_,
                             3 * lo, 3 * hi);
       });
       return;
     }
-  parallelFor(0, n, threads_, [&](long long p) {
+  const auto point = [&](long long p) {
     const std::size_t i = std::size_t(p);
     if (topo_.pinned[i]) {
       if (form_ == VerletForm::Displacement)
@@ -318,7 +336,14 @@ void CpuSolver<T>::integrate() {
       v_[i] = x_[i];
       x_[i] = next;
     }
-  });
+  };
+  if (inTeam())
+    forPoints([&](long long lo, long long hi) {
+      for (long long p = lo; p < hi; ++p)
+        point(p);
+    });
+  else
+    parallelFor(0, n, threads_, point);
 }
 
 // Each free point, slot after slot, back within the stretch limit of its anchors. The anchors are pinned
@@ -358,13 +383,12 @@ void CpuSolver<T>::addCorrections(long long lo, long long hi) {
   }
 }
 
-// In a team each thread adds its own points, the share every other pass gives it, so that no cache line of x_
-// moves between cores here.
+// In a team each thread adds its own points (pointShare), so that no cache line of x_ moves between cores here.
 template <class T>
 void CpuSolver<T>::applyCorrections() {
   const long long n = (long long)x_.size();
   if (inTeam()) {
-    teamRange(0, n, [&](long long lo, long long hi) { addCorrections(lo, hi); });
+    forPoints([&](long long lo, long long hi) { addCorrections(lo, hi); });
     return;
   }
   constexpr long long kBlock = 1024;

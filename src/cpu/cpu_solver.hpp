@@ -82,10 +82,10 @@ class CpuSolver final : public Solver {
   void solveXpbd();         // XPBD: sim.iterations Gauss-Seidel sweeps of the springs as distance constraints
   void solveVbd();          // VBD: sim.iterations Gauss-Seidel sweeps of per-point Newton steps, colour by colour
   void selfCollide();       // candidate lists, Jacobi, averaged, / steps_per_frame
-  void collide();           // each sphere, then each plane, then each mesh's field
-  void tether();            // long-range attachments to the pins (core/tethers.hpp), when the scene asks
-  void limitStretch();      // Provot, sim.stretch_passes passes (Gauss-Seidel over colours, or Jacobi)
-  void collideFaces();      // the cloth's edges and triangles off the meshes' sharp edges and corners, Jacobi
+  void collide(bool wait = true);       // each sphere, then each plane, then each mesh's field; wait: see runPasses
+  void tether();                        // long-range attachments to the pins (core/tethers.hpp), when the scene asks
+  void limitStretch(bool wait = true);  // Provot, sim.stretch_passes passes (Gauss-Seidel over colours, or Jacobi)
+  void collideFaces();  // the cloth's edges and triangles off the meshes' sharp edges and corners, Jacobi
   // collide() again, last: whatever moved the points after the collisions, none ends inside a collider.
 
   void reset() override;
@@ -133,7 +133,7 @@ class CpuSolver final : public Solver {
   void refreshDerived();
   void applyCorrections();                          // x += c, and v += c so that x_prev stays put
   void addCorrections(long long lo, long long hi);  // applyCorrections on points [lo, hi)
-  void limitStretchColoured();
+  void limitStretchColoured(bool wait);
   void limitStretchJacobi();
   void buildFaceContacts();  // the meshes' features, their grids and the cloth's face adjacency
   // One Gauss-Seidel sweep over the enabled springs, colour after colour, each colour one parallel loop:
@@ -142,6 +142,14 @@ class CpuSolver final : public Solver {
   void sweepColours(F&& f);
   vec3 pointNormal(int i) const;
   void collidePoint(std::size_t i);  // collide()'s work on one point
+  // Points [lo, hi) of thread t of a team of `team`: on a grid cloth whole rows, those GridPath's passes give it;
+  // elsewhere teamShare's. Every point pass of a substep splits by it (forPoints), so a pass that reads only the
+  // points its own thread wrote in the pass before needs no barrier between them (runPasses).
+  void pointShare(int t, int team, long long& lo, long long& hi) const;
+  // body(lo, hi) on this thread's points in a team (pointShare), then a barrier unless !wait; outside a team, all
+  // of them at once.
+  template <class F>
+  void forPoints(F&& body, bool wait = true);
   // selfCollide()'s sum, a pair at a time (cpu_solver_self_collision.cpp)
   struct PairScratch;
   void findPairHits(long long lo, long long hi, bool stencil, T thickness, T inv_range, PairScratch& mine);

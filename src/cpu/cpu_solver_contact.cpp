@@ -2,6 +2,7 @@
 // cloth's faces against the mesh obstacles' sharp features (collideFaces); kept apart from cpu_solver.cpp for
 // its size. The data and the order of the work: docs/contact.md.
 #include "cpu/cpu_solver.hpp"
+#include "cpu/cpu_solver_sweep.hpp"
 #include "cpu/mesh_physics.hpp"
 #include "cpu/parallel.hpp"
 
@@ -37,7 +38,7 @@ void CpuSolver<T>::collidePoint(std::size_t i) {
 }
 
 template <class T>
-void CpuSolver<T>::collide() {
+void CpuSolver<T>::collide(bool wait) {
   const long long n = (long long)x_.size();
   // Spheres and planes lane by lane, several points at once; meshes (the baked field) point by point.
   if constexpr (std::is_same_v<T, float>)
@@ -52,13 +53,23 @@ void CpuSolver<T>::collide() {
                              int(scene_.planes.size()),
                              float(physics::kPlaneEpsilon),
                              float(physics::kSurfaceOffset)};
-      teamRange(0, n, [&](long long lo, long long hi) {
-        for (long long k = kernels_->collideObjects(args, lo, hi); k < hi; ++k)
-          collidePoint(std::size_t(k));
-      });
+      forPoints(
+          [&](long long lo, long long hi) {
+            for (long long k = kernels_->collideObjects(args, lo, hi); k < hi; ++k)
+              collidePoint(std::size_t(k));
+          },
+          wait);
       return;
     }
-  parallelFor(0, n, threads_, [&](long long k) { collidePoint(std::size_t(k)); });
+  if (inTeam())
+    forPoints(
+        [&](long long lo, long long hi) {
+          for (long long k = lo; k < hi; ++k)
+            collidePoint(std::size_t(k));
+        },
+        wait);
+  else
+    parallelFor(0, n, threads_, [&](long long k) { collidePoint(std::size_t(k)); });
 }
 
 template <class T>
@@ -165,8 +176,8 @@ void CpuSolver<T>::collideFaces() {
 // The members defined here; cpu_solver.cpp instantiates the rest of the class.
 template void CpuSolver<float>::buildFaceContacts();
 template void CpuSolver<float>::collideFaces();
-template void CpuSolver<float>::collide();
-template void CpuSolver<double>::collide();
+template void CpuSolver<float>::collide(bool);
+template void CpuSolver<double>::collide(bool);
 template void CpuSolver<float>::collidePoint(std::size_t);
 template void CpuSolver<double>::collidePoint(std::size_t);
 template void CpuSolver<double>::buildFaceContacts();

@@ -53,13 +53,13 @@ void CpuSolver<T>::selfCollide() {
         // A failed substep's, rethrown by step(); it may have left the stencil's flags set (see below)
         if (std::exchange(scratch.failure, nullptr)) std::fill(near_.begin(), near_.end(), StencilMask(0));
       }
-      // Each thread's share of the pairs: teamShare's at first (every other pass's)
+      // Each thread's share of the pairs: every other pass's at first (pointShare)
       const long long n = (long long)x_.size();
       if (pair_bounds_.size() != std::size_t(team) + 1 || pair_bounds_.back() != n) {
         pair_shares_fixed_ = false;
         pair_bounds_.resize(std::size_t(team) + 1);
-        for (int t = 0; t <= team; ++t)
-          pair_bounds_[std::size_t(t)] = n * t / team;
+        for (int t = 0; t < team; ++t)
+          pointShare(t, team, pair_bounds_[std::size_t(t)], pair_bounds_[std::size_t(t) + 1]);
         for (PairScratch& scratch : pair_scratch_)
           scratch.per_point = -1;
       }

@@ -9,9 +9,9 @@
 namespace drape {
 
 template <class T>
-void CpuSolver<T>::limitStretch() {
+void CpuSolver<T>::limitStretch(bool wait) {
   if (scene_.sim.stretch_scheme == StretchScheme::GaussSeidel)
-    limitStretchColoured();
+    limitStretchColoured(wait);
   else
     limitStretchJacobi();
 }
@@ -21,14 +21,14 @@ void CpuSolver<T>::limitStretch() {
 // depend on the thread count. Holds the limit as tightly as CS184's sequential pass (the averaged
 // Jacobi pass lets pinned2 reach 17% strain where this holds about 12.5%).
 template <class T>
-void CpuSolver<T>::limitStretchColoured() {
+void CpuSolver<T>::limitStretchColoured(bool wait) {
   const T limit = T(scene_.sim.stretch_limit);
   const bool displacement = form_ == VerletForm::Displacement;
   if constexpr (std::is_same_v<T, float>)
     if (grid_) {
       const ClothSpec& c = scene_.cloth;
       const bool enabled[kSpringTypeCount] = {c.enable_structural, c.enable_shearing, c.enable_bending};
-      grid_->limitStretch(x_, displacement ? &v_ : nullptr, limit, scene_.sim.stretch_passes, enabled);
+      grid_->limitStretch(x_, displacement ? &v_ : nullptr, limit, scene_.sim.stretch_passes, enabled, wait);
       return;
     }
   for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass)
@@ -83,10 +83,10 @@ void CpuSolver<T>::limitStretchJacobi() {
 }
 
 // The members defined here; cpu_solver.cpp instantiates the rest of the class.
-template void CpuSolver<float>::limitStretch();
-template void CpuSolver<double>::limitStretch();
-template void CpuSolver<float>::limitStretchColoured();
-template void CpuSolver<double>::limitStretchColoured();
+template void CpuSolver<float>::limitStretch(bool);
+template void CpuSolver<double>::limitStretch(bool);
+template void CpuSolver<float>::limitStretchColoured(bool);
+template void CpuSolver<double>::limitStretchColoured(bool);
 template void CpuSolver<float>::limitStretchJacobi();
 template void CpuSolver<double>::limitStretchJacobi();
 

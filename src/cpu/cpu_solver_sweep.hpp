@@ -1,11 +1,25 @@
-// CpuSolver::sweepColours, which the stretch limit (cpu_solver_stretch.cpp) and XPBD (cpu_implicit.cpp) share. Only
-// the solver's own translation units include it (and parallel.hpp with it): they are compiled with OpenMP.
+// CpuSolver::sweepColours, which the stretch limit (cpu_solver_stretch.cpp) and XPBD (cpu_implicit.cpp) share, and
+// forPoints, which the point passes share. Only the solver's own translation units include it (and parallel.hpp
+// with it): they are compiled with OpenMP.
 #pragma once
 
 #include "cpu/cpu_solver.hpp"
 #include "cpu/parallel.hpp"
 
 namespace drape {
+
+template <class T>
+template <class F>
+void CpuSolver<T>::forPoints(F&& body, bool wait) {
+  if (!inTeam()) {
+    body(0LL, (long long)x_.size());
+    return;
+  }
+  long long lo, hi;
+  pointShare(teamThread(), teamSize(), lo, hi);
+  if (lo < hi) body(lo, hi);
+  if (wait) teamBarrier();
+}
 
 template <class T>
 template <class F>

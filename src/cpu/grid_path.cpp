@@ -62,7 +62,7 @@ GridSprings GridPath::springs(const float k[3], const bool enabled[3]) const {
 }
 
 void GridPath::forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f, glm::vec3 gravity, const float k[3],
-                      const bool enabled[3]) {
+                      const bool enabled[3], bool wait) {
   const GridKernels& kern = *kernels_;
   // Every row's neighbours must be in the arrays before any row's forces: a barrier between.
   teamRange(0, shape_.H, [&](long long y0, long long y1) {
@@ -76,7 +76,8 @@ void GridPath::forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f
                      {gravity.x, gravity.y, gravity.z},
                      springs(k, enabled),
                      &f.data()->x};
-  teamRange(0, shape_.H, [&](long long y0, long long y1) { kern.forces(args, int(y0), int(y1)); });
+  teamPart(0, shape_.H, [&](long long y0, long long y1) { kern.forces(args, int(y0), int(y1)); });
+  if (wait) teamBarrier();
 }
 
 void GridPath::loadPositions(const std::vector<glm::vec3>& x) {
@@ -98,12 +99,12 @@ void GridPath::stencilFlags(const int* du, const int* dv, const std::uint8_t* mi
 }
 
 void GridPath::limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,
-                            const bool enabled[3]) {
+                            const bool enabled[3], bool wait) {
   const float unit[3] = {1, 1, 1};
   GridStretchArgs args = colourArgs(v != nullptr, springs(unit, enabled));
   args.limit = limit;
   args.signed_rows = signed_rows_.data();  // made by copyIn, before the colours read it
-  sweepColours(x, v, args, passes, kernels_->stretchColour);
+  sweepColours(x, v, args, passes, kernels_->stretchColour, wait);
 }
 
 void GridPath::xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float alpha_tilde[3],
@@ -181,12 +182,13 @@ void GridPath::copyIn(const std::vector<glm::vec3>& x, const std::vector<glm::ve
   });
 }
 
-void GridPath::copyOut(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v) {
+void GridPath::copyOut(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, bool wait) {
   const GridKernels& kern = *kernels_;
-  teamRange(0, shape_.H, [&](long long y0, long long y1) {
+  teamPart(0, shape_.H, [&](long long y0, long long y1) {
     kern.fromSoa(shape_, x_.data(), y_.data(), z_.data(), &x.data()->x, int(y0), int(y1));
     if (v) kern.fromSoa(shape_, vx_.data(), vy_.data(), vz_.data(), &v->data()->x, int(y0), int(y1));
   });
+  if (wait) teamBarrier();
 }
 
 GridStretchArgs GridPath::colourArgs(bool displacements, const GridSprings& s) {
@@ -202,7 +204,7 @@ GridStretchArgs GridPath::colourArgs(bool displacements, const GridSprings& s) {
 }
 
 void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const GridStretchArgs& args,
-                            int passes, ColourKernel colour) {
+                            int passes, ColourKernel colour, bool wait) {
   copyIn(x, v);
   // The colours in order (colourGridSprings: 2 * direction + parity); a colour's springs share no point and
   // every spring starts in the row its thread owns, so a colour is split by rows with a barrier after it.
@@ -212,7 +214,7 @@ void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v
       for (int parity = 0; parity < 2; ++parity)
         teamRange(0, shape_.H, [&](long long y0, long long y1) { colour(args, d, parity, int(y0), int(y1)); });
     }
-  copyOut(x, v);
+  copyOut(x, v, wait);
 }
 
 }  // namespace drape

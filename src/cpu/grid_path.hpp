@@ -24,8 +24,9 @@ class GridPath {
 
   // Called by every thread of a team (or by one thread alone): each splits the rows and ends with a barrier.
   // enabled[t] and k[t] per spring type.
+  // wait: false where the next pass reads only the forces of its own thread's rows (no barrier after them).
   void forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f, glm::vec3 gravity, const float k[3],
-              const bool enabled[3]);
+              const bool enabled[3], bool wait = true);
   // The positions x into the padded arrays, where self-collision's check and stencil read them (positions()).
   // Called by every thread of a team, or by one thread alone.
   void loadPositions(const std::vector<glm::vec3>& x);
@@ -40,9 +41,10 @@ class GridPath {
   // bits in its neighbour's rows). Called by every thread of a team, or by one thread alone.
   void stencilFlags(const int* du, const int* dv, const std::uint8_t* mixed, int count, float range2,
                     std::vector<std::uint64_t>& flags);
-  // `passes` Gauss-Seidel passes over the 12 colours in order; v nullptr when it is not a displacement.
+  // `passes` Gauss-Seidel passes over the 12 colours in order; v nullptr when it is not a displacement. wait:
+  // false where the next pass reads only its own thread's rows of x and v (no barrier after they are copied out).
   void limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,
-                    const bool enabled[3]);
+                    const bool enabled[3], bool wait = true);
   // XPBD's `sweeps` sweeps over the colours in order, with the compliances over dt^2 per spring type; the
   // multipliers start at 0 (one sweep never reads them).
   void xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float alpha_tilde[3], const bool enabled[3],
@@ -62,10 +64,10 @@ class GridPath {
   GridStretchArgs colourArgs(bool displacements, const GridSprings& springs);
   // x (and v, where not nullptr) into the padded arrays and back; every thread of a team calls them.
   void copyIn(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>* v);
-  void copyOut(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v);
+  void copyOut(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, bool wait = true);
   // x (and v) into the padded arrays, `passes` sweeps of `colour` over the colours in order, and back.
   void sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const GridStretchArgs& args, int passes,
-                    ColourKernel colour);
+                    ColourKernel colour, bool wait = true);
 
   GridShape shape_;
   const GridKernels* kernels_;

@@ -72,12 +72,19 @@ inline void teamBarrier() {
 #endif
 }
 
-// body(lo, hi) on this thread's share of [first, last), then a barrier: inside a team each thread calls it.
+// body(lo, hi) on this thread's share of [first, last), with no barrier: for a loop whose next reader reads only
+// what its own thread wrote here.
 template <class F>
-void teamRange(long long first, long long last, F&& body) {
+void teamPart(long long first, long long last, F&& body) {
   long long lo, hi;
   teamShare(first, last, lo, hi);
   if (lo < hi) body(lo, hi);
+}
+
+// body(lo, hi) on this thread's share of [first, last), then a barrier: inside a team each thread calls it.
+template <class F>
+void teamRange(long long first, long long last, F&& body) {
+  teamPart(first, last, body);
   teamBarrier();
 }
 
