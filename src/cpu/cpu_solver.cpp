@@ -239,8 +239,16 @@ void CpuSolver<T>::pointShare(int t, int team, long long& lo, long long& hi) con
 }
 
 // In a team a pass ends with a barrier, except where the next pass reads only the points its own thread wrote
-// in it (the same rows or points, pointShare): integrate after the grid forces (accumulateForces), collide_last
-// after the grid stretch limit copies its rows back, and the last pass, which the region's end waits for.
+// in it (the same rows or points, pointShare): integrate after the grid forces (accumulateForces), the grid
+// stretch limit's copy in after collide, collide_last after the stretch limit's copy back, and the last pass,
+// which the region's end waits for.
+// Whether the pass after collide is the grid stretch limit, which starts by copying its own rows in (copyIn).
+template <class T>
+bool CpuSolver<T>::stretchNextOnOwnRows() const {
+  return grid_ && scene_.sim.stretch_scheme == StretchScheme::GaussSeidel && !needsPass(kTether) &&
+         needsPass(kLimitStretch);
+}
+
 template <class T>
 void CpuSolver<T>::runPasses() {
   timed(kForces, [&] { accumulateForces(); });
@@ -248,7 +256,7 @@ void CpuSolver<T>::runPasses() {
   if (needsPass(kXpbd)) timed(kXpbd, [&] { solveXpbd(); });
   if (needsPass(kVbd)) timed(kVbd, [&] { solveVbd(); });
   if (needsPass(kSelfCollide)) timed(kSelfCollide, [&] { selfCollide(); });
-  if (needsPass(kCollide)) timed(kCollide, [&] { collide(); });
+  if (needsPass(kCollide)) timed(kCollide, [&] { collide(!stretchNextOnOwnRows()); });
   if (needsPass(kTether)) timed(kTether, [&] { tether(); });
   if (needsPass(kLimitStretch)) timed(kLimitStretch, [&] { limitStretch(!needsPass(kCollideFaces)); });
   if (needsPass(kCollideFaces)) timed(kCollideFaces, [&] { collideFaces(); });

@@ -146,6 +146,7 @@ class CpuSolver final : public Solver {
   // elsewhere teamShare's. Every point pass of a substep splits by it (forPoints), so a pass that reads only the
   // points its own thread wrote in the pass before needs no barrier between them (runPasses).
   void pointShare(int t, int team, long long& lo, long long& hi) const;
+  bool stretchNextOnOwnRows() const;
   // body(lo, hi) on this thread's points in a team (pointShare), then a barrier unless !wait; outside a team, all
   // of them at once.
   template <class F>
