@@ -414,5 +414,26 @@ TEST(HeldPairs, TheFactoryCollidesThemWhenAsked) {
   EXPECT_THROW(factory.make(s, "gpu", {.collide_held_pairs = true}), CommandError);
 }
 
+// `drape simulate --team always` (the figures of a forced team in docs/results/cpu_speed.md): every substep of a
+// cloth far below the team's size on a team, the bytes of one thread; refused for the GPU.
+TEST(TeamAlways, TheFactoryPutsEverySubstepOnTheTeam) {
+  const Scene s = cs184File("pinned2.json");
+  SolverFactory factory;
+  const std::unique_ptr<Solver> one = factory.make(s, "cpu", {.threads = 1});
+  const std::unique_ptr<Solver> team = factory.make(s, "cpu", {.threads = 2, .team_always = true});
+  const std::unique_ptr<Solver> trial = factory.make(s, "cpu", {.threads = 2});
+  for (int f = 0; f < 2; ++f) {
+    one->stepFrame();
+    team->stepFrame();
+    trial->stepFrame();
+  }
+  const auto& cpu = dynamic_cast<const CpuSolver<float>&>(*team);
+  EXPECT_EQ(cpu.teamSubsteps(), cpu.substeps());
+  EXPECT_EQ(cpu.teamTrial(), nullptr) << "no trial decides";
+  EXPECT_NE(dynamic_cast<const CpuSolver<float>&>(*trial).teamTrial(), nullptr) << "without it, a trial decides";
+  EXPECT_EQ(one->readPositions(), team->readPositions());
+  EXPECT_THROW(factory.make(s, "gpu", {.team_always = true}), CommandError);
+}
+
 }  // namespace
 }  // namespace drape

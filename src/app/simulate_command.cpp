@@ -32,6 +32,7 @@ struct SimulateOptions {
   bool verbose = false;
   bool auto_substeps = false;
   int threads = 0;
+  std::string team = "auto";
   std::string export_path;
   std::string export_format;
   int every = 1;
@@ -99,7 +100,9 @@ void runSimulate(const SimulateOptions& o) {
   applyIntegrator(loaded, o.integrator);
   const Scene scene = guardStability(std::move(loaded), o.auto_substeps);
   SolverFactory factory({.verbose = o.verbose});  // before the solver: it owns the solver's GL context
-  auto solver = factory.make(scene, o.solver, {.threads = o.threads, .collide_held_pairs = o.collide_held_pairs});
+  auto solver = factory.make(
+      scene, o.solver,
+      {.threads = o.threads, .collide_held_pairs = o.collide_held_pairs, .team_always = o.team == "always"});
   if (!o.collide_held_pairs) warnAboutHeldPairs(scene, solver->topology());
   std::optional<ClothExport> exporter;
   if (!o.export_path.empty()) exporter.emplace(export_target, scene, solver->topology(), o.frames / o.every * o.every);
@@ -159,6 +162,11 @@ void addSimulateCommand(CLI::App& app) {
   cmd->add_option("--threads", opts->threads,
                   "CPU solvers' threads (0: every core); every count computes the same bytes")
       ->check(CLI::Range(0, 1024));
+  cmd->add_option("--team", opts->team,
+                  "CPU solvers with several threads: auto (the solver times a team against one thread as it runs, "
+                  "below 32768 points) or always (every substep on the team, to measure it)")
+      ->check(CLI::IsMember({"auto", "always"}))
+      ->capture_default_str();
   cmd->add_option("--export", opts->export_path,
                   "Write the cloth per exported frame: PATH_NNNN.obj or .ply, or one PATH.usda; a folder (DIR/) gets "
                   "cloth_NNNN.obj inside; missing folders are made");

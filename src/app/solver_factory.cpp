@@ -43,16 +43,19 @@ SolverFactory::~SolverFactory() = default;
 
 std::unique_ptr<Solver> SolverFactory::make(const Scene& scene, const std::string& name, SolverRequest request) {
   const MemoryStage stage(fmt::format("building the {} solver for {} points", name, scene.cloth.pointCount()));
-  const CpuSolverOptions cpu{.threads = request.threads, .skip_held_pairs = !request.collide_held_pairs};
+  CpuSolverOptions cpu{.threads = request.threads, .skip_held_pairs = !request.collide_held_pairs};
+  if (request.team_always) cpu.team_min_points = 0;
   if (name == "cpu") return std::make_unique<CpuSolver<float>>(scene, cpu);
   if (name == "cpu64") return std::make_unique<CpuSolver<double>>(scene, cpu);
   if (name == "cpu-xprev")
     return std::make_unique<CpuSolver<float>>(scene, CpuSolverOptions{.form = VerletForm::PreviousPosition,
                                                                       .threads = request.threads,
-                                                                      .skip_held_pairs = !request.collide_held_pairs});
+                                                                      .skip_held_pairs = !request.collide_held_pairs,
+                                                                      .team_min_points = cpu.team_min_points});
   if (isGpuSolver(name)) {
     if (request.collide_held_pairs)
       throw CommandError(kExitBadInput, "--collide-held-pairs: the CPU solvers only (cpu, cpu64)");
+    if (request.team_always) throw CommandError(kExitBadInput, "--team always: the CPU solvers only (cpu, cpu64)");
     return makeGpu(scene, name, request);
   }
   throw CommandError(kExitBadInput,

@@ -63,6 +63,9 @@ struct SolverRequest {
   // CPU solvers: self-collision also between the pairs the springs hold (closer than 2 x thickness at rest),
   // as CS184 does, to measure what skipping them changes (CpuSolverOptions::skip_held_pairs false).
   bool collide_held_pairs = false;
+  // CPU solvers: every substep on a team of `threads`, whatever the cloth's size and the team trial would say
+  // (CpuSolverOptions::team_min_points 0), to measure the team against one thread.
+  bool team_always = false;
 };
 
 // Makes solvers by name. It must outlive the solvers it made: it owns their GL context.
