@@ -182,6 +182,24 @@ TEST(Bench, ACpuRunSaysHowManySubstepsRanOnATeam) {
   EXPECT_EQ(report.runs[0].team_share, 0.0) << "one thread has no team";
 }
 
+// `drape bench --team always`: a cloth of a trial's size runs every timed substep on the team, none decided.
+TEST(Bench, TeamAlwaysRunsEverySubstepOnTheTeam) {
+  BenchOptions o;
+  o.scenes = {scenePath("pinned4.json")};
+  o.sizes = {40};
+  o.solvers = {"cpu"};
+  o.threads = {2};
+  o.team_always = true;
+  o.frames = 2;
+  o.warmup = 1;
+  o.repeats = 1;
+  const BenchReport report = runBench(o);
+  ASSERT_EQ(report.runs.size(), 1u);
+  EXPECT_EQ(report.runs[0].team_share, 1.0);
+  EXPECT_EQ(report.runs[0].team_threads, 2);
+  EXPECT_TRUE(benchJson(report)["runs"][0]["cpu"]["team_over_solo"].is_null()) << "no trial";
+}
+
 // --auto-substeps: a resampled cloth beyond the stability bound (pinned2 at 256², 1.62 against 1.41 at 30
 // substeps) runs at the fewest substeps inside it, and not blowing up is the point; one inside keeps its 30.
 TEST(Bench, AutoSubstepsBringsAFineClothInsideTheBound) {

@@ -19,6 +19,7 @@ struct BenchOptions {
   std::vector<int> sizes = {32, 64, 128, 256};
   std::vector<std::string> solvers = {"cpu", "gpu"};
   std::vector<int> threads = {0};  // CPU solvers' thread counts, each a run of its own (0 = every core)
+  bool team_always = false;        // CPU solvers: every substep on the team (SolverRequest::team_always)
   int frames = 5;                  // timed frames per repeat, at most
   int warmup = 2;                  // frames run first and not timed (GPU: programs, caches, first dispatches)
   int repeats = 3;                 // timed repeats; median and spread are over these

@@ -27,6 +27,7 @@ struct BenchCommandOptions {
   std::vector<int> sizes = {32, 64, 128, 256};
   std::vector<std::string> solvers = {"cpu", "gpu"};
   std::vector<int> threads = {0};
+  std::string team = "auto";
   int frames = 5;
   int warmup = 2;
   int repeats = 3;
@@ -84,6 +85,7 @@ void runBenchCommand(const BenchCommandOptions& c) {
   o.sizes = c.sizes;
   o.solvers = c.solvers;
   o.threads = c.threads;
+  o.team_always = c.team == "always";
   o.frames = c.frames;
   o.warmup = c.warmup;
   o.repeats = c.repeats;
@@ -126,6 +128,11 @@ void addBenchCommand(CLI::App& app) {
   addListOption(cmd, "--threads", c->threads,
                 "Comma-separated thread counts for the CPU solvers, a run each (0 = every core)")
       ->check(integerIn(0, 1024));
+  cmd->add_option("--team", c->team,
+                  "CPU solvers with several threads: auto (below 32768 points the solver times a team against one "
+                  "thread as it runs) or always (every substep on the team)")
+      ->check(CLI::IsMember({"auto", "always"}))
+      ->capture_default_str();
   cmd->add_option("--frames", c->frames, "Timed frames per repeat, at most")->check(kPositive)->capture_default_str();
   cmd->add_option("--warmup", c->warmup, "Untimed frames before timing")->check(kNonNegative)->capture_default_str();
   cmd->add_option("--repeats", c->repeats, "Timed repeats (median and spread over these)")
