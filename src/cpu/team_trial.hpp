@@ -42,8 +42,8 @@ std::function<bool()> machineRoom(int team);
 // Moves each thread of an OpenMP team of `team` to a processor of its own once, then lets the scheduler place it
 // again (cpu/team_trial.cpp). A new thread starts on the core of the thread that made it, and while that one
 // spins at the region's barrier the scheduler moves the newcomer only at its next balance: the first team substep
-// of pinned2 took 4-20 ms in 14 of 20 runs (30-200 us otherwise). Returns whether every thread moved (false
-// where there are fewer processors than threads, or affinity cannot be set).
+// of pinned2 took 3.3-20 ms in 13 of 20 runs (160-360 us otherwise; 69-97 us in 20 of 20 after the spread). Returns
+// whether every thread moved (false where there are fewer processors than threads, or affinity cannot be set).
 bool spreadTeam(int team);
 
 class TeamTrial {
