@@ -63,7 +63,6 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
   team_ =
       threads_ > 1 && (long long)n >= std::min(options.team_min_points, options.team_trial_min_points) ? threads_ : 1;
   if (team_ > 1 && (long long)n < options.team_min_points) trial_.emplace(machineRoom(team_));
-  if (team_ > 1) spreadTeam(team_);
   if constexpr (std::is_same_v<T, float>)
     if (options.grid_path) {
       kernels_ = &drape::gridKernels(options.grid_isa);
@@ -213,6 +212,9 @@ void CpuSolver<T>::step() {
   failure_ = nullptr;
   const bool team = team_ > 1 && (!trial_ || trial_->useTeam());
   const auto start = std::chrono::steady_clock::now();
+  // The team's first substep moves its threads to processors of their own (spreadTeam): not before, as a
+  // thread left idle in between sleeps, and waking its processor again costs as much as the move.
+  if (team && !team_spread_) team_spread_ = spreadTeam(team_) || true;
   if (team) {
 #pragma omp parallel num_threads(team_)
     runPasses();

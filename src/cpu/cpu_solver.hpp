@@ -166,6 +166,7 @@ class CpuSolver final : public Solver {
   VerletForm form_;
   int threads_ = 1;
   int team_ = 1;                            // threads a team has (team_min_points, team_trial_min_points)
+  bool team_spread_ = false;                // spreadTeam done (the team's first substep)
   std::optional<TeamTrial> trial_;          // mid-sized cloths: whether this substep runs on the team
   std::optional<GridPath> grid_;            // float grid cloths, unless the options turn it off (copyable)
   const GridKernels* kernels_ = nullptr;    // float: the SIMD integrate (any cloth)
