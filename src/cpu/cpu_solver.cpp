@@ -214,7 +214,10 @@ void CpuSolver<T>::step() {
   const auto start = std::chrono::steady_clock::now();
   // The team's first substep moves its threads to processors of their own (spreadTeam): not before, as a
   // thread left idle in between sleeps, and waking its processor again costs as much as the move.
-  if (team && !team_spread_) team_spread_ = spreadTeam(team_) || true;
+  if (team && !team_spread_) {
+    spreadTeam(team_);
+    team_spread_ = true;
+  }
   if (team) {
 #pragma omp parallel num_threads(team_)
     runPasses();
@@ -240,10 +243,6 @@ void CpuSolver<T>::pointShare(int t, int team, long long& lo, long long& hi) con
   hi = n * (t + 1) / team;
 }
 
-// In a team a pass ends with a barrier, except where the next pass reads only the points its own thread wrote
-// in it (the same rows or points, pointShare): integrate after the grid forces (accumulateForces), the grid
-// stretch limit's copy in after collide, collide_last after the stretch limit's copy back, and the last pass,
-// which the region's end waits for.
 // Whether the pass after collide is the grid stretch limit, which starts by copying its own rows in (copyIn).
 template <class T>
 bool CpuSolver<T>::stretchNextOnOwnRows() const {
@@ -251,6 +250,10 @@ bool CpuSolver<T>::stretchNextOnOwnRows() const {
          needsPass(kLimitStretch);
 }
 
+// In a team a pass ends with a barrier, except where the next pass reads only the points its own thread wrote
+// in it (the same rows or points, pointShare): integrate after the grid forces (accumulateForces), the grid
+// stretch limit's copy in after collide, collide_last after the stretch limit's copy back, and the last pass,
+// which the region's end waits for.
 template <class T>
 void CpuSolver<T>::runPasses() {
   timed(kForces, [&] { accumulateForces(); });
