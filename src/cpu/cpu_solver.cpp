@@ -322,7 +322,6 @@ void CpuSolver<T>::accumulateForces() {
 template <class T>
 void CpuSolver<T>::integrate() {
   const T dt2 = dt_ * dt_;
-  const long long n = (long long)x_.size();
   // By pointShare in a team: the grid forces end without a barrier (runPasses)
   if constexpr (std::is_same_v<T, float>)
     if (kernels_ && form_ == VerletForm::Displacement) {
@@ -350,13 +349,7 @@ void CpuSolver<T>::integrate() {
       x_[i] = next;
     }
   };
-  if (inTeam())
-    forPoints([&](long long lo, long long hi) {
-      for (long long p = lo; p < hi; ++p)
-        point(p);
-    });
-  else
-    parallelFor(0, n, threads_, point);
+  forEachPoint(point);
 }
 
 // Each free point, slot after slot, back within the stretch limit of its anchors. The anchors are pinned

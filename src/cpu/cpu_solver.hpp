@@ -151,6 +151,9 @@ class CpuSolver final : public Solver {
   // of them at once.
   template <class F>
   void forPoints(F&& body, bool wait = true);
+  // point(p) for every point: in a team by forPoints, outside one by parallelFor (which forks for long loops).
+  template <class F>
+  void forEachPoint(F&& point, bool wait = true);
   // selfCollide()'s sum, a pair at a time (cpu_solver_self_collision.cpp)
   struct PairScratch;
   void findPairHits(long long lo, long long hi, bool stencil, T thickness, T inv_range, PairScratch& mine);

@@ -39,7 +39,6 @@ void CpuSolver<T>::collidePoint(std::size_t i) {
 
 template <class T>
 void CpuSolver<T>::collide(bool wait) {
-  const long long n = (long long)x_.size();
   // Spheres and planes lane by lane, several points at once; meshes (the baked field) point by point.
   if constexpr (std::is_same_v<T, float>)
     if (kernels_ && form_ == VerletForm::Displacement && scene_.meshes.empty()) {
@@ -61,15 +60,7 @@ void CpuSolver<T>::collide(bool wait) {
           wait);
       return;
     }
-  if (inTeam())
-    forPoints(
-        [&](long long lo, long long hi) {
-          for (long long k = lo; k < hi; ++k)
-            collidePoint(std::size_t(k));
-        },
-        wait);
-  else
-    parallelFor(0, n, threads_, [&](long long k) { collidePoint(std::size_t(k)); });
+  forEachPoint([&](long long k) { collidePoint(std::size_t(k)); }, wait);
 }
 
 template <class T>

@@ -10,6 +10,21 @@ namespace drape {
 
 template <class T>
 template <class F>
+void CpuSolver<T>::forEachPoint(F&& point, bool wait) {
+  if (!inTeam()) {
+    parallelFor(0, (long long)x_.size(), threads_, point);
+    return;
+  }
+  forPoints(
+      [&](long long lo, long long hi) {
+        for (long long p = lo; p < hi; ++p)
+          point(p);
+      },
+      wait);
+}
+
+template <class T>
+template <class F>
 void CpuSolver<T>::forPoints(F&& body, bool wait) {
   if (!inTeam()) {
     body(0LL, (long long)x_.size());
