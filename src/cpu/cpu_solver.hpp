@@ -212,16 +212,16 @@ class CpuSolver final : public Solver {
     std::size_t points = 0;
     std::vector<std::int32_t> chain;
     std::exception_ptr failure;
-    long long summed = 0;   // terms summed this substep
-    double seconds = 0;     // this substep's pairs in range and sums, in a team
-    double per_point = -1;  // their seconds a point of the share, smoothed over substeps; -1: none yet
+    long long summed = 0;  // terms summed this substep
   };
   std::vector<PairScratch> pair_scratch_;
   // In a team, thread t finds and sums the pairs of points [pair_bounds_[t], pair_bounds_[t + 1]): even shares
   // at first, then moved towards equal times (balancePairShares).
   std::vector<long long> pair_bounds_;
-  bool pair_shares_fixed_ = false;                     // fixPairShares
-  std::vector<double> pair_seconds_, pair_per_point_;  // balancePairShares' arguments, kept
+  bool pair_shares_fixed_ = false;  // fixPairShares
+  // Per thread of the team: this substep's seconds for its pairs in range and sums, and its seconds a point of
+  // its share smoothed over substeps (balanceShares; -1: none yet)
+  std::vector<double> pair_seconds_, pair_per_point_;
   int pairOwner(std::uint32_t j) const {
     int t = 0;
     while ((long long)j >= pair_bounds_[std::size_t(t) + 1])

@@ -60,8 +60,11 @@ void CpuSolver<T>::selfCollide() {
         pair_bounds_.resize(std::size_t(team) + 1);
         for (int t = 0; t < team; ++t)
           pointShare(t, team, pair_bounds_[std::size_t(t)], pair_bounds_[std::size_t(t) + 1]);
-        for (PairScratch& scratch : pair_scratch_)
-          scratch.per_point = -1;
+        pair_per_point_.clear();
+      }
+      if (pair_per_point_.size() != std::size_t(team)) {
+        pair_seconds_.assign(std::size_t(team), 0);
+        pair_per_point_.assign(std::size_t(team), -1);
       }
       if constexpr (std::is_same_v<T, float>)
         if (padded)
@@ -120,7 +123,9 @@ void CpuSolver<T>::selfCollide() {
   mine.summed = sumPairTerms(thread, lo, hi, steps, mine);
   if (!mine.failure) addCorrections(lo, hi);
   if (stencil > 0 && padded) std::fill(near_.begin() + lo, near_.begin() + hi, StencilMask(0));
-  if (team) mine.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (team)
+    pair_seconds_[std::size_t(thread)] =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   teamBarrier();
   // Every thread reads the same flags after the barrier, so all take the same way (and pass the same barriers).
   if (std::any_of(pair_scratch_.begin(), pair_scratch_.end(), [](const PairScratch& s) { return bool(s.failure); })) {
@@ -145,17 +150,8 @@ template <class T>
 void CpuSolver<T>::balancePairShares() {
   constexpr double kSmoothing = 0.25;  // a substep's weight in the smoothed times
   if (pair_shares_fixed_) return;
-  const std::size_t team = pair_scratch_.size();
-  pair_seconds_.resize(team);
-  pair_per_point_.resize(team);
-  for (std::size_t t = 0; t < team; ++t) {
-    pair_seconds_[t] = pair_scratch_[t].seconds;
-    pair_per_point_[t] = pair_scratch_[t].per_point;
-  }
   balanceShares(pair_bounds_, pair_seconds_, pair_per_point_, kSmoothing,
-                std::max(1LL, pair_bounds_.back() / (16 * (long long)team)));
-  for (std::size_t t = 0; t < team; ++t)
-    pair_scratch_[t].per_point = pair_per_point_[t];
+                std::max(1LL, pair_bounds_.back() / (16 * (long long)pair_seconds_.size())));
 }
 
 template <class T>
