@@ -39,16 +39,9 @@ void CpuSolver<T>::solveXpbd() {
       const T dlambda = physics::xpbdDistanceCorrection(x_[sp.a], x_[sp.b], rest_[s], wa + wb,
                                                         alpha_tilde_.k[int(sp.type)], lambda, p);
       if (iterations > 1) lambda_[k] = lambda + dlambda;
-      if (!pinned_a) {
-        const vec3 ca = (-wa) * p;
-        x_[sp.a] += ca;
-        if (displacement) v_[sp.a] += ca;  // x_prev stays: v = x - x_prev is the constrained displacement
-      }
-      if (!pinned_b) {
-        const vec3 cb = wb * p;
-        x_[sp.b] += cb;
-        if (displacement) v_[sp.b] += cb;
-      }
+      // x_prev stays: v = x - x_prev is the constrained displacement
+      if (!pinned_a) displace(sp.a, (-wa) * p);
+      if (!pinned_b) displace(sp.b, wb * p);
     });
 }
 

@@ -356,7 +356,6 @@ void CpuSolver<T>::integrate() {
 // and never move here, so the points are independent and the loop is parallel.
 template <class T>
 void CpuSolver<T>::tether() {
-  const bool displacement = form_ == VerletForm::Displacement;
   const std::size_t slots = std::size_t(tethers_.slots);
   const T limit = T(scene_.sim.stretch_limit);
   const long long n = (long long)x_.size();
@@ -366,9 +365,7 @@ void CpuSolver<T>::tether() {
     for (std::size_t s = 0; s < slots; ++s) {
       const std::uint32_t anchor = tethers_.anchor[i * slots + s];
       if (anchor == kNoAnchor) break;
-      const vec3 c = physics::tetherCorrection(x_[i], x_[anchor], tether_rest_[i * slots + s], limit);
-      x_[i] += c;
-      if (displacement) v_[i] += c;  // x_prev stays: v = x - x_prev
+      displace(i, physics::tetherCorrection(x_[i], x_[anchor], tether_rest_[i * slots + s], limit));
     }
   });
 }

@@ -131,6 +131,12 @@ class CpuSolver final : public Solver {
     T k[kSpringTypeCount];
   };
   void refreshDerived();
+  // x_i += c; in displacement form v_i += c too, so that x_prev stays where it was (a constraint moves the point,
+  // not its past)
+  void displace(std::size_t i, vec3 c) {
+    x_[i] += c;
+    if (form_ == VerletForm::Displacement) v_[i] += c;
+  }
   void applyCorrections();                          // x += c, and v += c so that x_prev stays put
   void addCorrections(long long lo, long long hi);  // applyCorrections on points [lo, hi)
   void limitStretchColoured(bool wait);

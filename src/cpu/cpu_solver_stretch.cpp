@@ -39,14 +39,8 @@ void CpuSolver<T>::limitStretchColoured(bool wait) {
       const vec3 ca = physics::stretchCorrection(x_[sp.a], x_[sp.b], rest_[s], limit, share_a);
       const vec3 cb =
           share_a == share_b ? -ca : physics::stretchCorrection(x_[sp.b], x_[sp.a], rest_[s], limit, share_b);
-      if (!pinned_a) {
-        x_[sp.a] += ca;
-        if (displacement) v_[sp.a] += ca;  // x_prev stays where it was
-      }
-      if (!pinned_b) {
-        x_[sp.b] += cb;
-        if (displacement) v_[sp.b] += cb;
-      }
+      if (!pinned_a) displace(sp.a, ca);
+      if (!pinned_b) displace(sp.b, cb);
     });
 }
 
