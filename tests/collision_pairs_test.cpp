@@ -125,7 +125,7 @@ TEST_P(CollisionPairsCase, ListsEveryPairInRangeAndSumsInTheGridOrder) {
     ++checked;
     solver.selfCollide();  // its lists, stencil and pair-at-a-time sum
     for (std::size_t i = 0; i < x.size(); ++i)
-      ASSERT_TRUE(sameBits(solver.corrections()[i], expected_all[i]))
+      ASSERT_TRUE(sameBits(solver.selfCorrections()[i], expected_all[i]))
           << "the solver's sum, substep " << s << ", point " << i;
     solver.collide();
     solver.limitStretch();
@@ -294,7 +294,7 @@ void expectTheSolversSumIsTheGridQuerys() {
     });
     ASSERT_GT(count, 24);
     const v3 expected = sum / (T(count) * T(30));
-    EXPECT_EQ(std::memcmp(&expected, &solver.corrections()[i], sizeof(v3)), 0) << "point " << i;
+    EXPECT_EQ(std::memcmp(&expected, &solver.selfCorrections()[i], sizeof(v3)), 0) << "point " << i;
     const v3 moved = before[i] + expected;
     EXPECT_EQ(std::memcmp(&moved, &solver.positions()[i], sizeof(v3)), 0) << "point " << i;
   }

@@ -72,21 +72,24 @@ void contactsGroup() {
   const uint lid = gl_LocalInvocationID.x;
   buildGroupGrid();
   vec3 corr[PER_INVOCATION];
+  bool moved[PER_INVOCATION];
   for (uint k = 0u; k < PER_INVOCATION; ++k) {
     uint s = lid + k * GROUP_SIZE;
     corr[k] = vec3(0.0);
+    moved[k] = false;
     if (!slotMovable(s, k)) continue;
     vec3 sum;
     int count;
     sumContactsInGroup(s, sum, count);
     corr[k] = contactCorrection(sum, count);
+    moved[k] = count > 0;
   }
   syncGroup();
   for (uint k = 0u; k < PER_INVOCATION; ++k) {
     uint s = lid + k * GROUP_SIZE;
     if (s >= GROUP_POINTS) continue;
     vec3 x = loadX(s);
-    applyContact(corr[k], slotPin[k], x, slotV[k]);
+    applyContact(corr[k], moved[k], slotPin[k], x, slotV[k]);
     storeX(s, x);
   }
   syncGroup();

@@ -180,6 +180,6 @@ void eachPoint(uint i, vec3 x, vec3 v, float pin) {
       sumFromGrid(i, x, sum, count);
     }
   }
-  applyContact(contactCorrection(sum, count), pin, x, v);
+  applyContact(contactCorrection(sum, count), count > 0, pin, x, v);
   storePoint(i, x, v, pin);
 }

@@ -71,6 +71,7 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
     }
   f_.resize(n);
   correction_.resize(n);
+  self_correction_.assign(n, vec3(0));
   resetTimings();
   refreshDerived();
   reset();
@@ -159,6 +160,9 @@ void CpuSolver<T>::reset() {
   wide_skin_ = true;
   skin_switches_ = 0;
   list_built_at_ = last_list_life_ = -1;
+  std::fill(self_correction_.begin(), self_correction_.end(), vec3(0));
+  for (PairScratch& scratch : pair_scratch_)
+    scratch.points = 0;
 }
 
 template <class T>

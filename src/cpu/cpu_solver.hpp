@@ -122,9 +122,9 @@ class CpuSolver final : public Solver {
   void fixPairShares(std::vector<long long> bounds);
   bool wideSkin() const { return wide_skin_; }  // the lists' skin now: pair_margin (else 2/3 of it)
   int skinSwitches() const { return skin_switches_; }
-  // What the last Jacobi pass (selfCollide, or the Jacobi stretch limit) added to each point: its bits, which a
-  // position rounds away.
-  const std::vector<vec3>& corrections() const { return correction_; }
+  // What the last selfCollide added to each point (0 where it added nothing): its bits, which a position rounds
+  // away.
+  const std::vector<vec3>& selfCorrections() const { return self_correction_; }
 
  private:
   struct Stiffness {
@@ -163,7 +163,8 @@ class CpuSolver final : public Solver {
   // selfCollide()'s sum, a pair at a time (cpu_solver_self_collision.cpp)
   struct PairScratch;
   void findPairHits(long long lo, long long hi, bool stencil, T thickness, T inv_range, PairScratch& mine);
-  long long sumPairTerms(int thread, long long lo, long long hi, T steps, PairScratch& mine);
+  long long sumPairTerms(int thread, T steps, PairScratch& mine);
+  void clearSelfCorrections(PairScratch& scratch);  // self_correction_ back to 0 at the points it moved
   bool needsPass(int pass) const;
   template <class F>
   void timed(int pass, F&& f);
@@ -190,7 +191,11 @@ class CpuSolver final : public Solver {
   int skin_switches_ = 0;
   long long list_built_at_ = -1, last_list_life_ = -1;
   double shortest_spring_ = 0;  // m, the shortest structural spring's rest length
-  std::vector<vec3> x_, v_, f_, correction_;
+  std::vector<vec3> x_, v_, f_;
+  std::vector<vec3> correction_;  // the Jacobi stretch limit's and collideFaces': every point's, then added
+  // selfCollide's: nonzero only at the points its last pass moved (each scratch's `touched`), zeroed there before
+  // the next pass writes its own
+  std::vector<vec3> self_correction_;
   std::vector<T> rest_;           // per spring, in T
   std::vector<T> rest_adjacent_;  // per adjacency entry, in T
   CollisionPairs<T> pairs_;
@@ -214,7 +219,7 @@ class CpuSolver final : public Solver {
     std::vector<PairTermOut> hits;            // the pairs in range with their terms (GridKernels::pairTerms)
     std::vector<std::uint32_t> lower, upper;  // the stencil's pairs in range, for pairTerms
     std::vector<PairTerm> terms;
-    std::vector<std::uint32_t> touched;  // the first `points` are the points with terms
+    std::vector<std::uint32_t> touched;  // the first `points` are the points with terms, which the sums moved
     std::size_t points = 0;
     std::vector<std::int32_t> chain;
     std::exception_ptr failure;

@@ -46,6 +46,9 @@ void CpuSolver<T>::selfCollide() {
       near_.resize(x_.size());
       first_term_.resize(x_.size(), -1);
       const int team = teamSize();
+      // A scratch given up (the trial's one thread after a team) takes the corrections its points kept with it
+      for (std::size_t t = std::size_t(team); t < pair_scratch_.size(); ++t)
+        clearSelfCorrections(pair_scratch_[t]);
       pair_scratch_.resize(std::size_t(team));
       for (PairScratch& scratch : pair_scratch_) {
         scratch.to.resize(std::size_t(team));
@@ -115,13 +118,14 @@ void CpuSolver<T>::selfCollide() {
   const auto start = team ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
   const long long lo = team ? pair_bounds_[std::size_t(thread)] : 0;
   const long long hi = team ? pair_bounds_[std::size_t(thread) + 1] : (long long)x_.size();
+  // The corrections this thread's last pass kept are zeroed before any thread writes this pass's (the barrier)
+  clearSelfCorrections(mine);
   findPairHits(lo, hi, stencil > 0, thickness, inv_range, mine);
   teamBarrier();
   // A thread's sums are its own points' corrections, computed from terms alone: it adds them at once, as no
   // thread reads another's points until the barrier. The stencil's flags of its points are read: cleared for
   // the next substep, whose stencilFlags comes after several barriers.
-  mine.summed = sumPairTerms(thread, lo, hi, steps, mine);
-  if (!mine.failure) addCorrections(lo, hi);
+  mine.summed = sumPairTerms(thread, steps, mine);
   if (stencil > 0 && padded) std::fill(near_.begin() + lo, near_.begin() + hi, StencilMask(0));
   if (team)
     pair_seconds_[std::size_t(thread)] =
@@ -248,13 +252,24 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thic
   }
 }
 
-// Points [lo, hi), thread `thread`'s share (pair_bounds_): each one's terms, sent by every thread, summed in ascending
-// (cell order, partner), into correction_; returns how many terms were summed.
 template <class T>
-long long CpuSolver<T>::sumPairTerms(int thread, long long lo, long long hi, T steps, PairScratch& mine) {
+void CpuSolver<T>::clearSelfCorrections(PairScratch& scratch) {
+  for (const std::uint32_t i : std::span(scratch.touched.data(), scratch.points))
+    self_correction_[i] = vec3(0);
+  scratch.points = 0;
+}
+
+// The points of thread `thread`'s share (pair_bounds_): each one's terms, sent by every thread, summed in ascending
+// (cell order, partner), and the point moved by their average at once (displace, into self_correction_ too); returns
+// how many terms were summed. Only the points with terms are visited: adding a zero to every other point, as the
+// pass once did, cost more than its sums on a cloth with few contacts (the sum x + 0 only turns a -0 into +0,
+// which the GPU's pass no longer does either).
+
+template <class T>
+long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
   long long summed = 0;
+  if (mine.failure) return 0;  // its search failed: none of its points moves (step() rethrows)
   try {
-    std::fill(correction_.begin() + lo, correction_.begin() + hi, vec3(0));
     // Linked by point without a branch on whether the point is new (half the terms are, unpredictably): the
     // arrays are sized for every term first, and only grown.
     mine.points = 0;
@@ -263,6 +278,8 @@ long long CpuSolver<T>::sumPairTerms(int thread, long long lo, long long hi, T s
       total += part.sent[std::size_t(thread)];
     if (mine.terms.size() < total) mine.terms.resize(total);
     if (mine.touched.size() < total) mine.touched.resize(total);
+    // Reserved here, so that nothing below can throw: a failure leaves every point of the share where it was.
+    if (mine.chain.capacity() < total) mine.chain.reserve(total);
     PairTerm* const terms = mine.terms.data();
     std::uint32_t* const touched = mine.touched.data();
     std::size_t linked = 0, points = 0;
@@ -294,7 +311,9 @@ long long CpuSolver<T>::sumPairTerms(int thread, long long lo, long long hi, T s
       for (const std::int32_t t : chain)
         sum += terms[t].c;
       const int count = int(chain.size());
-      correction_[i] = sum / (T(count) * steps);
+      const vec3 c = sum / (T(count) * steps);
+      self_correction_[i] = c;
+      displace(i, c);
       first_term_[i] = -1;
       summed += count;
     }
@@ -310,11 +329,13 @@ template void CpuSolver<float>::selfCollide();
 template void CpuSolver<double>::selfCollide();
 template void CpuSolver<float>::balancePairShares();
 template void CpuSolver<double>::balancePairShares();
+template void CpuSolver<float>::clearSelfCorrections(PairScratch&);
+template void CpuSolver<double>::clearSelfCorrections(PairScratch&);
 template void CpuSolver<float>::fixPairShares(std::vector<long long>);
 template void CpuSolver<double>::fixPairShares(std::vector<long long>);
 template void CpuSolver<float>::findPairHits(long long, long long, bool, float, float, PairScratch&);
 template void CpuSolver<double>::findPairHits(long long, long long, bool, double, double, PairScratch&);
-template long long CpuSolver<float>::sumPairTerms(int, long long, long long, float, PairScratch&);
-template long long CpuSolver<double>::sumPairTerms(int, long long, long long, double, PairScratch&);
+template long long CpuSolver<float>::sumPairTerms(int, float, PairScratch&);
+template long long CpuSolver<double>::sumPairTerms(int, double, PairScratch&);
 
 }  // namespace drape

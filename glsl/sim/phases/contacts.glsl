@@ -19,9 +19,11 @@ vec3 contactCorrection(vec3 sum, int count) {
   return c;
 }
 
-void applyContact(vec3 correction, float pin, inout vec3 x_io, inout vec3 v_io) {
-  precise vec3 x = x_io + correction;
-  precise vec3 v = v_io + correction;
+// x and v moved by `correction` where the point had terms (moved); the others keep their bits, as on the CPU,
+// whose pass visits only the points with terms (x + 0 would turn a -0 into +0).
+void applyContact(vec3 correction, bool moved, float pin, inout vec3 x_io, inout vec3 v_io) {
+  precise vec3 x = moved ? x_io + correction : x_io;
+  precise vec3 v = moved ? v_io + correction : v_io;
 #if COLLIDE_AFTER_CONTACTS
   if (pin == 0.0) collideObjects(x, v);
 #endif
