@@ -261,7 +261,7 @@ void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
   // Every thread's pairs go, not only those of the threads this build runs on: a build on one thread after
   // one on a team would list the team's other pairs again.
   found_.resize(std::size_t(std::max(threads, 1)));
-  cell_runs_.resize(found_.size());
+  cell_found_.resize(found_.size());
   for (std::vector<Pair>& part : found_)
     part.clear();
   out_of_memory_.set = false;

@@ -232,20 +232,13 @@ class CollisionPairs {
   std::vector<std::uint8_t> kind_;    // OffsetKind per offset of the box [-box_, box_]^2
   void prepareBuild(const std::vector<vec3>& x, int threads);
   void findPairs(const std::vector<vec3>& x, int thread, long long first, long long last);
-  void findPairsByCell(const std::vector<vec3>& x, int thread, long long first, long long last);
-  static constexpr std::uint32_t kCopyBlock = 8;  // findPairsByCell's copies, in blocks (<= kPairScanPad)
+  void findPairsByCell(int thread, long long first, long long last);
+  int scanCellSlots(const ScanArgs& a, std::uint32_t p0, std::uint32_t p1, std::uint32_t first, std::uint32_t last,
+                    bool own, std::uint32_t* out) const;
   BuildOrder build_order_ = BuildOrder::ByCell;
   void setPoint(ScanArgs& scan, const std::vector<vec3>& x, std::size_t i) const;
   void consider(std::uint32_t i, std::uint32_t j, std::vector<Pair>& mine) const;
-  struct CellRun {  // findPairsByCell's copy of a cell's forward candidates, per thread
-    struct Range {
-      std::uint32_t first, last, at;  // slots [first, last) of the grid's order at position `at` of the run
-    };
-    std::vector<Range> ranges;
-    std::vector<std::uint32_t> found;
-    std::vector<T> x, y, z, u, v;
-  };
-  std::vector<CellRun> cell_runs_;
+  std::vector<std::vector<std::uint32_t>> cell_found_;  // findPairsByCell's pairs of slots, per thread
   void assembleLists(std::size_t n);
   void finishBuild(const std::vector<vec3>& x);
   template <class F>

@@ -2,6 +2,7 @@
 #include "core/memory_stage.hpp"
 #include "cpu/collision_pairs.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <new>
 #include <string>
@@ -53,7 +54,7 @@ void CollisionPairs<T>::consider(std::uint32_t i, std::uint32_t j, std::vector<P
 template <class T>
 void CollisionPairs<T>::findPairs(const std::vector<vec3>& x, int t, long long lo, long long hi) {
   const MemoryStage stage("listing the self-collision candidates of " + std::to_string(x.size()) + " points");
-  if (grid_.dense() && build_order_ == BuildOrder::ByCell) return findPairsByCell(x, t, lo, hi);
+  if (grid_.dense() && build_order_ == BuildOrder::ByCell) return findPairsByCell(t, lo, hi);
   std::vector<Pair>& mine = found_[std::size_t(t)];  // cleared by prepareBuild: a team adds chunk after chunk
   std::vector<std::uint32_t> slots;
   ScanArgs scan = scan_;
@@ -88,62 +89,63 @@ void CollisionPairs<T>::setPoint(ScanArgs& scan, const std::vector<vec3>& x, std
   }
 }
 
-// Slots [lo, hi) of the grid's order, a cell's points at a time: the cell's forward ranges are copied once into
-// one run (its own row first, from the cell itself), and each point scans the run from the slot after its own.
-// One scan and one partial vector a point instead of one a range (five): the scans' lanes past a range were
-// about half of those a build tested. selfCollision (2.7 points a cell) 0.96 of the time, pinned2 at 256^2 with
-// CS184's thickness (34) 0.96-0.975.
+// scanCell's test in T (double, or float without kernels): scanSlots for each point at slots [p0, p1).
 template <class T>
-void CollisionPairs<T>::findPairsByCell(const std::vector<vec3>& x, int t, long long lo, long long hi) {
+int CollisionPairs<T>::scanCellSlots(const ScanArgs& a, std::uint32_t p0, std::uint32_t p1, std::uint32_t first,
+                                     std::uint32_t last, bool own, std::uint32_t* out) const {
+  if constexpr (std::is_same_v<T, float>)
+    if (kernels_) {
+      const PairScanArgs k{a.x, a.y, a.z, a.u, a.v, 0, 0, 0, 0, 0, a.reach2, a.a2, a.b2, a.near_below};
+      return kernels_->scanCell(k, p0, p1, first, last, own, out);
+    }
+  int count = 0;
+  for (std::uint32_t p = p0; p < p1; ++p) {
+    ScanArgs at = a;
+    at.px = a.x[p];
+    at.py = a.y[p];
+    at.pz = a.z[p];
+    at.pu = a.u[p];
+    at.pv = a.v[p];
+    const std::uint32_t from = own ? std::max(first, p + 1) : first;
+    if (from >= last) continue;
+    const int found = scanSlots(at, from, last, out + 2 * count);
+    // scanSlots wrote the candidates' slots; spread them out to (point, slot) pairs, from the last
+    for (int k = found - 1; k >= 0; --k) {
+      out[2 * (count + k) + 1] = out[2 * count + k];
+      out[2 * (count + k)] = p;
+    }
+    count += found;
+  }
+  return count;
+}
+
+// Slots [lo, hi) of the grid's order, a cell's points at a time: each of the cell's forward ranges (its own row
+// first, from the cell itself) is scanned once for all of them (scanCell). A cell holds a few points (2.7 on
+// selfCollision): copying its ranges into one run for each point to scan whole, as the build once did, cost twice
+// the scans themselves.
+template <class T>
+void CollisionPairs<T>::findPairsByCell(int t, long long lo, long long hi) {
   std::vector<Pair>& mine = found_[std::size_t(t)];
-  CellRun& run = cell_runs_[std::size_t(t)];
+  std::vector<std::uint32_t>& found = cell_found_[std::size_t(t)];
   const std::vector<std::uint32_t>& sorted = grid_.sorted();
-  ScanArgs scan = scan_;
   try {
     for (long long s = lo; s < hi;) {
       if (out_of_memory_.set.load(std::memory_order_relaxed)) return;
       const glm::ivec3 cell = grid_.cellOfPoint(sorted[std::size_t(s)]);
-      // The ranges, each copied whole (positions, columns, rows) after the last
-      run.ranges.clear();
-      std::uint32_t count = 0, own_start = 0;
+      long long e = s + 1;  // the cell's points in this share: slots [s, e)
+      while (e < hi && grid_.cellOfPoint(sorted[std::size_t(e)]) == cell)
+        ++e;
+      const auto p0 = std::uint32_t(s), p1 = std::uint32_t(e);
       grid_.forEachForwardRange(cell, [&](std::uint32_t first, std::uint32_t last, bool own) {
-        if (own) own_start = first;
-        if (first < last) run.ranges.push_back({first, last, count});
-        count += last - first;
+        if (own) first = p0 + 1;  // the own row from the slot after the first point
+        if (first >= last) return;
+        const std::size_t most = 2 * std::size_t(p1 - p0) * (last - first);
+        if (found.size() < most) found.resize(most);
+        const int pairs = scanCellSlots(scan_, p0, p1, first, last, own, found.data());
+        for (int k = 0; k < pairs; ++k)
+          consider(sorted[found[2 * std::size_t(k)]], sorted[found[2 * std::size_t(k) + 1]], mine);
       });
-      for (std::vector<T>* a : {&run.x, &run.y, &run.z, &run.u, &run.v})
-        if (a->size() < count + kPairScanPad) a->resize(count + kPairScanPad);  // the pad: read, lanes dropped
-      // Blocks of kCopyBlock, the last one past the range (the next range, copied after it, writes over that; the
-      // arrays are padded by kPairScanPad): a range holds a few candidates, and a copy call a range cost more
-      // than the scans it saved on a coarse cloth.
-      for (const auto& r : run.ranges) {
-        const std::pair<const std::vector<T>*, std::vector<T>*> arrays[5] = {
-            {&sx_, &run.x}, {&sy_, &run.y}, {&sz_, &run.z}, {&su_, &run.u}, {&sv_, &run.v}};
-        for (const auto& [from, to] : arrays)
-          for (std::uint32_t k = 0; k < r.last - r.first; k += kCopyBlock)
-            std::memcpy(to->data() + r.at + k, from->data() + r.first + k, sizeof(T) * kCopyBlock);
-      }
-      if (run.found.size() < count) run.found.resize(count);
-      ScanArgs in_run = scan;
-      in_run.x = run.x.data();
-      in_run.y = run.y.data();
-      in_run.z = run.z.data();
-      in_run.u = run.u.data();
-      in_run.v = run.v.data();
-      for (; s < hi && grid_.cellOfPoint(sorted[std::size_t(s)]) == cell; ++s) {
-        const std::uint32_t i = sorted[std::size_t(s)];
-        setPoint(in_run, x, i);
-        // The own row starts with the cell's own points, i's among them at its slot
-        const auto first = std::uint32_t(s) + 1 - own_start;
-        const int found = scanSlots(in_run, first, count, run.found.data());
-        std::size_t r = 0;
-        for (int k = 0; k < found; ++k) {  // the run's position back to its slot: found ascends
-          const std::uint32_t at = run.found[std::size_t(k)];
-          while (at >= run.ranges[r].at + (run.ranges[r].last - run.ranges[r].first))
-            ++r;
-          consider(i, sorted[run.ranges[r].first + (at - run.ranges[r].at)], mine);
-        }
-      }
+      s = e;
     }
   } catch (const std::bad_alloc&) {
     out_of_memory_.set = true;
@@ -154,11 +156,15 @@ template int CollisionPairs<float>::scanSlots(const ScanArgs&, std::uint32_t, st
 template void CollisionPairs<float>::consider(std::uint32_t, std::uint32_t, std::vector<Pair>&) const;
 template void CollisionPairs<float>::findPairs(const std::vector<vec3>&, int, long long, long long);
 template void CollisionPairs<float>::setPoint(ScanArgs&, const std::vector<vec3>&, std::size_t) const;
-template void CollisionPairs<float>::findPairsByCell(const std::vector<vec3>&, int, long long, long long);
+template void CollisionPairs<float>::findPairsByCell(int, long long, long long);
+template int CollisionPairs<float>::scanCellSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t,
+                                                  std::uint32_t, bool, std::uint32_t*) const;
 template int CollisionPairs<double>::scanSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t*) const;
 template void CollisionPairs<double>::consider(std::uint32_t, std::uint32_t, std::vector<Pair>&) const;
 template void CollisionPairs<double>::findPairs(const std::vector<vec3>&, int, long long, long long);
 template void CollisionPairs<double>::setPoint(ScanArgs&, const std::vector<vec3>&, std::size_t) const;
-template void CollisionPairs<double>::findPairsByCell(const std::vector<vec3>&, int, long long, long long);
+template void CollisionPairs<double>::findPairsByCell(int, long long, long long);
+template int CollisionPairs<double>::scanCellSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t,
+                                                   std::uint32_t, bool, std::uint32_t*) const;
 
 }  // namespace drape

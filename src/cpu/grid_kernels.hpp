@@ -193,6 +193,11 @@ struct GridKernels {
   // not surely held or on the stencil by its offset: written to out in ascending order, their count returned.
   // What the build must look at pair by pair; a flat cloth's buckets hold almost none.
   int (*scanPairs)(const PairScanArgs&, std::uint32_t first, std::uint32_t last, std::uint32_t* out);
+  // scanPairs for the points at slots [p0, p1) of the same arrays (PairScanArgs' px ... pv unused), each vector of
+  // candidates loaded once for all of them; own: only the slots after a point's own. Writes each pair found as
+  // (point slot, candidate slot) to out, returns how many.
+  int (*scanCell)(const PairScanArgs&, std::uint32_t p0, std::uint32_t p1, std::uint32_t first, std::uint32_t last,
+                  bool own, std::uint32_t* out);
   // CpuSolver::collide on the points [first, last) without meshes: each sphere, then each plane, as
   // physics::collideSphere and collidePlane compute them, lane by lane. Returns where it stopped: the last
   // points, fewer than a vector, are the caller's.

@@ -299,6 +299,7 @@ struct Kernels : Lanes<V> {
             &Contact::pairTerms,
             &Contact::stencilFlags,
             &Contact::scanPairs,
+            &Contact::scanCell,
             &Contact::collideObjects,
             &Contact::tileBoxes,
             &Contact::tilesMovedApart,
