@@ -119,5 +119,50 @@ TEST(Health, ASplitScanMergesToTheWholeScansAnswer) {
   check(x, v, Health::kNonFinite | Health::kOutOfBounds | Health::kOverstretched, 8);
 }
 
+// The float quick look says healthy only where the scan finds nothing: states around each limit (a spring a
+// few float steps either side of eleven rest lengths, a coordinate either side of the bound, NaN and infinity),
+// and the resting cloth, which it must pass.
+TEST(Health, TheQuickLookPassesOnlyWhatTheScanFindsHealthy) {
+  Grid g;
+  const QuickHealth q = quickHealth(g.topo, g.cloth);
+  ASSERT_TRUE(q.usable);
+  const auto floats = [](const std::vector<glm::dvec3>& p) { return std::vector<glm::vec3>(p.begin(), p.end()); };
+  const auto agrees = [&](const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& v) {
+    const std::vector<glm::vec3> xf = floats(x), vf = floats(v);
+    const Health scan = scanHealthPart(g.topo, g.cloth, xf, vf, HealthLimits{}, 0, xf.size(), 0, g.topo.springs.size());
+    const bool quick = quickHealthy(q, xf, vf, 0, xf.size(), 0, g.topo.springs.size());
+    return !quick || scan.ok();
+  };
+  EXPECT_TRUE(quickHealthy(q, floats(g.x), floats(g.v), 0, g.x.size(), 0, g.topo.springs.size()));
+  int passed = 0, flagged = 0;
+  const double most = 11.0 / 3.0;  // structural spring 14-15 at eleven rest lengths
+  for (int step = -40; step <= 40; ++step) {
+    Grid s;
+    s.x[15].x = double(std::nextafter(float(s.x[14].x + most), step < 0 ? 0.0f : 100.0f));
+    for (int k = 1; k < std::abs(step); ++k)
+      s.x[15].x = double(std::nextafter(float(s.x[15].x), step < 0 ? 0.0f : 100.0f));
+    ASSERT_TRUE(agrees(s.x, s.v)) << "step " << step;
+    const std::vector<glm::vec3> xf = floats(s.x), vf = floats(s.v);
+    passed += quickHealthy(q, xf, vf, 0, xf.size(), 0, s.topo.springs.size());
+    flagged += !scanHealthPart(s.topo, s.cloth, xf, vf, HealthLimits{}, 0, xf.size(), 0, s.topo.springs.size()).ok();
+  }
+  EXPECT_GT(flagged, 0) << "the steps must cross the limit";
+  const double bound = HealthLimits{}.sane_bound;
+  for (const double at : {bound, std::nextafter(bound, 2 * bound), 2 * bound, std::numeric_limits<double>::infinity(),
+                          std::numeric_limits<double>::quiet_NaN()}) {
+    Grid s;
+    s.x[5].z = -at;
+    ASSERT_TRUE(agrees(s.x, s.v)) << at;
+    s = Grid();
+    s.v[5].y = at;
+    ASSERT_TRUE(agrees(s.x, s.v)) << at;
+  }
+  // Far from the limit the quick look does pass a stretched cloth: it is not the scan in disguise
+  Grid s;
+  s.x[15].x = s.x[14].x + 5.0 / 3.0;
+  EXPECT_TRUE(quickHealthy(q, floats(s.x), floats(s.v), 0, s.x.size(), 0, s.topo.springs.size()));
+  EXPECT_GT(passed, 0) << "springs a few dozen float steps inside the limit must pass: the margin is 2^-20";
+}
+
 }  // namespace
 }  // namespace drape

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace drape {
 
@@ -64,6 +65,46 @@ Health scanHealthPart(const Topology& topo, const ClothSpec& cloth, const std::v
     }
   }
   return h;
+}
+
+QuickHealth quickHealth(const Topology& topo, const ClothSpec& cloth, const HealthLimits& limits) {
+  QuickHealth q;
+  q.bound = float(limits.sane_bound);
+  if (double(q.bound) > limits.sane_bound) q.bound = std::nextafter(q.bound, 0.0f);
+  q.usable = true;
+  const double stretch = 1.0 + limits.max_strain;
+  for (std::size_t k = 0; k < topo.springs.size(); ++k) {
+    const Spring& s = topo.springs[k];
+    if (!cloth.springEnabled(s.type)) continue;
+    const double most = stretch * s.rest;
+    // Float squares of lengths this short lose their relative precision (subnormals): the scan decides there
+    if (!(most * most >= 0x1p-60)) q.usable = false;
+    q.index.push_back(std::uint32_t(k));
+    q.a.push_back(s.a);
+    q.b.push_back(s.b);
+    q.limit2.push_back(float(most * most * (1.0 - 0x1p-20)));  // rounded either way: still within the margin
+  }
+  return q;
+}
+
+bool quickHealthy(const QuickHealth& q, const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v,
+                  std::size_t p0, std::size_t p1, std::size_t s0, std::size_t s1) {
+  if (!q.usable) return false;
+  // No early exit: the loops are reductions the compiler vectorises. A NaN fails every comparison.
+  bool ok = true;
+  const float* xs = &x.data()->x;
+  for (std::size_t k = 3 * p0; k < 3 * p1; ++k)
+    ok &= std::abs(xs[k]) <= q.bound;
+  const float* vs = v.empty() ? nullptr : &v.data()->x;
+  for (std::size_t k = 3 * p0; vs && k < 3 * std::min(p1, v.size()); ++k)
+    ok &= std::abs(vs[k]) <= std::numeric_limits<float>::max();
+  const std::size_t first = std::size_t(std::lower_bound(q.index.begin(), q.index.end(), s0) - q.index.begin());
+  const std::size_t last = std::size_t(std::lower_bound(q.index.begin(), q.index.end(), s1) - q.index.begin());
+  for (std::size_t k = first; k < last; ++k) {
+    const glm::vec3 d = x[q.a[k]] - x[q.b[k]];
+    ok &= d.x * d.x + d.y * d.y + d.z * d.z <= q.limit2[k];
+  }
+  return ok;
 }
 
 template Health scanHealthPart(const Topology&, const ClothSpec&, const std::vector<glm::dvec3>&,

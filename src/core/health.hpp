@@ -7,6 +7,7 @@
 #include "core/scene.hpp"
 #include "core/topology.hpp"
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -47,5 +48,20 @@ Health scanHealth(const Topology& topo, const ClothSpec& cloth, const std::vecto
 template <class P>
 Health scanHealthPart(const Topology& topo, const ClothSpec& cloth, const std::vector<P>& x, const std::vector<P>& v,
                       const HealthLimits& limits, std::size_t p0, std::size_t p1, std::size_t s0, std::size_t s1);
+
+// A float state's quick look before that scan: where it says healthy, scanHealthPart over the same points and
+// springs finds nothing (where it does not, the scan decides). Each enabled spring's squared length is taken in
+// float against its squared limit less 2^-20 of it, which float rounding stays well inside: a cloth far from
+// blowing up is passed in float, without a conversion to double a coordinate.
+struct QuickHealth {
+  std::vector<std::uint32_t> index;  // the enabled springs, ascending (a part's springs [s0, s1) are a range here)
+  std::vector<std::uint32_t> a, b;
+  std::vector<float> limit2;
+  float bound = 0;      // a float at most HealthLimits::sane_bound
+  bool usable = false;  // false where a spring's limit is too small for the margin (it would underflow)
+};
+QuickHealth quickHealth(const Topology& topo, const ClothSpec& cloth, const HealthLimits& limits = {});
+bool quickHealthy(const QuickHealth& q, const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v,
+                  std::size_t p0, std::size_t p1, std::size_t s0, std::size_t s1);
 
 }  // namespace drape

@@ -86,6 +86,7 @@ std::string CpuSolver<T>::name() const {
 template <class T>
 void CpuSolver<T>::refreshDerived() {
   const ClothSpec& c = scene_.cloth;
+  if constexpr (std::is_same_v<T, float>) quick_health_ = quickHealth(topo_, c);
   const std::size_t n = std::size_t(topo_.pointCount());
   mass_.resize(n);
   inv_mass_.resize(n);
@@ -422,9 +423,13 @@ Health CpuSolver<T>::health() {
   const int parts = teamFor(threads_, (long long)(n + springs));
   std::vector<Health> part(static_cast<std::size_t>(parts));
 #pragma omp parallel for num_threads(parts) schedule(static)
-  for (int k = 0; k < parts; ++k)
-    part[std::size_t(k)] = scanHealthPart(topo_, scene_.cloth, x_, v_, HealthLimits{}, n * k / parts,
-                                          n * (k + 1) / parts, springs * k / parts, springs * (k + 1) / parts);
+  for (int k = 0; k < parts; ++k) {
+    const std::size_t p0 = n * k / parts, p1 = n * (k + 1) / parts, s0 = springs * k / parts,
+                      s1 = springs * (k + 1) / parts;
+    if constexpr (std::is_same_v<T, float>)
+      if (quickHealthy(quick_health_, x_, v_, p0, p1, s0, s1)) continue;  // the scan would find nothing
+    part[std::size_t(k)] = scanHealthPart(topo_, scene_.cloth, x_, v_, HealthLimits{}, p0, p1, s0, s1);
+  }
   Health h;
   for (const Health& p : part)
     h.merge(p);

@@ -4,6 +4,7 @@
 
 #include "core/colouring.hpp"
 #include "core/derived.hpp"
+#include "core/health.hpp"
 #include "core/mesh_features.hpp"
 #include "core/solver.hpp"
 #include "core/tethers.hpp"
@@ -273,6 +274,7 @@ class CpuSolver final : public Solver {
   long long team_substeps_ = 0;
   long long pair_terms_ = 0;
   std::vector<PassTiming> timings_;
+  QuickHealth quick_health_;  // float: health()'s quick look (refreshDerived)
 };
 
 extern template class CpuSolver<float>;
