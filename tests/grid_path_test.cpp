@@ -10,8 +10,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace drape {
@@ -320,6 +322,46 @@ TEST(GridPathTeam, TwoThreadsGiveOneThreadsBytes) {
     }
     EXPECT_TRUE(sameBytes(one.positions(), two.positions())) << (grid ? "grid" : "general");
     EXPECT_TRUE(sameBytes(one.displacements(), two.displacements())) << (grid ? "grid" : "general");
+  }
+}
+
+// After a substep whose last pass to move the points is the stretch limit's copy back (pinned2: no collider), the
+// next substep's forces read the positions already in the padded arrays. Whatever moves the points in between
+// (a state set, a pass run on its own, a reset) must have them copied in again: each
+// against the general path, which keeps no copy.
+TEST(GridPathForces, PointsMovedBetweenSubstepsAreCopiedIn) {
+  Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/pinned2.json");
+  scene.cloth.num_width_points = 20;
+  scene.cloth.num_height_points = 14;
+  scene.sim.self_collision = true;
+  const std::vector<std::pair<std::string, std::function<void(CpuSolver<float>&)>>> moves = {
+      {"setState", [](CpuSolver<float>& s) { disturb(s, 5); }},
+      {"integrate", [](CpuSolver<float>& s) { s.integrate(); }},
+      {"selfCollide after setState",
+       [](CpuSolver<float>& s) {
+         std::vector<glm::dvec3> x = s.readPositions();
+         for (glm::dvec3& p : x)
+           p.z = 0.2 * (p.z - x[0].z) + x[0].z;  // the rows pressed together: points within range
+         s.setState(x, s.readDisplacements());
+         s.step();
+         const std::vector<glm::vec3> before = s.positions();
+         s.selfCollide();
+         EXPECT_FALSE(sameBytes(before, s.positions())) << "self-collision must move the points";
+       }},
+      {"reset", [](CpuSolver<float>& s) { s.reset(); }}};
+  for (const auto& [name, move] : moves) {
+    CpuSolver<float> general(scene, CpuSolverOptions{.threads = 1, .grid_path = false});
+    CpuSolver<float> grid(scene, CpuSolverOptions{.threads = 1});
+    ASSERT_NE(grid.gridKernels(), "");
+    for (CpuSolver<float>* s : {&general, &grid}) {
+      for (int k = 0; k < 5; ++k)
+        s->step();
+      move(*s);
+      for (int k = 0; k < 3; ++k)
+        s->step();
+    }
+    EXPECT_TRUE(sameBytes(general.positions(), grid.positions())) << name;
+    EXPECT_TRUE(sameBytes(general.displacements(), grid.displacements())) << name;
   }
 }
 

@@ -16,6 +16,7 @@ namespace drape {
 // substep (Small Steps); with one sweep the stored multiplier is never read, so it is not kept.
 template <class T>
 void CpuSolver<T>::solveXpbd() {
+  positionsMoved();
   const bool displacement = form_ == VerletForm::Displacement;
   const int iterations = scene_.sim.iterations;
   // A grid's sweeps by the grid kernels (8 springs of a colour at a time, the multipliers at the springs'
@@ -54,6 +55,7 @@ void CpuSolver<T>::solveXpbd() {
 // which the first keeps. CS184's damping is in the prediction, as for XPBD.
 template <class T>
 void CpuSolver<T>::solveVbd() {
+  positionsMoved();
   const ClothSpec& cloth = scene_.cloth;
   const bool enabled[kSpringTypeCount] = {cloth.enable_structural, cloth.enable_shearing, cloth.enable_bending};
   const bool displacement = form_ == VerletForm::Displacement;

@@ -148,6 +148,7 @@ void CpuSolver<T>::setParams(const ClothSpec& cloth, const SimParams& sim) {
 
 template <class T>
 void CpuSolver<T>::reset() {
+  positionsMoved();
   const std::size_t n = std::size_t(topo_.pointCount());
   x_.resize(n);
   for (std::size_t i = 0; i < n; ++i)
@@ -223,12 +224,15 @@ void CpuSolver<T>::step() {
     spreadTeam(team_);
     team_spread_ = true;
   }
+  in_passes_ = true;
   if (team) {
 #pragma omp parallel num_threads(team_)
     runPasses();
   } else {
     runPasses();
   }
+  in_passes_ = false;
+  soa_positions_ = !failure_ && loadedAfterPasses() ? substeps_ + 1 : -1;
   if (trial_) trial_->record(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   if (failure_) std::rethrow_exception(failure_);
   ++substeps_;
@@ -246,6 +250,14 @@ void CpuSolver<T>::pointShare(int t, int team, long long& lo, long long& hi) con
   const auto n = (long long)x_.size();
   lo = n * t / team;
   hi = n * (t + 1) / team;
+}
+
+// Whether the grid stretch limit's copy back is the last pass of a substep to move the points, leaving the padded
+// arrays equal to x_ for the next substep's grid forces.
+template <class T>
+bool CpuSolver<T>::loadedAfterPasses() const {
+  return std::is_same_v<T, float> && grid_ && scene_.sim.stretch_scheme == StretchScheme::GaussSeidel &&
+         needsPass(kLimitStretch) && !needsPass(kCollideFaces) && !needsPass(kCollideLast);
 }
 
 // Whether the pass after collide is the grid stretch limit, which starts by copying its own rows in (copyIn).
@@ -290,7 +302,8 @@ void CpuSolver<T>::accumulateForces() {
   const vec3 gravity = vec3(scene_.sim.gravity);
   if constexpr (std::is_same_v<T, float>)
     if (grid_ && springs && !wind.enabled) {
-      grid_->forces(x_, f_, gravity, stiffness_.k, enabled, false);  // integrate reads its own rows' forces
+      // integrate reads its own rows' forces: no barrier after them
+      grid_->forces(x_, f_, gravity, stiffness_.k, enabled, false, in_passes_ && soa_positions_ == substeps_);
       return;
     }
   const T time = T(double(substeps_) * scene_.sim.dt());
@@ -326,6 +339,7 @@ void CpuSolver<T>::accumulateForces() {
 
 template <class T>
 void CpuSolver<T>::integrate() {
+  positionsMoved();
   const T dt2 = dt_ * dt_;
   // By pointShare in a team: the grid forces end without a barrier (runPasses)
   if constexpr (std::is_same_v<T, float>)
@@ -361,6 +375,7 @@ void CpuSolver<T>::integrate() {
 // and never move here, so the points are independent and the loop is parallel.
 template <class T>
 void CpuSolver<T>::tether() {
+  positionsMoved();
   const std::size_t slots = std::size_t(tethers_.slots);
   const T limit = T(scene_.sim.stretch_limit);
   const long long n = (long long)x_.size();
@@ -406,6 +421,7 @@ void CpuSolver<T>::applyCorrections() {
 
 template <class T>
 void CpuSolver<T>::setState(const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& v) {
+  positionsMoved();
   pairs_.invalidate();
   for (std::size_t i = 0; i < x_.size(); ++i) {
     x_[i] = vec3(x[i]);

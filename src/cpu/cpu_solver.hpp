@@ -275,6 +275,16 @@ class CpuSolver final : public Solver {
   long long pair_terms_ = 0;
   std::vector<PassTiming> timings_;
   QuickHealth quick_health_;  // float: health()'s quick look (refreshDerived)
+  // The grid path's padded arrays hold x_ as it is at the start of substep soa_positions_ (-1: not known), so
+  // that the forces need not copy the positions in: after a substep whose last pass to move the points was the
+  // grid stretch limit's copy back (loadedAfterPasses). Only step() sets it, outside its team; every other way
+  // the points move (a pass run on its own, setState, reset) clears it (positionsMoved).
+  long long soa_positions_ = -1;
+  bool in_passes_ = false;  // step() is running its passes, which keep soa_positions_ themselves
+  void positionsMoved() {
+    if (!in_passes_) soa_positions_ = -1;
+  }
+  bool loadedAfterPasses() const;
 };
 
 extern template class CpuSolver<float>;

@@ -39,6 +39,7 @@ void CpuSolver<T>::collidePoint(std::size_t i) {
 
 template <class T>
 void CpuSolver<T>::collide(bool wait) {
+  positionsMoved();
   // Spheres and planes lane by lane, several points at once; meshes (the baked field) point by point.
   if constexpr (std::is_same_v<T, float>)
     if (kernels_ && form_ == VerletForm::Displacement && scene_.meshes.empty()) {
@@ -93,6 +94,7 @@ void CpuSolver<T>::buildFaceContacts() {
 // contact's two or three points compute it alike, so they agree on it without writing to one another.
 template <class T>
 void CpuSolver<T>::collideFaces() {
+  positionsMoved();
   const long long n = (long long)x_.size();
   const T third = T(1.0 / 3.0);
   parallelFor(0, n, threads_, [&](long long pi) {

@@ -15,6 +15,7 @@ namespace drape {
 
 template <class T>
 void CpuSolver<T>::selfCollide() {
+  positionsMoved();
   const T thickness = T(scene_.cloth.thickness);
   const T range = T(2) * thickness;
   // The skin is a share of the contact distance, or of two spacings where the cloth is finer than half of it

@@ -10,6 +10,7 @@ namespace drape {
 
 template <class T>
 void CpuSolver<T>::limitStretch(bool wait) {
+  positionsMoved();
   if (scene_.sim.stretch_scheme == StretchScheme::GaussSeidel)
     limitStretchColoured(wait);
   else

@@ -62,12 +62,13 @@ GridSprings GridPath::springs(const float k[3], const bool enabled[3]) const {
 }
 
 void GridPath::forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f, glm::vec3 gravity, const float k[3],
-                      const bool enabled[3], bool wait) {
+                      const bool enabled[3], bool wait, bool loaded) {
   const GridKernels& kern = *kernels_;
   // Every row's neighbours must be in the arrays before any row's forces: a barrier between.
-  teamRange(0, shape_.H, [&](long long y0, long long y1) {
-    kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1), nullptr);
-  });
+  if (!loaded)
+    teamRange(0, shape_.H, [&](long long y0, long long y1) {
+      kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1), nullptr);
+    });
   GridForceArgs args{shape_,
                      x_.data(),
                      y_.data(),

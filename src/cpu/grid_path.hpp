@@ -25,8 +25,10 @@ class GridPath {
   // Called by every thread of a team (or by one thread alone): each splits the rows and ends with a barrier.
   // enabled[t] and k[t] per spring type.
   // wait: false where the next pass reads only the forces of its own thread's rows (no barrier after them).
+  // loaded: the padded arrays already hold x (the stretch limit's copy back was the last to move it), so it is not
+  // copied in again.
   void forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f, glm::vec3 gravity, const float k[3],
-              const bool enabled[3], bool wait = true);
+              const bool enabled[3], bool wait = true, bool loaded = false);
   // The positions x into the padded arrays, where self-collision's check and stencil read them (positions()).
   // Called by every thread of a team, or by one thread alone.
   void loadPositions(const std::vector<glm::vec3>& x);
