@@ -252,12 +252,34 @@ void CpuSolver<T>::pointShare(int t, int team, long long& lo, long long& hi) con
   hi = n * (t + 1) / team;
 }
 
-// Whether the grid stretch limit's copy back is the last pass of a substep to move the points, leaving the padded
-// arrays equal to x_ for the next substep's grid forces.
+// Whether the last collisions run on the grid path's padded arrays, between the stretch limit's sweeps and its
+// copy back (spheres and planes only, in displacement form): the grid's lanes need no gather, and the arrays then
+// hold the positions the next substep's forces read.
+template <class T>
+bool CpuSolver<T>::collideLastOnGrid() const {
+  return std::is_same_v<T, float> && grid_ && kernels_ && form_ == VerletForm::Displacement && scene_.meshes.empty() &&
+         scene_.sim.stretch_scheme == StretchScheme::GaussSeidel && needsPass(kLimitStretch) &&
+         needsPass(kCollideLast) && !needsPass(kCollideFaces);
+}
+
+// collide() once more, after the passes that moved the points since: on the padded arrays where they still hold
+// them (collideLastOnGrid; the stretch limit left them there), then copied back.
+template <class T>
+void CpuSolver<T>::collideLast() {
+  if constexpr (std::is_same_v<T, float>)
+    if (collideLastOnGrid()) {
+      grid_->collideAndCopyOut(x_, v_, collideArgs(), false);
+      return;
+    }
+  collide(false);
+}
+
+// Whether the grid stretch limit's copy back (after the last collisions, where they run on the grid) is the last
+// pass of a substep to move the points, leaving the padded arrays equal to x_ for the next substep's grid forces.
 template <class T>
 bool CpuSolver<T>::loadedAfterPasses() const {
   return std::is_same_v<T, float> && grid_ && scene_.sim.stretch_scheme == StretchScheme::GaussSeidel &&
-         needsPass(kLimitStretch) && !needsPass(kCollideFaces) && !needsPass(kCollideLast);
+         needsPass(kLimitStretch) && !needsPass(kCollideFaces) && (!needsPass(kCollideLast) || collideLastOnGrid());
 }
 
 // Whether the pass after collide is the grid stretch limit, which starts by copying its own rows in (copyIn).
@@ -282,7 +304,7 @@ void CpuSolver<T>::runPasses() {
   if (needsPass(kTether)) timed(kTether, [&] { tether(); });
   if (needsPass(kLimitStretch)) timed(kLimitStretch, [&] { limitStretch(!needsPass(kCollideFaces)); });
   if (needsPass(kCollideFaces)) timed(kCollideFaces, [&] { collideFaces(); });
-  if (needsPass(kCollideLast)) timed(kCollideLast, [&] { collide(false); });
+  if (needsPass(kCollideLast)) timed(kCollideLast, [&] { collideLast(); });
 }
 
 template <class T>

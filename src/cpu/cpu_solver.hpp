@@ -149,6 +149,9 @@ class CpuSolver final : public Solver {
   void sweepColours(F&& f);
   vec3 pointNormal(int i) const;
   void collidePoint(std::size_t i);  // collide()'s work on one point
+  CollideArgs collideArgs();         // float: collide()'s spheres and planes for the kernels
+  bool collideLastOnGrid() const;
+  void collideLast();
   // Points [lo, hi) of thread t of a team of `team`: on a grid cloth whole rows, those GridPath's passes give it;
   // elsewhere teamShare's. Every point pass of a substep splits by it (forPoints), so a pass that reads only the
   // points its own thread wrote in the pass before needs no barrier between them (runPasses).

@@ -43,16 +43,7 @@ void CpuSolver<T>::collide(bool wait) {
   // Spheres and planes lane by lane, several points at once; meshes (the baked field) point by point.
   if constexpr (std::is_same_v<T, float>)
     if (kernels_ && form_ == VerletForm::Displacement && scene_.meshes.empty()) {
-      const std::size_t planes = 5 * scene_.spheres.size();  // refreshDerived lays them out
-      const CollideArgs args{&x_.data()->x,
-                             &v_.data()->x,
-                             pinned1_.data(),
-                             collide_objects_.data(),
-                             int(scene_.spheres.size()),
-                             collide_objects_.data() + planes,
-                             int(scene_.planes.size()),
-                             float(physics::kPlaneEpsilon),
-                             float(physics::kSurfaceOffset)};
+      const CollideArgs args = collideArgs();
       forPoints(
           [&](long long lo, long long hi) {
             for (long long k = kernels_->collideObjects(args, lo, hi); k < hi; ++k)
@@ -62,6 +53,20 @@ void CpuSolver<T>::collide(bool wait) {
       return;
     }
   forEachPoint([&](long long k) { collidePoint(std::size_t(k)); }, wait);
+}
+
+template <class T>
+CollideArgs CpuSolver<T>::collideArgs() {
+  const std::size_t planes = 5 * scene_.spheres.size();  // refreshDerived lays them out
+  return CollideArgs{&x_.data()->x,
+                     &v_.data()->x,
+                     pinned1_.data(),
+                     collide_objects_.data(),
+                     int(scene_.spheres.size()),
+                     collide_objects_.data() + planes,
+                     int(scene_.planes.size()),
+                     float(physics::kPlaneEpsilon),
+                     float(physics::kSurfaceOffset)};
 }
 
 template <class T>
@@ -170,6 +175,7 @@ void CpuSolver<T>::collideFaces() {
 template void CpuSolver<float>::buildFaceContacts();
 template void CpuSolver<float>::collideFaces();
 template void CpuSolver<float>::collide(bool);
+template CollideArgs CpuSolver<float>::collideArgs();
 template void CpuSolver<double>::collide(bool);
 template void CpuSolver<float>::collidePoint(std::size_t);
 template void CpuSolver<double>::collidePoint(std::size_t);

@@ -29,7 +29,9 @@ void CpuSolver<T>::limitStretchColoured(bool wait) {
     if (grid_) {
       const ClothSpec& c = scene_.cloth;
       const bool enabled[kSpringTypeCount] = {c.enable_structural, c.enable_shearing, c.enable_bending};
-      grid_->limitStretch(x_, displacement ? &v_ : nullptr, limit, scene_.sim.stretch_passes, enabled, wait);
+      // Inside step(), where the last collisions follow on the grid, the points stay in its arrays for them
+      grid_->limitStretch(x_, displacement ? &v_ : nullptr, limit, scene_.sim.stretch_passes, enabled, wait,
+                          !(in_passes_ && collideLastOnGrid()));
       return;
     }
   for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass)

@@ -131,6 +131,14 @@ struct CollideArgs {
   float plane_epsilon = 0, surface_offset = 0;  // physics::kPlaneEpsilon, kSurfaceOffset as float
 };
 
+// collideObjects on a grid path's padded arrays (GridPath): positions, displacements and pin masks per padded index.
+struct CollideRowsArgs {
+  CollideArgs objects;  // its spheres and planes (x, v and pinned unused)
+  GridShape shape;
+  float *x, *y, *z, *vx, *vy, *vz;
+  const float* pinned;
+};
+
 // The self-collision lists' staleness test on a grid cloth (CollisionPairs::needsBuild): per square tile of
 // edge x edge points (tiles in rows of `across`), the box of the displacements x - anchor and of the positions.
 struct TileBoxArgs {
@@ -202,6 +210,8 @@ struct GridKernels {
   // physics::collideSphere and collidePlane compute them, lane by lane. Returns where it stopped: the last
   // points, fewer than a vector, are the caller's.
   long long (*collideObjects)(const CollideArgs&, long long first, long long last);
+  // collideObjects on rows [y0, y1) of the padded arrays, every point of them (no tail left to the caller).
+  void (*collideRows)(const CollideRowsArgs&, int y0, int y1);
   // TileBoxArgs' boxes of the tiles in its rows; false if a displacement is not finite (the lists must be rebuilt).
   bool (*tileBoxes)(const TileBoxArgs&);
   // Whether two tiles lie within apart of each other while the box of their displacements together has a

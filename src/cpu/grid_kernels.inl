@@ -301,6 +301,7 @@ struct Kernels : Lanes<V> {
             &Contact::scanPairs,
             &Contact::scanCell,
             &Contact::collideObjects,
+            &Contact::collideRows,
             &Contact::tileBoxes,
             &Contact::tilesMovedApart,
             &Probes::probeAddMul,

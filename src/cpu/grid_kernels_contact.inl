@@ -162,79 +162,107 @@ struct ContactKernels : Lanes<V> {
     }
   }
 
+  // Each sphere, then each plane, on the lanes of `free`: X..VZ moved in place (collidePoint: x += c, v += c).
+  // Returns the lanes some object moved.
+  static F collideLanes(const CollideArgs& a, F free, F& X, F& Y, F& Z, F& VX, F& VY, F& VZ) {
+    const F zero = V::set1(0.0f), one = V::set1(1.0f);
+    F moved = zero;
+    // c is added to x and to v where `hit` (collidePoint: x += c, v += c)
+    const auto apply = [&](F hit, F cx, F cy, F cz) {
+      X = V::select(hit, V::add(X, cx), X);
+      Y = V::select(hit, V::add(Y, cy), Y);
+      Z = V::select(hit, V::add(Z, cz), Z);
+      VX = V::select(hit, V::add(VX, cx), VX);
+      VY = V::select(hit, V::add(VY, cy), VY);
+      VZ = V::select(hit, V::add(VZ, cz), VZ);
+      moved = V::bitOr(moved, hit);
+    };
+    // frictionCorrection(t, v, f) = (1 - f) t - f v
+    const auto friction = [&](F f, F tx, F ty, F tz, F& cx, F& cy, F& cz) {
+      const F keep = V::sub(one, f);
+      cx = V::sub(V::mul(keep, tx), V::mul(f, VX));
+      cy = V::sub(V::mul(keep, ty), V::mul(f, VY));
+      cz = V::sub(V::mul(keep, tz), V::mul(f, VZ));
+    };
+    for (int s = 0; s < a.sphere_count; ++s) {  // collideSphere
+      const float* o = a.spheres + 5 * s;
+      const F r = V::set1(o[3]);
+      const F dx = V::sub(X, V::set1(o[0])), dy = V::sub(Y, V::set1(o[1])), dz = V::sub(Z, V::set1(o[2]));
+      const F dist = V::sqrt(V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz)));
+      const F hit = V::andNot(V::lt(r, dist), free);  // not (dist > radius)
+      if (!V::any(hit)) continue;
+      const F up = V::lt(zero, dist);  // dist > 0: d / dist, else (0, 1, 0)
+      const F ux = V::select(up, V::div(dx, dist), zero), uy = V::select(up, V::div(dy, dist), one),
+              uz = V::select(up, V::div(dz, dist), zero);
+      const F depth = V::sub(r, dist);
+      F cx, cy, cz;
+      friction(V::set1(o[4]), V::mul(depth, ux), V::mul(depth, uy), V::mul(depth, uz), cx, cy, cz);
+      apply(hit, cx, cy, cz);
+    }
+    for (int p = 0; p < a.plane_count; ++p) {  // collidePlane
+      const float* o = a.planes + 7 * p;
+      const F nx = V::set1(o[3]), ny = V::set1(o[4]), nz = V::set1(o[5]);
+      const F dx = V::add(V::add(V::mul(V::sub(X, V::set1(o[0])), nx), V::mul(V::sub(Y, V::set1(o[1])), ny)),
+                          V::mul(V::sub(Z, V::set1(o[2])), nz));
+      const F vn = V::add(V::add(V::mul(VX, nx), V::mul(VY, ny)), V::mul(VZ, nz));
+      const F above = V::ge(V::sub(dx, vn), V::neg(V::set1(a.plane_epsilon)));
+      const F crossed = V::bitOr(V::bitAnd(above, V::le(dx, zero)), V::andNot(above, V::ge(dx, zero)));
+      const F hit = V::bitAnd(crossed, free);
+      if (!V::any(hit)) continue;
+      // vn != 0: -clamp(dx / vn, 0, 1) v; else -dx n
+      F t = V::div(dx, vn);
+      t = V::select(V::lt(t, zero), zero, t);
+      t = V::neg(V::select(V::lt(one, t), one, t));
+      const F along = V::eq(vn, zero), ndx = V::neg(dx);
+      F tx = V::select(along, V::mul(ndx, nx), V::mul(t, VX));
+      F ty = V::select(along, V::mul(ndx, ny), V::mul(t, VY));
+      F tz = V::select(along, V::mul(ndx, nz), V::mul(t, VZ));
+      const F offset = V::select(above, V::set1(a.surface_offset), V::neg(V::set1(a.surface_offset)));
+      tx = V::add(tx, V::mul(offset, nx));
+      ty = V::add(ty, V::mul(offset, ny));
+      tz = V::add(tz, V::mul(offset, nz));
+      F cx, cy, cz;
+      friction(V::set1(o[6]), tx, ty, tz, cx, cy, cz);
+      apply(hit, cx, cy, cz);
+    }
+    return moved;
+  }
+
   static long long collideObjects(const CollideArgs& a, long long first, long long last) {
-    const F zero = V::set1(0.0f), one = V::set1(1.0f), all = V::eq(zero, zero);
+    const F all = V::eq(V::set1(0.0f), V::set1(0.0f));
     long long i = first;
     for (; i + kW <= last; i += kW) {
       F X, Y, Z, VX, VY, VZ;
       V::loadVec3(a.x + 3 * i, X, Y, Z);
       V::loadVec3(a.v + 3 * i, VX, VY, VZ);
-      const F free = V::andNot(V::load(a.pinned + i), all);
-      F moved = zero;
-      // c is added to x and to v where `hit` (collidePoint: x += c, v += c)
-      const auto apply = [&](F hit, F cx, F cy, F cz) {
-        X = V::select(hit, V::add(X, cx), X);
-        Y = V::select(hit, V::add(Y, cy), Y);
-        Z = V::select(hit, V::add(Z, cz), Z);
-        VX = V::select(hit, V::add(VX, cx), VX);
-        VY = V::select(hit, V::add(VY, cy), VY);
-        VZ = V::select(hit, V::add(VZ, cz), VZ);
-        moved = V::bitOr(moved, hit);
-      };
-      // frictionCorrection(t, v, f) = (1 - f) t - f v
-      const auto friction = [&](F f, F tx, F ty, F tz, F& cx, F& cy, F& cz) {
-        const F keep = V::sub(one, f);
-        cx = V::sub(V::mul(keep, tx), V::mul(f, VX));
-        cy = V::sub(V::mul(keep, ty), V::mul(f, VY));
-        cz = V::sub(V::mul(keep, tz), V::mul(f, VZ));
-      };
-      for (int s = 0; s < a.sphere_count; ++s) {  // collideSphere
-        const float* o = a.spheres + 5 * s;
-        const F r = V::set1(o[3]);
-        const F dx = V::sub(X, V::set1(o[0])), dy = V::sub(Y, V::set1(o[1])), dz = V::sub(Z, V::set1(o[2]));
-        const F dist = V::sqrt(V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz)));
-        const F hit = V::andNot(V::lt(r, dist), free);  // not (dist > radius)
-        if (!V::any(hit)) continue;
-        const F up = V::lt(zero, dist);  // dist > 0: d / dist, else (0, 1, 0)
-        const F ux = V::select(up, V::div(dx, dist), zero), uy = V::select(up, V::div(dy, dist), one),
-                uz = V::select(up, V::div(dz, dist), zero);
-        const F depth = V::sub(r, dist);
-        F cx, cy, cz;
-        friction(V::set1(o[4]), V::mul(depth, ux), V::mul(depth, uy), V::mul(depth, uz), cx, cy, cz);
-        apply(hit, cx, cy, cz);
-      }
-      for (int p = 0; p < a.plane_count; ++p) {  // collidePlane
-        const float* o = a.planes + 7 * p;
-        const F nx = V::set1(o[3]), ny = V::set1(o[4]), nz = V::set1(o[5]);
-        const F dx = V::add(V::add(V::mul(V::sub(X, V::set1(o[0])), nx), V::mul(V::sub(Y, V::set1(o[1])), ny)),
-                            V::mul(V::sub(Z, V::set1(o[2])), nz));
-        const F vn = V::add(V::add(V::mul(VX, nx), V::mul(VY, ny)), V::mul(VZ, nz));
-        const F above = V::ge(V::sub(dx, vn), V::neg(V::set1(a.plane_epsilon)));
-        const F crossed = V::bitOr(V::bitAnd(above, V::le(dx, zero)), V::andNot(above, V::ge(dx, zero)));
-        const F hit = V::bitAnd(crossed, free);
-        if (!V::any(hit)) continue;
-        // vn != 0: -clamp(dx / vn, 0, 1) v; else -dx n
-        F t = V::div(dx, vn);
-        t = V::select(V::lt(t, zero), zero, t);
-        t = V::neg(V::select(V::lt(one, t), one, t));
-        const F along = V::eq(vn, zero), ndx = V::neg(dx);
-        F tx = V::select(along, V::mul(ndx, nx), V::mul(t, VX));
-        F ty = V::select(along, V::mul(ndx, ny), V::mul(t, VY));
-        F tz = V::select(along, V::mul(ndx, nz), V::mul(t, VZ));
-        const F offset = V::select(above, V::set1(a.surface_offset), V::neg(V::set1(a.surface_offset)));
-        tx = V::add(tx, V::mul(offset, nx));
-        ty = V::add(ty, V::mul(offset, ny));
-        tz = V::add(tz, V::mul(offset, nz));
-        F cx, cy, cz;
-        friction(V::set1(o[6]), tx, ty, tz, cx, cy, cz);
-        apply(hit, cx, cy, cz);
-      }
-      if (V::any(moved)) {
+      if (V::any(collideLanes(a, V::andNot(V::load(a.pinned + i), all), X, Y, Z, VX, VY, VZ))) {
         V::storeVec3(a.x + 3 * i, X, Y, Z);
         V::storeVec3(a.v + 3 * i, VX, VY, VZ);
       }
     }
     return i;
+  }
+
+  // collideObjects on rows [y0, y1) of a grid path's padded arrays: every point, the padding's lanes left alone.
+  static void collideRows(const CollideRowsArgs& r, int y0, int y1) {
+    const GridShape& g = r.shape;
+    const F all = V::eq(V::set1(0.0f), V::set1(0.0f));
+    for (int v = y0; v < y1; ++v)
+      for (int u0 = 0; u0 < g.W; u0 += kW) {
+        const std::ptrdiff_t q = at(g, u0, v);
+        F X = V::load(r.x + q), Y = V::load(r.y + q), Z = V::load(r.z + q);
+        F VX = V::load(r.vx + q), VY = V::load(r.vy + q), VZ = V::load(r.vz + q);
+        F free = V::andNot(V::load(r.pinned + q), all);
+        if (u0 + kW > g.W) free = V::bitAnd(free, V::lt(V::add(V::set1(float(u0)), V::iota()), V::set1(float(g.W))));
+        if (V::any(collideLanes(r.objects, free, X, Y, Z, VX, VY, VZ))) {
+          V::store(r.x + q, X);
+          V::store(r.y + q, Y);
+          V::store(r.z + q, Z);
+          V::store(r.vx + q, VX);
+          V::store(r.vy + q, VY);
+          V::store(r.vz + q, VZ);
+        }
+      }
   }
 
   static bool tileBoxes(const TileBoxArgs& a) {

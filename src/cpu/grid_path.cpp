@@ -100,12 +100,20 @@ void GridPath::stencilFlags(const int* du, const int* dv, const std::uint8_t* mi
 }
 
 void GridPath::limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,
-                            const bool enabled[3], bool wait) {
+                            const bool enabled[3], bool wait, bool copy_out) {
   const float unit[3] = {1, 1, 1};
   GridStretchArgs args = colourArgs(v != nullptr, springs(unit, enabled));
   args.limit = limit;
   args.signed_rows = signed_rows_.data();  // made by copyIn, before the colours read it
-  sweepColours(x, v, args, passes, kernels_->stretchColour, wait);
+  sweepColours(x, v, args, passes, kernels_->stretchColour, wait, copy_out);
+}
+
+void GridPath::collideAndCopyOut(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, const CollideArgs& objects,
+                                 bool wait) {
+  const CollideRowsArgs args{objects,    shape_,     x_.data(),  y_.data(),     z_.data(),
+                             vx_.data(), vy_.data(), vz_.data(), pinned_.data()};
+  teamPart(0, shape_.H, [&](long long y0, long long y1) { kernels_->collideRows(args, int(y0), int(y1)); });
+  copyOut(x, &v, wait);
 }
 
 void GridPath::xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float alpha_tilde[3],
@@ -205,7 +213,7 @@ GridStretchArgs GridPath::colourArgs(bool displacements, const GridSprings& s) {
 }
 
 void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const GridStretchArgs& args,
-                            int passes, ColourKernel colour, bool wait) {
+                            int passes, ColourKernel colour, bool wait, bool copy_out) {
   copyIn(x, v);
   // The colours in order (colourGridSprings: 2 * direction + parity); a colour's springs share no point and
   // every spring starts in the row its thread owns, so a colour is split by rows with a barrier after it.
@@ -215,7 +223,7 @@ void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v
       for (int parity = 0; parity < 2; ++parity)
         teamRange(0, shape_.H, [&](long long y0, long long y1) { colour(args, d, parity, int(y0), int(y1)); });
     }
-  copyOut(x, v, wait);
+  if (copy_out) copyOut(x, v, wait);
 }
 
 }  // namespace drape

@@ -45,8 +45,13 @@ class GridPath {
                     std::vector<std::uint64_t>& flags);
   // `passes` Gauss-Seidel passes over the 12 colours in order; v nullptr when it is not a displacement. wait:
   // false where the next pass reads only its own thread's rows of x and v (no barrier after they are copied out).
+  // copy_out false: the positions stay in the padded arrays for collideAndCopyOut.
   void limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,
-                    const bool enabled[3], bool wait = true);
+                    const bool enabled[3], bool wait = true, bool copy_out = true);
+  // After limitStretch(..., copy_out = false): the spheres' and planes' collisions of every point on the padded
+  // arrays (collideRows), then x and v back; each thread its own rows, no barrier between.
+  void collideAndCopyOut(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, const CollideArgs& objects,
+                         bool wait = true);
   // XPBD's `sweeps` sweeps over the colours in order, with the compliances over dt^2 per spring type; the
   // multipliers start at 0 (one sweep never reads them).
   void xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float alpha_tilde[3], const bool enabled[3],
@@ -69,7 +74,7 @@ class GridPath {
   void copyOut(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, bool wait = true);
   // x (and v) into the padded arrays, `passes` sweeps of `colour` over the colours in order, and back.
   void sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const GridStretchArgs& args, int passes,
-                    ColourKernel colour, bool wait = true);
+                    ColourKernel colour, bool wait = true, bool copy_out = true);
 
   GridShape shape_;
   const GridKernels* kernels_;
