@@ -300,8 +300,17 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
     mine.points = points;
     std::vector<std::int32_t>& chain = mine.chain;
     for (const std::uint32_t i : std::span(touched, points)) {
+      const std::int32_t head = first_term_[i];
+      first_term_[i] = -1;
+      if (terms[head].next < 0) {  // one term, as most points in contact have: no order to find
+        const vec3 c = (vec3(0) + terms[head].c) / (T(1) * steps);
+        self_correction_[i] = c;
+        displace(i, c);
+        ++summed;
+        continue;
+      }
       chain.clear();
-      for (std::int32_t t = first_term_[i]; t >= 0; t = terms[t].next) {
+      for (std::int32_t t = head; t >= 0; t = terms[t].next) {
         // Insertion by (order, partner): a point has a few terms.
         const PairTerm& term = terms[t];
         std::size_t k = chain.size();
@@ -320,7 +329,6 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
       const vec3 c = sum / (T(count) * steps);
       self_correction_[i] = c;
       displace(i, c);
-      first_term_[i] = -1;
       summed += count;
     }
   } catch (...) {
