@@ -219,6 +219,32 @@ TEST(CollisionPairs, ReusesTheListUntilTwoPointsMayHaveDrawnTogetherByTheMargin)
   EXPECT_TRUE(pairs.update(x, 1));
 }
 
+// A pair listed further apart than the range and half the margin (a far entry) is passed over by the solver's
+// sweep only while no two points can have come that much closer: here two points drawn together from just beyond
+// that to just within range, as far as the check lets them without a rebuild, must make the far entries needed.
+TEST(CollisionPairs, TheFarEntriesAreNeededOnceAPairCanHaveComeWithinRange) {
+  CollisionPairs<float> pairs;
+  const float range = 0.02f, margin = 0.015f;
+  pairs.configure(range, margin);
+  const float apart = range + 0.55f * margin;  // within range + margin (listed), beyond range + margin / 2 (far)
+  std::vector<vec3> x = {{0, 0, 0}, {apart, 0, 0}, {1, 0, 0}};
+  ASSERT_TRUE(pairs.update(x, 1));
+  ASSERT_EQ(pairs.pairCount(), 2u);
+  ASSERT_EQ(pairs.farEntries().start.back(), 1u) << "the pair is a far entry";
+  EXPECT_FALSE(pairs.farNeeded(true)) << "at the build no far entry is within range";
+  EXPECT_FALSE(pairs.update(x, 1));
+  EXPECT_FALSE(pairs.farNeeded(false)) << "nothing moved";
+  const float close = apart - 0.99f * range;  // the two ends drawn together by this much: 0.99 of the range apart
+  x[0].x += 0.5f * close;
+  x[1].x -= 0.5f * close;
+  ASSERT_FALSE(pairs.update(x, 1)) << "the check keeps the list (the motion is under the margin)";
+  EXPECT_TRUE(pairs.farNeeded(false)) << "the pair is within range now: its entry must be tested";
+  x[0].x -= 0.3f * close;  // back to 0.4 of the motion: the range and that do not reach range + margin / 2
+  x[1].x += 0.3f * close;
+  ASSERT_FALSE(pairs.update(x, 1));
+  EXPECT_FALSE(pairs.farNeeded(false)) << "no far entry can be within range: passed over again";
+}
+
 TEST(CollisionPairs, CellOrderFollowsTheQueryAndDropsCellsOutsideIt) {
   EXPECT_EQ(cellOrder({5, 5, 5}, {4, 4, 4}), 0);
   EXPECT_EQ(cellOrder({5, 5, 5}, {5, 5, 5}), 13);

@@ -303,9 +303,61 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
   for (const vec3& p : x)
     extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
   travel_ = safeTravel(margin_, extent + margin_);
+  extent_ = extent + margin_;
+  near_reach_ = range_ + T(0.5) * margin_;
+  // Both parts written at once without a branch (half the entries go each way, unpredictably); the arrays keep
+  // their size, each part's count is its start[n]
+  const std::size_t entries = forward_.size();
+  for (EntryPart* part : {&near_, &far_}) {
+    part->start.resize(n + 1);
+    part->start[0] = 0;
+    if (part->owner.size() < entries) {
+      part->owner.resize(entries);
+      part->partner.resize(entries);
+    }
+  }
+  std::uint32_t *near_owner = near_.owner.data(), *near_partner = near_.partner.data();
+  std::uint32_t *far_owner = far_.owner.data(), *far_partner = far_.partner.data();
+  const T near2 = near_reach_ * near_reach_;
+  std::uint32_t near = 0, far = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::uint32_t k = forward_start_[i]; k < forward_start_[i + 1]; ++k) {
+      const std::uint32_t j = forward_[k];
+      const vec3 d = x[i] - x[j];
+      // A NaN distance is near: always tested, as the scalar sum gives such a pair its terms
+      const bool is_near = !(glm::dot(d, d) >= near2);
+      near_owner[near] = far_owner[far] = std::uint32_t(i);
+      near_partner[near] = far_partner[far] = j;
+      near += is_near;
+      far += !is_near;
+    }
+    near_.start[i + 1] = near;
+    far_.start[i + 1] = far;
+  }
   built_ = true;
   ++rebuilds_;
   entries_built_ += (long long)pairCount();
+}
+
+template <class T>
+bool CollisionPairs<T>::farNeeded(bool just_built) const {
+  if (far_.start.empty() || far_.start.back() == 0) return false;
+  if (just_built) return !(near_reach_ > range_ * (T(1) + T(1.0 / 65536)));
+  if (boxes_.size() != tile_count_ || boxes_.empty()) return true;
+  constexpr T kInf = std::numeric_limits<T>::infinity();
+  vec3 lo(kInf), hi(-kInf);
+  for (const TileBox& b : boxes_) {
+    lo = glm::min(lo, b.dlo);
+    hi = glm::max(hi, b.dhi);
+  }
+  const vec3 box = hi - lo;
+  const T diagonal2 = glm::dot(box, box);
+  if (!(diagonal2 <= std::numeric_limits<T>::max())) return true;  // not finite
+  // Each computed distance is off by a few ulps of the coordinates it came from (safeTravel): 64 of the largest,
+  // and a relative 2^-16 on top, cover the distances at the build and now and the box.
+  const T reach =
+      (range_ + std::sqrt(diagonal2) + T(64) * std::numeric_limits<T>::epsilon() * extent_) * (T(1) + T(1.0 / 65536));
+  return !(reach < near_reach_);
 }
 
 template <class T>

@@ -95,6 +95,19 @@ class CollisionPairs {
   std::uint32_t forwardStart(std::size_t i) const { return forward_start_[i]; }
   const std::uint32_t* forwardOwners() const { return forward_owner_.data(); }
   const std::uint32_t* forwardPartners() const { return forward_.data(); }
+  // The same entries in two parts laid out alike: those closer at the build than the range and half the skin
+  // (near), and the rest (far), which no pair in range can be among until two points have moved apart or together
+  // by half the skin since the build: for most of a list's life only the near part is tested (farNeeded).
+  struct EntryPart {
+    std::vector<std::uint32_t> start, owner,
+        partner;  // start: n + 1 offsets by owner (owner, partner: at least start[n])
+  };
+  const EntryPart& nearEntries() const { return near_; }
+  const EntryPart& farEntries() const { return far_; }
+  // Whether a far entry can be in range now: the points may have moved apart or together since the build by the
+  // diagonal of the box around every displacement (the check's tiles), which with round-off reaches half the
+  // skin. just_built: the lists were built this substep. Valid after finishCheck, until the points move again.
+  bool farNeeded(bool just_built) const;
 
   // The stencil, for the last update's range and margin: grid offsets (du, dv) in ascending dv * w + du, so
   // that a point's partners ascend; empty off a grid.
@@ -203,6 +216,9 @@ class CollisionPairs {
   mutable BothEnds both_ends_;
   std::vector<std::uint32_t> fill_;
   std::vector<std::uint32_t> forward_start_, forward_, forward_owner_;
+  EntryPart near_, far_;
+  T near_reach_ = 0;          // the near entries' reach at the build: range + margin / 2
+  T extent_ = 0;              // the largest coordinate at the build, and the margin
   std::vector<vec3> anchor_;  // positions at the last build
   struct Padded {
     GridShape shape{};

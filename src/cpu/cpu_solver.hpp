@@ -166,7 +166,8 @@ class CpuSolver final : public Solver {
   void forEachPoint(F&& point, bool wait = true);
   // selfCollide()'s sum, a pair at a time (cpu_solver_self_collision.cpp)
   struct PairScratch;
-  void findPairHits(long long lo, long long hi, bool stencil, T thickness, T inv_range, PairScratch& mine);
+  // far: the list's far entries too (CollisionPairs::farNeeded)
+  void findPairHits(long long lo, long long hi, bool stencil, T thickness, T inv_range, bool far, PairScratch& mine);
   long long sumPairTerms(int thread, T steps, PairScratch& mine);
   void clearSelfCorrections(PairScratch& scratch);  // self_correction_ back to 0 at the points it moved
   bool needsPass(int pass) const;

@@ -79,7 +79,8 @@ void CpuSolver<T>::selfCollide() {
     }
   });
   if (failure_) return;
-  if (pairs_.finishCheck(x_)) {
+  const bool built = pairs_.finishCheck(x_);
+  if (built) {
     try {
       pairs_.build(x_, threads_);
     } catch (...) {  // outside a team
@@ -121,7 +122,7 @@ void CpuSolver<T>::selfCollide() {
   const long long hi = team ? pair_bounds_[std::size_t(thread) + 1] : (long long)x_.size();
   // The corrections this thread's last pass kept are zeroed before any thread writes this pass's (the barrier)
   clearSelfCorrections(mine);
-  findPairHits(lo, hi, stencil > 0, thickness, inv_range, mine);
+  findPairHits(lo, hi, stencil > 0, thickness, inv_range, pairs_.farNeeded(built), mine);
   teamBarrier();
   // A thread's sums are its own points' corrections, computed from terms alone: it adds them at once, as no
   // thread reads another's points until the barrier. The stencil's flags of its points are read: cleared for
@@ -170,7 +171,8 @@ void CpuSolver<T>::fixPairShares(std::vector<long long> bounds) {
 // Each end's term goes into mine.to[the thread that sums it]; a zero term, or one for a pinned point, adds
 // nothing and is dropped.
 template <class T>
-void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thickness, T inv_range, PairScratch& mine) {
+void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thickness, T inv_range, bool far,
+                                PairScratch& mine) {
   try {
     // The lower end i of every pair found here is in [lo, hi), this thread's; the upper end j may be another's.
     const std::size_t own = std::size_t(teamThread());
@@ -216,7 +218,11 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thic
             both(i, j, h.order_i, h.order_j, ci, cj);
           }
         };
-        take(owner, partner, first, last);
+        // The list's near entries, and its far ones only where some may be in range (CollisionPairs::farNeeded):
+        // for most of a list's life half its entries need no test
+        for (const auto* part : {&pairs_.nearEntries(), far ? &pairs_.farEntries() : nullptr})
+          if (part)
+            take(part->owner.data(), part->partner.data(), part->start[std::size_t(lo)], part->start[std::size_t(hi)]);
         if (stencil) {
           mine.lower.clear();
           mine.upper.clear();
@@ -347,8 +353,8 @@ template void CpuSolver<float>::clearSelfCorrections(PairScratch&);
 template void CpuSolver<double>::clearSelfCorrections(PairScratch&);
 template void CpuSolver<float>::fixPairShares(std::vector<long long>);
 template void CpuSolver<double>::fixPairShares(std::vector<long long>);
-template void CpuSolver<float>::findPairHits(long long, long long, bool, float, float, PairScratch&);
-template void CpuSolver<double>::findPairHits(long long, long long, bool, double, double, PairScratch&);
+template void CpuSolver<float>::findPairHits(long long, long long, bool, float, float, bool, PairScratch&);
+template void CpuSolver<double>::findPairHits(long long, long long, bool, double, double, bool, PairScratch&);
 template long long CpuSolver<float>::sumPairTerms(int, float, PairScratch&);
 template long long CpuSolver<double>::sumPairTerms(int, double, PairScratch&);
 
