@@ -291,8 +291,9 @@ bool CpuSolver<T>::stretchNextOnOwnRows() const {
 
 // In a team a pass ends with a barrier, except where the next pass reads only the points its own thread wrote
 // in it (the same rows or points, pointShare): integrate after the grid forces (accumulateForces), the grid
-// stretch limit's copy in after collide, collide_last after the stretch limit's copy back, and the last pass,
-// which the region's end waits for.
+// stretch limit's copy in after collide, collide_last after the stretch limit's copy back (on the grid, where it
+// runs on the padded arrays, after the sweeps' last barrier, and copies its rows back), and the last pass, which
+// the region's end waits for.
 template <class T>
 void CpuSolver<T>::runPasses() {
   timed(kForces, [&] { accumulateForces(); });
