@@ -262,18 +262,6 @@ bool CpuSolver<T>::collideLastOnGrid() const {
          needsPass(kCollideLast) && !needsPass(kCollideFaces);
 }
 
-// collide() once more, after the passes that moved the points since: on the padded arrays where they still hold
-// them (collideLastOnGrid; the stretch limit left them there), then copied back.
-template <class T>
-void CpuSolver<T>::collideLast() {
-  if constexpr (std::is_same_v<T, float>)
-    if (collideLastOnGrid()) {
-      grid_->collideAndCopyOut(x_, v_, collideArgs(), false);
-      return;
-    }
-  collide(false);
-}
-
 // Whether the grid stretch limit's copy back (after the last collisions, where they run on the grid) is the last
 // pass of a substep to move the points, leaving the padded arrays equal to x_ for the next substep's grid forces.
 template <class T>

@@ -69,6 +69,18 @@ CollideArgs CpuSolver<T>::collideArgs() {
                      float(physics::kSurfaceOffset)};
 }
 
+// collide() once more, after the passes that moved the points since: on the padded arrays where they still hold
+// them (collideLastOnGrid; the stretch limit left them there), then copied back.
+template <class T>
+void CpuSolver<T>::collideLast() {
+  if constexpr (std::is_same_v<T, float>)
+    if (collideLastOnGrid()) {
+      grid_->collideAndCopyOut(x_, v_, collideArgs(), false);
+      return;
+    }
+  collide(false);
+}
+
 template <class T>
 void CpuSolver<T>::buildFaceContacts() {
   face_contacts_.clear();
@@ -176,6 +188,8 @@ template void CpuSolver<float>::buildFaceContacts();
 template void CpuSolver<float>::collideFaces();
 template void CpuSolver<float>::collide(bool);
 template CollideArgs CpuSolver<float>::collideArgs();
+template void CpuSolver<float>::collideLast();
+template void CpuSolver<double>::collideLast();
 template void CpuSolver<double>::collide(bool);
 template void CpuSolver<float>::collidePoint(std::size_t);
 template void CpuSolver<double>::collidePoint(std::size_t);
