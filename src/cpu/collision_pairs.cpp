@@ -342,17 +342,19 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
 template <class T>
 bool CollisionPairs<T>::farNeeded(bool just_built) const {
   if (far_.start.empty() || far_.start.back() == 0) return false;
-  if (just_built) return !(near_reach_ > range_ * (T(1) + T(1.0 / 65536)));
-  if (boxes_.size() != tile_count_ || boxes_.empty()) return true;
-  constexpr T kInf = std::numeric_limits<T>::infinity();
-  vec3 lo(kInf), hi(-kInf);
-  for (const TileBox& b : boxes_) {
-    lo = glm::min(lo, b.dlo);
-    hi = glm::max(hi, b.dhi);
+  T diagonal2 = 0;  // just built: no displacement
+  if (!just_built) {
+    if (boxes_.size() != tile_count_ || boxes_.empty()) return true;
+    constexpr T kInf = std::numeric_limits<T>::infinity();
+    vec3 lo(kInf), hi(-kInf);
+    for (const TileBox& b : boxes_) {
+      lo = glm::min(lo, b.dlo);
+      hi = glm::max(hi, b.dhi);
+    }
+    const vec3 box = hi - lo;
+    diagonal2 = glm::dot(box, box);
+    if (!(diagonal2 <= std::numeric_limits<T>::max())) return true;  // not finite
   }
-  const vec3 box = hi - lo;
-  const T diagonal2 = glm::dot(box, box);
-  if (!(diagonal2 <= std::numeric_limits<T>::max())) return true;  // not finite
   // Each computed distance is off by a few ulps of the coordinates it came from (safeTravel): 64 of the largest,
   // and a relative 2^-16 on top, cover the distances at the build and now and the box.
   const T reach =

@@ -99,8 +99,8 @@ class CollisionPairs {
   // (near), and the rest (far), which no pair in range can be among until two points have moved apart or together
   // by half the skin since the build: for most of a list's life only the near part is tested (farNeeded).
   struct EntryPart {
-    std::vector<std::uint32_t> start, owner,
-        partner;  // start: n + 1 offsets by owner (owner, partner: at least start[n])
+    // start: n + 1 offsets by owner; owner and partner hold at least start[n] entries
+    std::vector<std::uint32_t> start, owner, partner;
   };
   const EntryPart& nearEntries() const { return near_; }
   const EntryPart& farEntries() const { return far_; }

@@ -308,30 +308,28 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
     for (const std::uint32_t i : std::span(touched, points)) {
       const std::int32_t head = first_term_[i];
       first_term_[i] = -1;
-      if (terms[head].next < 0) {  // one term, as most points in contact have: no order to find
-        const vec3 c = (vec3(0) + terms[head].c) / (T(1) * steps);
-        self_correction_[i] = c;
-        displace(i, c);
-        ++summed;
-        continue;
-      }
-      chain.clear();
-      for (std::int32_t t = head; t >= 0; t = terms[t].next) {
-        // Insertion by (order, partner): a point has a few terms.
-        const PairTerm& term = terms[t];
-        std::size_t k = chain.size();
-        chain.push_back(t);
-        for (; k > 0; --k) {
-          const PairTerm& before = terms[chain[k - 1]];
-          if (before.order < term.order || (before.order == term.order && before.j < term.j)) break;
-          chain[k] = chain[k - 1];
-        }
-        chain[k] = t;
-      }
       vec3 sum(0);
-      for (const std::int32_t t : chain)
-        sum += terms[t].c;
-      const int count = int(chain.size());
+      int count = 1;
+      if (terms[head].next < 0) {  // one term, as most points in contact have: no order to find
+        sum += terms[head].c;
+      } else {
+        chain.clear();
+        for (std::int32_t t = head; t >= 0; t = terms[t].next) {
+          // Insertion by (order, partner): a point has a few terms.
+          const PairTerm& term = terms[t];
+          std::size_t k = chain.size();
+          chain.push_back(t);
+          for (; k > 0; --k) {
+            const PairTerm& before = terms[chain[k - 1]];
+            if (before.order < term.order || (before.order == term.order && before.j < term.j)) break;
+            chain[k] = chain[k - 1];
+          }
+          chain[k] = t;
+        }
+        for (const std::int32_t t : chain)
+          sum += terms[t].c;
+        count = int(chain.size());
+      }
       const vec3 c = sum / (T(count) * steps);
       self_correction_[i] = c;
       displace(i, c);
