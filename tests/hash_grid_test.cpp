@@ -1,4 +1,5 @@
 #include "cpu/hash_grid.hpp"
+#include "cpu/parallel.hpp"
 
 #include <gtest/gtest.h>
 
@@ -70,6 +71,41 @@ INSTANTIATE_TEST_SUITE_P(Clouds, HashGridCloud,
                                            CloudCase{"on_cell_borders", 800, -0.1, 0.1, true},
                                            CloudCase{"far_from_origin", 1500, 100.0, 100.3, false}),
                          [](const auto& row) { return std::string(row.param.name); });
+
+// Each point's candidates in the order the query visits them: the grid's buckets and their order.
+std::vector<std::vector<std::uint32_t>> candidates(const HashGrid<float>& grid, std::size_t n) {
+  std::vector<std::vector<std::uint32_t>> out(n);
+  for (std::size_t i = 0; i < n; ++i)
+    grid.forEachCandidate(i, [&](std::uint32_t j) { out[i].push_back(j); });
+  return out;
+}
+
+// A team builds the grid together (each thread its share of the points): the buckets must list their points as one
+// thread's stable sort does, in a dense box and hashed, with teams whose shares split buckets between threads.
+TEST(HashGrid, ATeamBuildsTheGridOfOneThread) {
+  for (const double side : {0.3, 30.0}) {  // a dense box; a box too large for one, hashed
+    std::mt19937 rng(77);
+    std::uniform_real_distribution<float> u(0.0f, float(side));
+    std::vector<glm::vec3> p(3001);
+    for (auto& q : p)
+      q = {u(rng), u(rng), u(rng)};
+    const float cell = 0.019f;
+    HashGrid<float> one;
+    one.build(p, cell);
+    EXPECT_EQ(one.dense(), side < 1) << side;
+    for (const int threads : {2, 3}) {
+      HashGrid<float> team;
+      team.build({glm::vec3(5)}, cell);  // a grid built before, for another cloud, as a solver's is
+      std::exception_ptr failure;
+      runOnTeam(threads, [&] { team.build(p, cell, failure); });
+      EXPECT_FALSE(failure);
+      EXPECT_EQ(team.dense(), one.dense()) << side << ", " << threads << " threads";
+      EXPECT_EQ(team.bucketCount(), one.bucketCount()) << side << ", " << threads << " threads";
+      EXPECT_EQ(team.sorted(), one.sorted()) << side << ", " << threads << " threads";
+      EXPECT_EQ(candidates(team, p.size()), candidates(one, p.size())) << side << ", " << threads << " threads";
+    }
+  }
+}
 
 TEST(HashGrid, CellOfFloorsNegativeCoordinates) {
   EXPECT_EQ(HashGrid<double>::cellOf({-0.01, 0.0, 0.029}, 1.0 / 0.02), glm::ivec3(-1, 0, 1));

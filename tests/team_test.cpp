@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <sched.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include <ostream>
@@ -92,9 +93,27 @@ TEST(TeamBytesContact, AFoldingClothOnATeamGivesOneThreadsBytes) {
     if (f < 40) continue;
     ASSERT_TRUE(sameBytes(run.one.positions(), run.team.positions())) << "frame " << f;
     ASSERT_TRUE(sameBytes(run.one.displacements(), run.team.displacements())) << "frame " << f;
+    // The team builds the lists together (grid, entries, near and far parts): each point has the same partners in
+    // each part (in the order its threads found them: the sums order their terms)
+    const auto& a = run.one.collisionPairs();
+    const auto& b = run.team.collisionPairs();
+    ASSERT_EQ(a.rebuilds(), b.rebuilds()) << "frame " << f;
+    for (const auto part : {&CollisionPairs<float>::nearEntries, &CollisionPairs<float>::farEntries}) {
+      const auto &pa = (a.*part)(), &pb = (b.*part)();
+      ASSERT_EQ(pa.start, pb.start) << "frame " << f;
+      const auto sortedEntries = [](const CollisionPairs<float>::EntryPart& e) {
+        std::vector<std::uint32_t> owner(e.owner.begin(), e.owner.begin() + e.start.back()),
+            partner(e.partner.begin(), e.partner.begin() + e.start.back());
+        for (std::size_t i = 0; i + 1 < e.start.size(); ++i)
+          std::sort(partner.begin() + e.start[i], partner.begin() + e.start[i + 1]);
+        return std::pair(owner, partner);
+      };
+      ASSERT_EQ(sortedEntries(pa), sortedEntries(pb)) << "frame " << f;
+    }
   }
   EXPECT_EQ(run.team.teamSubsteps(), run.team.substeps());
   EXPECT_GT(run.one.pairTerms(), 100000) << "the cloth must be in contact with itself";
+  EXPECT_GT(run.one.collisionPairs().rebuilds(), 20) << "the lists were built many times in the fold";
   // Every thread's terms are counted (`drape simulate -v` said one thread's share on a team).
   EXPECT_EQ(run.team.pairTerms(), run.one.pairTerms());
 }

@@ -178,7 +178,7 @@ bool CollisionPairs<T>::update(const std::vector<vec3>& x, int threads) {
 template <class T>
 void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
   const bool team = inTeam();
-  teamSingle([&] { guarded([&] { prepareBuild(x, team ? omp_get_num_threads() : threads); }); });
+  prepareBuild(x, team ? omp_get_num_threads() : threads);
   if (failure_) return rethrowOutsideTeam();
   const long long count = (long long)x.size();
   if (team) {
@@ -205,7 +205,7 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
     });
   });
   if (failure_) return rethrowOutsideTeam();
-  teamSingle([&] { guarded([&] { finishBuild(x); }); });
+  finishBuild(x);
   rethrowOutsideTeam();
 }
 
@@ -229,42 +229,47 @@ void CollisionPairs<T>::rethrowOutsideTeam() {
 
 // The grid, and the candidates' positions (and on a grid their columns and rows) in the grid's order, so that
 // a point's buckets are read in sequence, several candidates at once (scanPairs): most are out of reach, held
-// by the springs, or the stencil's, and only the rest are looked at one by one.
+// by the springs, or the stencil's, and only the rest are looked at one by one. In a team every thread calls it
+// and the points are split between them; what fails is kept in failure_.
 template <class T>
 void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
   const T reach = range_ + margin_;
-  grid_.build(x, reach);  // cells at least as large as the reach, so neighbouring cells hold every candidate
   const std::size_t n = x.size();
-  by_offset_ = box_ >= 0 && u_.size() == n;
+  if (!teamSerial(failure_, [&] {
+        by_offset_ = box_ >= 0 && u_.size() == n;
+        for (std::vector<T>* a : {&sx_, &sy_, &sz_, &su_, &sv_})
+          a->resize(n + kPairScanPad);  // the pad is read by the kernels' last vectors, whose lanes there are dropped
+        for (std::vector<T>* a : {&su_, &sv_})
+          std::fill(a->begin() + std::ptrdiff_t(n), a->end(), T(0));
+        scan_ = ScanArgs{sx_.data(), sy_.data(), sz_.data(), su_.data(),    sv_.data(), 0, 0,
+                         0,          0,          0,          reach * reach, 0,          0, T(-1)};
+        if (by_offset_) {
+          scan_.a2 = a2_;
+          scan_.b2 = b2_;
+          scan_.near_below = near_below_;
+        }
+        // Every thread's pairs go, not only those of the threads this build runs on: a build on one thread after
+        // one on a team would list the team's other pairs again.
+        found_.resize(std::size_t(std::max(threads, 1)));
+        cell_found_.resize(found_.size());
+        for (std::vector<Pair>& part : found_)
+          part.clear();
+        out_of_memory_.set = false;
+      }))
+    return;
+  grid_.build(x, reach, failure_);  // cells at least as large as the reach, so neighbouring cells hold every candidate
+  if (failure_) return;
   const std::vector<std::uint32_t>& sorted = grid_.sorted();
-  for (std::vector<T>* a : {&sx_, &sy_, &sz_})
-    a->resize(n + kPairScanPad);  // the pad is read by the kernels' last vectors, whose lanes there are dropped
-  su_.assign(n + kPairScanPad, T(0));
-  sv_.assign(n + kPairScanPad, T(0));
-  for (std::size_t s = 0; s < n; ++s) {
-    const std::uint32_t j = sorted[s];
-    sx_[s] = x[j].x;
-    sy_[s] = x[j].y;
-    sz_[s] = x[j].z;
-    if (by_offset_) {
-      su_[s] = T(u_[j]);
-      sv_[s] = T(v_[j]);
+  teamRange(0, (long long)n, [&](long long lo, long long hi) {
+    for (auto s = std::size_t(lo); s < std::size_t(hi); ++s) {
+      const std::uint32_t j = sorted[s];
+      sx_[s] = x[j].x;
+      sy_[s] = x[j].y;
+      sz_[s] = x[j].z;
+      su_[s] = by_offset_ ? T(u_[j]) : T(0);
+      sv_[s] = by_offset_ ? T(v_[j]) : T(0);
     }
-  }
-  scan_ =
-      ScanArgs{sx_.data(), sy_.data(), sz_.data(), su_.data(), sv_.data(), 0, 0, 0, 0, 0, reach * reach, 0, 0, T(-1)};
-  if (by_offset_) {
-    scan_.a2 = a2_;
-    scan_.b2 = b2_;
-    scan_.near_below = near_below_;
-  }
-  // Every thread's pairs go, not only those of the threads this build runs on: a build on one thread after
-  // one on a team would list the team's other pairs again.
-  found_.resize(std::size_t(std::max(threads, 1)));
-  cell_found_.resize(found_.size());
-  for (std::vector<Pair>& part : found_)
-    part.clear();
-  out_of_memory_.set = false;
+  });
 }
 
 template <class T>
@@ -287,56 +292,82 @@ void CollisionPairs<T>::assembleLists(std::size_t n) {
               std::uint32_t(i));
 }
 
+// The build's anchors (the positions it was made from, and their padded copy), the check's bounds, and the list's
+// entries parted into near and far. In a team every thread calls it, the copies and the entries split by points:
+// on one thread of two, at 256^2, the other waited through it.
 template <class T>
 void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
-  const std::size_t n = x.size();
-  anchor_ = x;
-  for (int c = 0; c < 3; ++c) {
-    const float* p = c == 0 ? padded_.x : c == 1 ? padded_.y : padded_.z;
-    if (p)
-      padded_anchor_[c].assign(p, p + padded_.shape.size);
-    else
-      padded_anchor_[c].clear();
-  }
-  if (tiled_ != n) makeTiles(n);
-  T extent = range_ + margin_;
-  for (const vec3& p : x)
-    extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-  travel_ = safeTravel(margin_, extent + margin_);
-  extent_ = extent + margin_;
-  near_reach_ = range_ + T(0.5) * margin_;
-  // Both parts written at once without a branch (half the entries go each way, unpredictably); the arrays keep
-  // their size, each part's count is its start[n]
-  const std::size_t entries = forward_.size();
-  for (EntryPart* part : {&near_, &far_}) {
-    part->start.resize(n + 1);
-    part->start[0] = 0;
-    if (part->owner.size() < entries) {
-      part->owner.resize(entries);
-      part->partner.resize(entries);
-    }
-  }
-  std::uint32_t *near_owner = near_.owner.data(), *near_partner = near_.partner.data();
-  std::uint32_t *far_owner = far_.owner.data(), *far_partner = far_.partner.data();
+  const std::size_t n = x.size(), entries = forward_.size(), size = padded_.x ? padded_.shape.size : 0;
+  if (!teamSerial(failure_, [&] {
+        anchor_.resize(n);
+        for (std::vector<float>& a : padded_anchor_)
+          a.resize(size);
+        if (tiled_ != n) makeTiles(n);
+        for (EntryPart* part : {&near_, &far_}) {
+          part->start.resize(n + 1);
+          part->start[0] = 0;
+          if (part->owner.size() < entries) {
+            part->owner.resize(entries);
+            part->partner.resize(entries);
+          }
+        }
+        part_extent_.assign(std::size_t(teamSize()), range_ + margin_);
+        near_reach_ = range_ + T(0.5) * margin_;
+      }))
+    return;
   const T near2 = near_reach_ * near_reach_;
-  std::uint32_t near = 0, far = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::uint32_t k = forward_start_[i]; k < forward_start_[i + 1]; ++k) {
-      const std::uint32_t j = forward_[k];
-      const vec3 d = x[i] - x[j];
-      // A NaN distance is near: always tested, as the scalar sum gives such a pair its terms
-      const bool is_near = !(glm::dot(d, d) >= near2);
-      near_owner[near] = far_owner[far] = std::uint32_t(i);
-      near_partner[near] = far_partner[far] = j;
-      near += is_near;
-      far += !is_near;
+  // A NaN distance is near: always tested, as the scalar sum gives such a pair its terms
+  const auto is_near = [&](std::size_t i, std::uint32_t j) {
+    const vec3 d = x[i] - x[j];
+    return !(glm::dot(d, d) >= near2);
+  };
+  // Each point's counts of near and far entries, into the starts that the team then sums
+  teamPart(0, (long long)n, [&](long long lo, long long hi) {
+    T extent = range_ + margin_;
+    for (auto i = std::size_t(lo); i < std::size_t(hi); ++i) {
+      const vec3& p = x[i];
+      anchor_[i] = p;
+      extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+      std::uint32_t near = 0;
+      for (std::uint32_t k = forward_start_[i]; k < forward_start_[i + 1]; ++k)
+        near += is_near(i, forward_[k]);
+      near_.start[i + 1] = near;
+      far_.start[i + 1] = forward_start_[i + 1] - forward_start_[i] - near;
     }
-    near_.start[i + 1] = near;
-    far_.start[i + 1] = far;
-  }
-  built_ = true;
-  ++rebuilds_;
-  entries_built_ += (long long)pairCount();
+    part_extent_[std::size_t(teamThread())] = extent;
+  });
+  if (size > 0)
+    teamPart(0, (long long)size, [&](long long lo, long long hi) {
+      const float* from[3] = {padded_.x, padded_.y, padded_.z};
+      for (int c = 0; c < 3; ++c)
+        std::copy(from[c] + lo, from[c] + hi, padded_anchor_[c].begin() + lo);
+    });
+  teamBarrier();
+  teamSingle([&] {
+    const T extent = *std::max_element(part_extent_.begin(), part_extent_.end());
+    travel_ = safeTravel(margin_, extent + margin_);
+    extent_ = extent + margin_;
+    for (std::size_t i = 0; i < n; ++i) {
+      near_.start[i + 1] += near_.start[i];
+      far_.start[i + 1] += far_.start[i];
+    }
+    built_ = true;
+    ++rebuilds_;
+    entries_built_ += (long long)pairCount();
+  });
+  // Each thread writes only its points' entries: a slot past its own is the next thread's
+  teamRange(0, (long long)n, [&](long long lo, long long hi) {
+    std::uint32_t at[2] = {near_.start[std::size_t(lo)], far_.start[std::size_t(lo)]};
+    std::uint32_t* owner[2] = {near_.owner.data(), far_.owner.data()};
+    std::uint32_t* partner[2] = {near_.partner.data(), far_.partner.data()};
+    for (auto i = std::size_t(lo); i < std::size_t(hi); ++i)
+      for (std::uint32_t k = forward_start_[i]; k < forward_start_[i + 1]; ++k) {
+        const std::uint32_t j = forward_[k];
+        const int part = is_near(i, j) ? 0 : 1;
+        owner[part][at[part]] = std::uint32_t(i);
+        partner[part][at[part]++] = j;
+      }
+  });
 }
 
 template <class T>

@@ -226,6 +226,7 @@ class CollisionPairs {
   };
   Padded padded_;                        // setPaddedPositions
   std::vector<float> padded_anchor_[3];  // anchor_ in padded_'s layout, where the last build had it (else empty)
+  std::vector<T> part_extent_;           // finishBuild's largest coordinate, per thread of the team
   // needsBuild()'s tiles, as runs of consecutive points, and per tile the box of its displacements since the build
   // and the box of its points
   static constexpr int kTileEdge = 8, kTilesAcross = 16;

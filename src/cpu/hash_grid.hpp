@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <exception>
 #include <vector>
 
 namespace drape {
@@ -22,7 +23,11 @@ class HashGrid {
  public:
   using vec3 = glm::vec<3, T>;
 
+  // Outside a team, by the calling thread (it throws what fails). In a team every thread calls it and each
+  // takes a share of the points; an allocation that fails is kept in `failure` (shared by the team), which every
+  // thread reads after the build, and the grid is then unusable until the next build.
   void build(const std::vector<vec3>& points, T cell_size);
+  void build(const std::vector<vec3>& points, T cell_size, std::exception_ptr& failure);
 
   // Calls f(j) for every point j != i whose cell is within one cell of point i's cell, in a fixed
   // order (27 cells in z, y, x order; ascending index within a cell).
@@ -144,10 +149,12 @@ class HashGrid {
   }
 
   std::vector<glm::ivec3> cells_;
-  std::vector<std::uint32_t> start_;          // bucketCount + 1 prefix sums
-  std::vector<std::uint32_t> sorted_;         // point indices grouped by bucket
-  std::vector<std::uint32_t> slot_;           // each point's slot in sorted_
-  std::vector<std::uint32_t> bucket_, fill_;  // build's scratch, kept to spare the allocations
+  std::vector<std::uint32_t> start_;           // bucketCount + 1 prefix sums
+  std::vector<std::uint32_t> sorted_;          // point indices grouped by bucket
+  std::vector<std::uint32_t> slot_;            // each point's slot in sorted_
+  std::vector<std::uint32_t> bucket_;          // build's scratch, kept to spare the allocations
+  std::vector<std::uint32_t> fill_;            // per thread of the build: its count, then its next slot, a bucket
+  std::vector<glm::ivec3> part_lo_, part_hi_;  // per thread of the build: its points' box of cells
   std::uint32_t mask_ = 0;
   bool dense_ = false;
   glm::ivec3 box_min_{}, box_size_{};

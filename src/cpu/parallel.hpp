@@ -13,6 +13,8 @@
 #endif
 
 #include <algorithm>
+#include <exception>
+#include <functional>
 #include <span>
 
 namespace drape {
@@ -168,6 +170,29 @@ void teamSingle(F&& body) {
 #pragma omp single
   body();
 #endif
+}
+
+// body() on every thread of a new team of `threads` (as CpuSolver::step runs a substep's passes): for tests of
+// code that a team runs together, compiled here with OpenMP where the tests are not.
+void runOnTeam(int threads, const std::function<void()>& body);
+
+// teamSingle for a step that may throw (an allocation) among steps that every thread of a team runs: in a team the
+// exception is kept in `failure`, shared by the team, and every thread reads the answer after the step's barrier, so
+// all take the same way; outside a team it is thrown. Returns whether no step has failed.
+template <class F>
+bool teamSerial(std::exception_ptr& failure, F&& body) {
+  if (!inTeam()) {
+    body();
+    return true;
+  }
+  teamSingle([&] {
+    try {
+      body();
+    } catch (...) {
+      failure = std::current_exception();
+    }
+  });
+  return !failure;
 }
 
 }  // namespace drape
