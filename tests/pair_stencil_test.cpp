@@ -100,6 +100,58 @@ TEST(PairStencil, TheBytesAreTheListsAlone) {
   expectSameRun<float>(scene, list_only, CpuSolverOptions{.threads = 1, .grid_isa = GridIsa::Sse2}, 60, "float, SSE2");
 }
 
+// The squares' bound, tight (CollisionPairs::stencilTiles): on a flat cloth at rest one point moves straight towards
+// its knight's-move partner (2, 1), 2.236 spacings away against a range of 2.2, by half or one and a half times the
+// distance the pair stood beyond the range. Every other displacement is zero, so the box of the displacements
+// around the square spans exactly that move: its square may pass over the offset only while the move is shorter
+// than that distance. (A bound of half the box passes over the pair in range.)
+TEST(PairStencil, ASquarePassesOverAnOffsetOnlyWhileNoPairThereCanBeInRange) {
+  Scene scene = crumplingCloth(24, 1.1);
+  scene.cloth.orientation = Orientation::Horizontal;  // flat: every pair at an offset is as far apart as the next
+  scene.sim.gravity = glm::dvec3(0);
+  scene.cloth.damping = 0;
+  scene.planes.clear();
+  const int w = scene.cloth.num_width_points;
+  const std::size_t i = 10 * std::size_t(w) + 10, j = i + std::size_t(w) + 2;
+  for (const double share : {0.5, 1.5}) {
+    CpuSolver<float> solver(scene, CpuSolverOptions{.threads = 1});
+    const std::vector<glm::dvec3> rest = solver.topology().initial_positions;
+    const glm::dvec3 towards = rest[j] - rest[i];
+    const double beyond = glm::length(towards) - 2 * scene.cloth.thickness;
+    ASSERT_GT(beyond, 0);
+    std::vector<glm::dvec3> v(rest.size(), glm::dvec3(0));
+    v[i] = glm::normalize(towards) * beyond * share;
+    solver.setState(rest, v);
+    solver.selfCollide();  // the lists built, the squares' least distances recorded, at rest
+    solver.accumulateForces();
+    solver.integrate();  // point i moves by v[i], no other point moves
+    solver.selfCollide();
+    const CollisionPairs<float>& pairs = solver.collisionPairs();
+    ASSERT_EQ(pairs.rebuilds(), 1) << "the move is within the lists' travel";
+    EXPECT_GT(pairs.squaresRuledOut(), 0.5) << share;
+    EXPECT_EQ(solver.selfCorrections()[i] != vec3(0), share > 1) << share;
+    EXPECT_EQ(solver.selfCorrections()[j] != vec3(0), share > 1) << share;
+  }
+}
+
+// The squares pass over tests, never a pair in range: a cloth folding onto itself with a contact distance of 2.5
+// spacings (a ring of 24 offsets), the squares on and off, one thread, a team of two (which splits the squares'
+// rows), SSE2.
+TEST(PairStencil, TheSquaresKeepTheBytes) {
+  const Scene scene = crumplingCloth(48, 1.25);
+  const CpuSolverOptions every_test{.threads = 1, .stencil_squares = false};
+  CpuSolver<float> probe(scene, CpuSolverOptions{.threads = 1});
+  double ruled_out = 0;
+  for (int s = 0; s < 40 * scene.sim.steps_per_frame; ++s) {
+    probe.step();
+    ruled_out += probe.collisionPairs().squaresRuledOut();
+  }
+  EXPECT_GT(ruled_out / (40 * scene.sim.steps_per_frame), 0.3) << "the squares must pass over tests";
+  expectSameRun<float>(scene, every_test, CpuSolverOptions{.threads = 1}, 40, "float");
+  expectSameRun<float>(scene, every_test, CpuSolverOptions{.threads = 2, .team_min_points = 0}, 40, "2 threads");
+  expectSameRun<float>(scene, every_test, CpuSolverOptions{.threads = 1, .grid_isa = GridIsa::Sse2}, 40, "SSE2");
+}
+
 // A contact distance of ten spacings: a ring of more offsets than a mask has bits, the last bit standing for
 // every offset from 63 on (CollisionPairs::stencilBit). Those partners are tested whenever the bit is set.
 TEST(PairStencil, AStencilOfMoreOffsetsThanBitsGivesTheListsBytes) {

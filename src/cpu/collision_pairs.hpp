@@ -177,6 +177,17 @@ class CollisionPairs {
   void forEachCandidate(std::size_t i, G&& g) const {
     forEachCandidate(i, ~StencilMask(0), g);
   }
+  // The stencil's squares for GridPath::stencilFlags, on a float grid whose check boxes them (GridStencilTiles): at
+  // a build's substep (just_built) every pair is tested and the least distance of each square's pairs at each offset
+  // recorded; at the substeps after it, a square's pairs at an offset are passed over where that least distance
+  // exceeds the range by more than its points can have moved against their partners since (the boxes of the
+  // squares around it, as this substep's check made them), with room for round-off: those pairs are out of range,
+  // and the flags are the same. False where they do not apply (no squares, no record since the build). Every thread
+  // of a team calls it.
+  bool stencilTiles(bool just_built, GridStencilTiles& out);
+  void setStencilSquares(bool on) { squares_ = on; }
+  // The share of the squares' offsets that the last substep after a build passed over (0 where none did)
+  double squaresRuledOut() const;
   long long rebuilds() const { return rebuilds_; }
   long long entriesBuilt() const { return entries_built_; }  // pairCount summed over the builds
   T range() const { return range_; }
@@ -243,6 +254,14 @@ class CollisionPairs {
   };
   std::vector<TileBox> boxes_;
   static constexpr std::size_t kSplitTiles = 32;  // from this many tiles a team splits needsBuild's work
+  // stencilTiles': per square and forward offset the least squared distance at the build (recorded at the build of
+  // count stencil_recorded_), per square the offsets to test
+  std::vector<float> stencil_min2_;
+  std::vector<std::uint64_t> stencil_active_;
+  long long stencil_recorded_ = -1;
+  bool squares_ = true;
+  bool squares_used_ = false;  // the last substep's stencil passed over what the squares ruled out
+  void activeOffsets(long long first, long long last);
   std::vector<vec3> rest_;
   int w_ = 0, h_ = 0;                 // the grid, or 0 x 0
   std::vector<std::uint16_t> u_, v_;  // each point's grid column and row

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <limits>
 #include <type_traits>
 
@@ -172,17 +173,95 @@ void CollisionPairs<T>::makeTiles(std::size_t n) {
   }
 }
 
+template <class T>
+bool CollisionPairs<T>::stencilTiles(bool just_built, GridStencilTiles& out) {
+  const std::size_t offsets = stencil_.size() - stencil_.size() / 2;
+  if (!std::is_same_v<T, float> || !squares_ || !kernels_ || edge_ <= 0 || offsets == 0 || offsets > 64 || box_ < 0 ||
+      !built_)
+    return false;
+  if (stencil_min2_.size() != tile_count_ * offsets || stencil_active_.size() != tile_count_) return false;
+  if (!just_built && (stencil_recorded_ != rebuilds_ || boxes_.size() != tile_count_)) return false;
+  out.edge = edge_;
+  out.across = (w_ + edge_ - 1) / edge_;
+  out.down = (h_ + edge_ - 1) / edge_;
+  out.active = stencil_active_.data();
+  out.min2 = stencil_min2_.data();
+  out.record = just_built;
+  // No thread reads these before the next substep's call, several barriers on
+  if (teamThread() == 0) squares_used_ = !just_built;
+  if (just_built) {
+    if (teamThread() == 0) stencil_recorded_ = rebuilds_;
+    out.prepare = [this, offsets, across = out.across](long long first, long long last) {
+      const auto per_row = std::ptrdiff_t(across) * std::ptrdiff_t(offsets);
+      std::fill(stencil_min2_.begin() + first * per_row, stencil_min2_.begin() + last * per_row,
+                std::numeric_limits<float>::infinity());
+    };
+  } else {
+    out.prepare = [this](long long first, long long last) { activeOffsets(first, last); };
+  }
+  return true;
+}
+
+template <class T>
+double CollisionPairs<T>::squaresRuledOut() const {
+  const std::size_t offsets = stencil_.size() - stencil_.size() / 2;
+  if (!squares_used_ || stencil_active_.empty() || offsets == 0) return 0;
+  std::size_t tested = 0;
+  for (const std::uint64_t active : stencil_active_)
+    tested += std::size_t(std::popcount(active));
+  return 1.0 - double(tested) / double(stencil_active_.size() * offsets);
+}
+
+// Each square's offsets to test in rows of squares [first, last): those whose least distance at the build does not
+// exceed the range plus the most |d_i - d_j| of a pair from the square (the diagonal of the box of the displacements
+// of every square a partner can lie in) plus the round-off farNeeded allows for. A NaN at the build, or a box that
+// is not finite, tests them all.
+template <class T>
+void CollisionPairs<T>::activeOffsets(long long first, long long last) {
+  const int across = (w_ + edge_ - 1) / edge_, down = (h_ + edge_ - 1) / edge_;
+  const int reach = (box_ + edge_ - 1) / edge_;  // squares away a partner can lie
+  const std::size_t offsets = stencil_.size() - stencil_.size() / 2;
+  constexpr T kInf = std::numeric_limits<T>::infinity();
+  for (auto ty = int(first); ty < int(last); ++ty)
+    for (int tx = 0; tx < across; ++tx) {
+      vec3 lo(kInf), hi(-kInf);
+      for (int y = std::max(ty - reach, 0); y <= std::min(ty + reach, down - 1); ++y)
+        for (int x = std::max(tx - reach, 0); x <= std::min(tx + reach, across - 1); ++x) {
+          const TileBox& b = boxes_[std::size_t(y) * std::size_t(across) + std::size_t(x)];
+          lo = glm::min(lo, b.dlo);
+          hi = glm::max(hi, b.dhi);
+        }
+      const vec3 box = hi - lo;
+      const T diagonal2 = glm::dot(box, box);
+      const T need = (range_ + std::sqrt(diagonal2) + T(64) * std::numeric_limits<T>::epsilon() * extent_) *
+                     (T(1) + T(1.0 / 65536));
+      const float need2 = diagonal2 <= std::numeric_limits<T>::max() ? float(need * need) : __builtin_inff();
+      const std::size_t t = std::size_t(ty) * std::size_t(across) + std::size_t(tx);
+      const float* least = stencil_min2_.data() + t * offsets;
+      std::uint64_t active = 0;
+      for (std::size_t k = 0; k < offsets; ++k)
+        active |= std::uint64_t(!(least[k] > need2)) << k;
+      stencil_active_[t] = active;
+    }
+}
+
 template void CollisionPairs<float>::startCheck(const std::vector<vec3>&);
 template bool CollisionPairs<float>::finishCheck(const std::vector<vec3>&);
 template bool CollisionPairs<float>::splitCheck() const;
 template void CollisionPairs<float>::boxTiles(const std::vector<vec3>&, bool);
 template void CollisionPairs<float>::compareTiles(bool);
 template void CollisionPairs<float>::makeTiles(std::size_t);
+template bool CollisionPairs<float>::stencilTiles(bool, GridStencilTiles&);
+template double CollisionPairs<float>::squaresRuledOut() const;
+template void CollisionPairs<float>::activeOffsets(long long, long long);
 template void CollisionPairs<double>::startCheck(const std::vector<vec3>&);
 template bool CollisionPairs<double>::finishCheck(const std::vector<vec3>&);
 template bool CollisionPairs<double>::splitCheck() const;
 template void CollisionPairs<double>::boxTiles(const std::vector<vec3>&, bool);
 template void CollisionPairs<double>::compareTiles(bool);
 template void CollisionPairs<double>::makeTiles(std::size_t);
+template bool CollisionPairs<double>::stencilTiles(bool, GridStencilTiles&);
+template double CollisionPairs<double>::squaresRuledOut() const;
+template void CollisionPairs<double>::activeOffsets(long long, long long);
 
 }  // namespace drape

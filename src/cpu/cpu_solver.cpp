@@ -57,6 +57,7 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
   if (options.skip_held_pairs) {
     pairs_.setRest(std::vector<vec3>(topo_.initial_positions.begin(), topo_.initial_positions.end()));
     if (topo_.W > 0 && options.pair_stencil) pairs_.setGrid(topo_.W, topo_.H);
+    pairs_.setStencilSquares(options.stencil_squares);
   }
   buildFaceContacts();
   const std::size_t n = std::size_t(topo_.pointCount());

@@ -51,6 +51,10 @@ struct CpuSolverOptions {
   // are tested by offset every substep instead of listed (CollisionPairs::setGrid); false lists them, to
   // compare. The same bytes either way.
   bool pair_stencil = true;
+  // With the stencil on a float grid: between the lists' builds, the stencil's pairs that the build's distances and
+  // the check's boxes of the displacements show out of range are not tested (CollisionPairs::stencilTiles); false
+  // tests every one, to compare. The same bytes either way.
+  bool stencil_squares = true;
   // Float grid cloths: forces and the Gauss-Seidel stretch limit by the SIMD grid kernels (cpu/grid_path.hpp),
   // the same bytes as the general gathers; false runs the general path (the tests compare the two).
   bool grid_path = true;

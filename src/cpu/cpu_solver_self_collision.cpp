@@ -96,9 +96,12 @@ void CpuSolver<T>::selfCollide() {
   const std::size_t stencil = pairs_.stencil().size();
   if (stencil > 0) {
     if constexpr (std::is_same_v<T, float>)
-      if (padded)
+      if (padded) {
+        GridStencilTiles tiles;
+        const bool ruled_out = pairs_.stencilTiles(built, tiles);
         grid_->stencilFlags(pairs_.stencilDu(), pairs_.stencilDv(), pairs_.stencilMixed(), int(stencil), range * range,
-                            near_);
+                            near_, ruled_out ? &tiles : nullptr);
+      }
     if (!padded)
       parallelFor(0, (long long)x_.size(), threads_,
                   [&](long long p) { near_[std::size_t(p)] = pairs_.stencilMask(x_, std::size_t(p)); });

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 
 namespace drape {
 
@@ -117,6 +118,26 @@ struct GridStencilArgs {
   // from the higher.
   std::uint64_t* flags;
   int half = 0;
+  // The tests a list's build rules out, passed over (CollisionPairs::stencilTiles): the grid in squares of `edge`
+  // points, `across` of them a row of squares; active[t] has bit k set where offset k's pairs from square t's points
+  // are tested (count <= 64), the others being out of range. Where record, every pair is tested and
+  // min2[t * count + k] given the least squared distance of offset k's pairs from square t's points (+inf coming
+  // in). active and min2 nullptr: every pair tested.
+  int edge = 0, across = 0;
+  const std::uint64_t* active = nullptr;
+  float* min2 = nullptr;
+  bool record = false;
+};
+
+// GridStencilArgs' squares for GridPath::stencilFlags (CollisionPairs::stencilTiles makes them): each thread of a
+// team takes whole rows of squares, `down` of them, and calls prepare(first, last) with its rows of squares before
+// its tests (the least distances cleared for a record, or the squares' offsets to test worked out).
+struct GridStencilTiles {
+  int edge = 0, across = 0, down = 0;
+  const std::uint64_t* active = nullptr;
+  float* min2 = nullptr;
+  bool record = false;
+  std::function<void(long long, long long)> prepare;
 };
 
 // The spheres and planes of a scene and the points they act on (collideObjects).

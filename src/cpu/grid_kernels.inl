@@ -9,6 +9,7 @@
 #include "cpu/simd.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -50,6 +51,7 @@ struct Lanes {
 #include "cpu/grid_kernels_colours.inl"
 #include "cpu/grid_kernels_contact.inl"
 #include "cpu/grid_kernels_probes.inl"
+#include "cpu/grid_kernels_stencil.inl"
 #include "cpu/grid_kernels_vbd.inl"
 
 namespace drape {
@@ -297,7 +299,7 @@ struct Kernels : Lanes<V> {
             &Vbd::vbdPoints,
             &integrate,
             &Contact::pairTerms,
-            &Contact::stencilFlags,
+            &StencilKernels<V>::stencilFlags,
             &Contact::scanPairs,
             &Contact::scanCell,
             &Contact::collideObjects,

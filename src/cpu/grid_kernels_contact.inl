@@ -6,11 +6,6 @@
 namespace drape {
 namespace {
 
-// CollisionPairs::stencilBit, kept here: the kernels' translation units share no inline function with the rest.
-std::uint64_t stencilBit(int k) {
-  return std::uint64_t(1) << (k < 63 ? k : 63);
-}
-
 template <class V>
 struct ContactKernels : Lanes<V> {
   using F = typename V::F;
@@ -77,89 +72,6 @@ struct ContactKernels : Lanes<V> {
       }
     }
     return count;
-  }
-
-  // A row's stencil offsets whose partner row is on the grid, worked out once a row (per vector they were
-  // a fifth of the kernel's instructions): the partner's padded index and flag index less the point's, its
-  // column less the point's, whether some pairs there are held at rest, the two ends' bits, and whether both
-  // rows are this thread's alone (plain ORs; an atomic one costs about 20 cycles here).
-  struct StencilTerm {
-    std::ptrdiff_t padded, flag;
-    int du;
-    bool mixed, alone;
-    std::uint64_t forward, backward;
-  };
-
-  template <bool kInterior>
-  static void stencilVector(const GridStencilArgs& a, const StencilTerm* terms, int count, int u0, int v, F r2) {
-    const GridShape& g = a.shape;
-    const std::ptrdiff_t q = at(g, u0, v);
-    const F X = V::load(a.x + q), Y = V::load(a.y + q), Z = V::load(a.z + q);
-    const F us = V::add(V::set1(float(u0)), V::iota());
-    const F all = V::eq(V::set1(0.0f), V::set1(0.0f));
-    const F own = kInterior ? all : V::lt(us, V::set1(float(g.W)));
-    std::uint64_t* mine = a.flags + std::ptrdiff_t(v) * g.W + u0;
-    for (int k = 0; k < count; ++k) {
-      const StencilTerm& t = terms[k];
-      // The padding keeps every partner load inside the arrays (|du| <= kMaxStencilBox < 2 rows)
-      const std::ptrdiff_t p = q + t.padded;
-      const F dx = V::sub(X, V::load(a.x + p)), dy = V::sub(Y, V::load(a.y + p)), dz = V::sub(Z, V::load(a.z + p));
-      const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
-      // not d2 >= range^2: a NaN distance is a pair, for the scalar sum to see
-      F pair = V::andNot(V::ge(d2, r2), kInterior ? all : V::bitAnd(onGrid(us, t.du, g.W), own));
-      if (t.mixed && V::any(pair)) {  // heldAtRest(rest_i, rest_j, range): d . d < range^2
-        const F ex = V::sub(V::load(a.rx + q), V::load(a.rx + p)), ey = V::sub(V::load(a.ry + q), V::load(a.ry + p)),
-                ez = V::sub(V::load(a.rz + q), V::load(a.rz + p));
-        const F e2 = V::add(V::add(V::mul(ex, ex), V::mul(ey, ey)), V::mul(ez, ez));
-        pair = V::andNot(V::lt(e2, r2), pair);
-      }
-      if (int bits = V::bits(pair); bits != 0) {
-        std::uint64_t* theirs = mine + t.flag;
-        if (t.alone)
-          for (; bits != 0; bits &= bits - 1) {
-            const int l = __builtin_ctz(unsigned(bits));
-            mine[l] |= t.forward;
-            theirs[l] |= t.backward;
-          }
-        for (; bits != 0; bits &= bits - 1) {
-          const int l = __builtin_ctz(unsigned(bits));
-          __atomic_fetch_or(mine + l, t.forward, __ATOMIC_RELAXED);
-          __atomic_fetch_or(theirs + l, t.backward, __ATOMIC_RELAXED);
-        }
-      }
-    }
-  }
-
-  static void stencilFlags(const GridStencilArgs& a, int y0, int y1) {
-    const GridShape& g = a.shape;
-    const F r2 = V::set1(a.range2);
-    int reach = 0, side = 0;  // the rows a point's flags reach forward (no other thread writes rows from y0 + reach)
-    for (int k = 0; k < a.count; ++k) {
-      reach = a.dv[k] > reach ? a.dv[k] : reach;
-      side = a.du[k] > side ? a.du[k] : (-a.du[k] > side ? -a.du[k] : side);
-    }
-    static thread_local std::vector<StencilTerm> terms;
-    terms.resize(std::size_t(a.count));
-    for (int v = y0; v < y1; ++v) {
-      int count = 0;
-      for (int k = 0; k < a.count; ++k) {
-        if (v + a.dv[k] < 0 || v + a.dv[k] >= g.H) continue;
-        terms[std::size_t(count++)] = {std::ptrdiff_t(a.dv[k]) * g.stride + a.du[k],
-                                       std::ptrdiff_t(a.dv[k]) * g.W + a.du[k],
-                                       a.du[k],
-                                       a.mixed[k] != 0,
-                                       v >= y0 + reach && v + a.dv[k] < y1,
-                                       stencilBit(a.half + k),
-                                       stencilBit(a.half - 1 - k)};
-      }
-      // Vectors whose every lane's partners are on the grid need no lane masks
-      for (int u0 = 0; u0 < g.W; u0 += kW) {
-        if (u0 >= side && u0 + kW + side <= g.W)
-          stencilVector<true>(a, terms.data(), count, u0, v, r2);
-        else
-          stencilVector<false>(a, terms.data(), count, u0, v, r2);
-      }
-    }
   }
 
   // Each sphere, then each plane, on the lanes of `free`: X..VZ moved in place (collidePoint: x += c, v += c).

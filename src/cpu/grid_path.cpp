@@ -89,14 +89,28 @@ void GridPath::loadPositions(const std::vector<glm::vec3>& x) {
 }
 
 void GridPath::stencilFlags(const int* du, const int* dv, const std::uint8_t* mixed, int count, float range2,
-                            std::vector<std::uint64_t>& flags) {
+                            std::vector<std::uint64_t>& flags, const GridStencilTiles* tiles) {
   const GridKernels& kern = *kernels_;
   // Each pair once, from the end whose index is lower (the stencil's second half), flagging both ends: the
   // flags come in cleared and are only ever OR'ed.
   const int half = count / 2;
   const GridStencilArgs args{shape_,    x_.data(), y_.data(),    z_.data(),    rx_.data(), ry_.data(),   rz_.data(),
                              du + half, dv + half, mixed + half, count - half, range2,     flags.data(), half};
-  teamRange(0, shape_.H, [&](long long y0, long long y1) { kern.stencilFlags(args, int(y0), int(y1)); });
+  if (!tiles) {
+    teamRange(0, shape_.H, [&](long long y0, long long y1) { kern.stencilFlags(args, int(y0), int(y1)); });
+    return;
+  }
+  GridStencilArgs tiled = args;
+  tiled.edge = tiles->edge;
+  tiled.across = tiles->across;
+  tiled.active = tiles->active;
+  tiled.min2 = tiles->min2;
+  tiled.record = tiles->record;
+  // By whole rows of squares: the recording threads write their own squares' least distances
+  teamRange(0, tiles->down, [&](long long t0, long long t1) {
+    tiles->prepare(t0, t1);
+    kern.stencilFlags(tiled, int(t0 * tiles->edge), int(std::min<long long>(t1 * tiles->edge, shape_.H)));
+  });
 }
 
 void GridPath::limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,

@@ -41,8 +41,9 @@ class GridPath {
   // (GridKernels::stencilFlags). du, dv, mixed: the whole stencil, sorted by dv * W + du (its second half mirrors
   // its first). flags: all zero on entry (the caller clears them where no barrier is needed: a thread sets
   // bits in its neighbour's rows). Called by every thread of a team, or by one thread alone.
+  // tiles: where given, the tests the list's last build rules out are passed over (GridStencilTiles).
   void stencilFlags(const int* du, const int* dv, const std::uint8_t* mixed, int count, float range2,
-                    std::vector<std::uint64_t>& flags);
+                    std::vector<std::uint64_t>& flags, const GridStencilTiles* tiles = nullptr);
   // `passes` Gauss-Seidel passes over the 12 colours in order; v nullptr when it is not a displacement. wait:
   // false where the next pass reads only its own thread's rows of x and v (no barrier after they are copied out).
   // copy_out false: the positions stay in the padded arrays for collideAndCopyOut.

@@ -1,0 +1,184 @@
+// The grid kernel of self-collision's stencil (GridStencilArgs), over the vector type V: part of
+// cpu/grid_kernels.inl (which includes this file once, inside the same rules: nothing here may be a non-inline
+// symbol shared with other units), kept apart for its size.
+#pragma once
+
+namespace drape {
+namespace {
+
+// CollisionPairs::stencilBit, kept here: the kernels' translation units share no inline function with the rest.
+std::uint64_t stencilBit(int k) {
+  return std::uint64_t(1) << (k < 63 ? k : 63);
+}
+
+template <class V>
+struct StencilKernels : Lanes<V> {
+  using F = typename V::F;
+  static constexpr int kW = V::kWidth;
+  using Lanes<V>::onGrid;
+
+  // A row's stencil offsets whose partner row is on the grid, worked out once a row (per vector they were
+  // a fifth of the kernel's instructions): the partner's padded index and flag index less the point's, its
+  // column less the point's, whether some pairs there are held at rest, the two ends' bits, and whether both
+  // rows are this thread's alone (plain ORs; an atomic one costs about 20 cycles here).
+  struct StencilTerm {
+    std::ptrdiff_t padded, flag;
+    int du;
+    bool mixed, alone;
+    std::uint64_t forward, backward;
+  };
+  // Whether the squares rule tests out (GridStencilArgs::active), or record their least distances
+  enum StencilTiles { kAllTested, kTilesRuleOut, kTilesRecord };
+
+  // One offset's test of the vector of points at (u0, v): their flags, and where kRecord each lane's least distance
+  // into the accumulators of the squares the lanes lie in (least0, least1; a NaN distance is -inf there, so that
+  // nothing is ruled out until the next build)
+  template <bool kInterior, bool kRecord>
+  static void stencilTest(const GridStencilArgs& a, const StencilTerm& t, std::ptrdiff_t q, F X, F Y, F Z, F us, F own,
+                          F r2, std::uint64_t* mine, float* least0, float* least1) {
+    const GridShape& g = a.shape;
+    const F all = V::eq(V::set1(0.0f), V::set1(0.0f));
+    // The padding keeps every partner load inside the arrays (|du| <= kMaxStencilBox < 2 rows)
+    const std::ptrdiff_t p = q + t.padded;
+    const F dx = V::sub(X, V::load(a.x + p)), dy = V::sub(Y, V::load(a.y + p)), dz = V::sub(Z, V::load(a.z + p));
+    const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
+    const F lanes = kInterior ? all : V::bitAnd(onGrid(us, t.du, g.W), own);
+    if constexpr (kRecord) {
+      const F inf = V::set1(__builtin_inff());
+      const F value = V::select(lanes, V::select(V::ge(d2, V::set1(0.0f)), d2, V::neg(inf)), inf);
+      V::store(least0, V::min(V::load(least0), value));
+      if (least1 != least0) V::store(least1, V::min(V::load(least1), value));
+    }
+    // not d2 >= range^2: a NaN distance is a pair, for the scalar sum to see
+    F pair = V::andNot(V::ge(d2, r2), lanes);
+    if (t.mixed && V::any(pair)) {  // heldAtRest(rest_i, rest_j, range): d . d < range^2
+      const F ex = V::sub(V::load(a.rx + q), V::load(a.rx + p)), ey = V::sub(V::load(a.ry + q), V::load(a.ry + p)),
+              ez = V::sub(V::load(a.rz + q), V::load(a.rz + p));
+      const F e2 = V::add(V::add(V::mul(ex, ex), V::mul(ey, ey)), V::mul(ez, ez));
+      pair = V::andNot(V::lt(e2, r2), pair);
+    }
+    if (int bits = V::bits(pair); bits != 0) {
+      std::uint64_t* theirs = mine + t.flag;
+      if (t.alone)
+        for (; bits != 0; bits &= bits - 1) {
+          const int l = __builtin_ctz(unsigned(bits));
+          mine[l] |= t.forward;
+          theirs[l] |= t.backward;
+        }
+      for (; bits != 0; bits &= bits - 1) {
+        const int l = __builtin_ctz(unsigned(bits));
+        __atomic_fetch_or(mine + l, t.forward, __ATOMIC_RELAXED);
+        __atomic_fetch_or(theirs + l, t.backward, __ATOMIC_RELAXED);
+      }
+    }
+  }
+
+  // The vector of points at (u0, v) against the row's offsets: all of them (terms, count of them), or, by the
+  // squares its lanes lie in (one or two, t0 and t1), the offsets they do not rule out (by offset number: terms[k]
+  // on the row where row has bit k); where recording, into the accumulators of those squares (acc0, acc1: kW lanes
+  // an offset)
+  template <bool kInterior, int kTiles>
+  static void stencilVector(const GridStencilArgs& a, const StencilTerm* terms, int count, std::uint64_t row, int u0,
+                            int v, F r2, int t0, int t1, float* acc0, float* acc1) {
+    const GridShape& g = a.shape;
+    const std::ptrdiff_t q = at(g, u0, v);
+    const F X = V::load(a.x + q), Y = V::load(a.y + q), Z = V::load(a.z + q);
+    const F us = V::add(V::set1(float(u0)), V::iota());
+    const F own = kInterior ? V::eq(us, us) : V::lt(us, V::set1(float(g.W)));
+    std::uint64_t* mine = a.flags + std::ptrdiff_t(v) * g.W + u0;
+    if constexpr (kTiles == kAllTested) {
+      for (int k = 0; k < count; ++k)
+        stencilTest<kInterior, false>(a, terms[k], q, X, Y, Z, us, own, r2, mine, nullptr, nullptr);
+    } else if constexpr (kTiles == kTilesRuleOut) {
+      for (std::uint64_t m = (a.active[t0] | a.active[t1]) & row; m != 0; m &= m - 1)
+        stencilTest<kInterior, false>(a, terms[std::countr_zero(m)], q, X, Y, Z, us, own, r2, mine, nullptr, nullptr);
+    } else {
+      for (std::uint64_t m = row; m != 0; m &= m - 1) {
+        const int k = std::countr_zero(m);
+        stencilTest<kInterior, true>(a, terms[k], q, X, Y, Z, us, own, r2, mine, acc0 + k * kW, acc1 + k * kW);
+      }
+    }
+  }
+
+  template <int kTiles>
+  static void stencilRows(const GridStencilArgs& a, int y0, int y1) {
+    const GridShape& g = a.shape;
+    const F r2 = V::set1(a.range2);
+    int reach = 0, side = 0;  // the rows a point's flags reach forward (no other thread writes rows from y0 + reach)
+    for (int k = 0; k < a.count; ++k) {
+      reach = a.dv[k] > reach ? a.dv[k] : reach;
+      side = a.du[k] > side ? a.du[k] : (-a.du[k] > side ? -a.du[k] : side);
+    }
+    static thread_local std::vector<StencilTerm> terms;
+    terms.resize(std::size_t(a.count));
+    // With the squares: the columns of squares each vector's first and last lanes lie in (a division each, per
+    // vector, was a third of the kernel's time)
+    static thread_local std::vector<std::pair<int, int>> columns;
+    if (kTiles != kAllTested) {
+      columns.resize(std::size_t((g.W + kW - 1) / kW));
+      for (int u0 = 0; u0 < g.W; u0 += kW)
+        columns[std::size_t(u0 / kW)] = {u0 / a.edge, (u0 + kW < g.W ? u0 + kW - 1 : g.W - 1) / a.edge};
+    }
+    // Recording: per column of squares and offset, each lane's least distance over the square's rows so far, made
+    // into the square's least at its last row (a horizontal minimum per test cost three times the test)
+    static thread_local std::vector<float> acc;
+    const auto flush = [&](int tile_row) {
+      for (int c = 0; c < a.across; ++c)
+        for (int k = 0; k < a.count; ++k) {
+          float* lanes = acc.data() + (std::size_t(c) * std::size_t(a.count) + std::size_t(k)) * kW;
+          float* least = a.min2 + std::ptrdiff_t(tile_row + c) * a.count + k;
+          for (int l = 0; l < kW; ++l) {
+            *least = lanes[l] < *least ? lanes[l] : *least;
+            lanes[l] = __builtin_inff();
+          }
+        }
+    };
+    if (kTiles == kTilesRecord) acc.assign(std::size_t(a.across) * std::size_t(a.count) * kW, __builtin_inff());
+    for (int v = y0; v < y1; ++v) {
+      int count = 0;
+      std::uint64_t row = 0;  // with the squares: the offsets on the grid from this row, terms by offset number
+      for (int k = 0; k < a.count; ++k) {
+        if (v + a.dv[k] < 0 || v + a.dv[k] >= g.H) continue;
+        row |= std::uint64_t(1) << (k & 63);
+        terms[std::size_t(kTiles == kAllTested ? count++ : k)] = {std::ptrdiff_t(a.dv[k]) * g.stride + a.du[k],
+                                                                  std::ptrdiff_t(a.dv[k]) * g.W + a.du[k],
+                                                                  a.du[k],
+                                                                  a.mixed[k] != 0,
+                                                                  v >= y0 + reach && v + a.dv[k] < y1,
+                                                                  stencilBit(a.half + k),
+                                                                  stencilBit(a.half - 1 - k)};
+      }
+      const int tile_row = kTiles == kAllTested ? 0 : v / a.edge * a.across;
+      // Vectors whose every lane's partners are on the grid need no lane masks
+      for (int u0 = 0; u0 < g.W; u0 += kW) {
+        int t0 = 0, t1 = 0;
+        if (kTiles != kAllTested) {
+          t0 = tile_row + columns[std::size_t(u0 / kW)].first;
+          t1 = tile_row + columns[std::size_t(u0 / kW)].second;
+        }
+        float *acc0 = nullptr, *acc1 = nullptr;
+        if (kTiles == kTilesRecord) {
+          acc0 = acc.data() + std::size_t(t0 - tile_row) * std::size_t(a.count) * kW;
+          acc1 = acc.data() + std::size_t(t1 - tile_row) * std::size_t(a.count) * kW;
+        }
+        if (u0 >= side && u0 + kW + side <= g.W)
+          stencilVector<true, kTiles>(a, terms.data(), count, row, u0, v, r2, t0, t1, acc0, acc1);
+        else
+          stencilVector<false, kTiles>(a, terms.data(), count, row, u0, v, r2, t0, t1, acc0, acc1);
+      }
+      if (kTiles == kTilesRecord && ((v + 1) % a.edge == 0 || v + 1 == y1)) flush(tile_row);
+    }
+  }
+
+  static void stencilFlags(const GridStencilArgs& a, int y0, int y1) {
+    if (!a.min2)
+      stencilRows<kAllTested>(a, y0, y1);
+    else if (a.record)
+      stencilRows<kTilesRecord>(a, y0, y1);
+    else
+      stencilRows<kTilesRuleOut>(a, y0, y1);
+  }
+};
+
+}  // namespace
+}  // namespace drape
