@@ -115,8 +115,7 @@ TEST_P(GpuGridTest, MatchesTheCpuGridAndBruteForce) {
   // The lists' skin as the CPU solver's: a share of the contact distance, or of two spacings on a cloth finer
   // than half of it (large_cloud's 80 x 80 grid).
   const Topology topo = buildTopology(scene.cloth);
-  const float skin =
-      derived::pairSkin(kDefaultPairMargin, range, gpu::shortestStructural(topo), derived::kGpuRingDepth);
+  const float skin = derived::pairSkin(kDefaultPairMargin, range, gpu::shortestStructural(topo));
   const float cell = range + skin;
   std::vector<glm::vec3> points(cloud.begin(), cloud.end());
   std::vector<std::uint32_t> size(buckets, 0);

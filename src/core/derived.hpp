@@ -59,18 +59,14 @@ inline constexpr double kDefaultPairMargin = 0.75;
 }  // namespace drape
 
 namespace drape::derived {
-// The lists' skin for a contact distance `range`: `margin` of it, or on a cloth finer than it, `margin` of `depth`
-// spacings (the shortest structural spring at rest). There the stencil holds the ring of unheld pairs between range
-// and range + skin, so the skin is its depth in lattice spacings; a deeper ring makes the lists last longer and the
-// stencil test more pairs. The GPU tests its whole ring every substep and takes kGpuRingDepth (one spacing at the
-// default margin: half a spacing ran pinned2 at 128^2 and 256^2 with CS184's thickness 7% and 13% slower on the
-// CPU, rebuilding twice as often, 1.5 spacings 20% slower, its ring wider; docs/contact.md). The CPU's stencil
-// passes over the ring's outer offsets between builds (CollisionPairs::stencilTiles), so a deeper ring costs it
-// little and it takes kCpuRingDepth (two spacings: pinned2 at 256^2 0.946 of the time with one, at 128^2 0.953).
-// In T, as each solver computes it.
-inline constexpr double kGpuRingDepth = 4.0 / 3.0, kCpuRingDepth = 8.0 / 3.0;
+// The lists' skin for a contact distance `range`: `margin` of it, or on a cloth finer than three quarters of
+// it, `margin` of 4/3 spacings (the shortest structural spring at rest). There the stencil tests the ring of
+// unheld pairs between range and range + skin every substep, so the skin is its depth in lattice spacings:
+// one at the default (half a spacing ran pinned2 at 128^2 and 256^2 with CS184's thickness 7% and 13% slower,
+// rebuilding twice as often, 1.5 spacings 20% slower, its ring wider; docs/contact.md). In T, as each solver
+// computes it.
 template <class T>
-T pairSkin(double margin, T range, double shortest_spring, double depth) {
-  return T(margin) * std::min(range, T(depth) * T(shortest_spring));
+T pairSkin(double margin, T range, double shortest_spring) {
+  return T(margin) * std::min(range, T(4.0 / 3.0) * T(shortest_spring));
 }
 }  // namespace drape::derived

@@ -37,7 +37,7 @@ enum class VerletForm { Displacement, PreviousPosition };
 struct CpuSolverOptions {
   VerletForm form = VerletForm::Displacement;
   int threads = 0;  // OpenMP threads for the per-point loops; 0 = every core. Any count gives the same bytes.
-  // list skin / min(2*thickness, 8/3 of the shortest structural spring at rest) (derived::pairSkin); 0 rebuilds
+  // list skin / min(2*thickness, 4/3 of the shortest structural spring at rest) (derived::pairSkin); 0 rebuilds
   // the list every substep
   double pair_margin = kDefaultPairMargin;
   // The skin follows the cloth: pair_margin while its lists wear out, 2/3 of it once a list has lasted

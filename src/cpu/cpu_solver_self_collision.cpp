@@ -43,7 +43,7 @@ void CpuSolver<T>::selfCollide() {
         ++skin_switches_;
       }
       const double margin = wide_skin_ ? pair_margin_ : pair_margin_ * (2.0 / 3.0);
-      pairs_.configure(range, derived::pairSkin(margin, range, shortest_spring_, derived::kCpuRingDepth));
+      pairs_.configure(range, derived::pairSkin(margin, range, shortest_spring_));
       near_.resize(x_.size());
       first_term_.resize(x_.size(), -1);
       const int team = teamSize();

@@ -49,7 +49,7 @@ SimParams simParams(const Scene& scene, const std::vector<PointMass>& masses, co
   p.inv_cell_size = 1.0f / (2.0f * thickness);  // as CpuSolver<float>::selfCollide rounds it
   // As CpuSolver<float>::selfCollide and CollisionPairs<float>::build compute them.
   const float range = 2.0f * thickness;
-  const float margin = derived::pairSkin(in.pair_margin, range, in.shortest_spring, derived::kGpuRingDepth);
+  const float margin = derived::pairSkin(in.pair_margin, range, in.shortest_spring);
   const float reach = range + margin;
   p.inv_pair_cell = 1.0f / reach;
   p.pair_reach = reach;
