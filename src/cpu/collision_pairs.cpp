@@ -323,13 +323,16 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
     const vec3 d = x[i] - x[j];
     return !(glm::dot(d, d) >= near2);
   };
-  // Each point's counts of near and far entries, into the starts that the team then sums
+  // In a team, each point's counts of near and far entries first, into the starts that the team then sums; alone,
+  // the entries' pass makes the starts as it goes
+  const bool alone = teamSize() == 1;
   teamPart(0, (long long)n, [&](long long lo, long long hi) {
     T extent = range_ + margin_;
     for (auto i = std::size_t(lo); i < std::size_t(hi); ++i) {
       const vec3& p = x[i];
       anchor_[i] = p;
       extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+      if (alone) continue;
       std::uint32_t near = 0;
       for (std::uint32_t k = forward_start_[i]; k < forward_start_[i + 1]; ++k)
         near += is_near(i, forward_[k]);
@@ -349,7 +352,7 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
     const T extent = *std::max_element(part_extent_.begin(), part_extent_.end());
     travel_ = safeTravel(margin_, extent + margin_);
     extent_ = extent + margin_;
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; !alone && i < n; ++i) {
       near_.start[i + 1] += near_.start[i];
       far_.start[i + 1] += far_.start[i];
     }
@@ -362,13 +365,18 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
     std::uint32_t at[2] = {near_.start[std::size_t(lo)], far_.start[std::size_t(lo)]};
     std::uint32_t* owner[2] = {near_.owner.data(), far_.owner.data()};
     std::uint32_t* partner[2] = {near_.partner.data(), far_.partner.data()};
-    for (auto i = std::size_t(lo); i < std::size_t(hi); ++i)
+    for (auto i = std::size_t(lo); i < std::size_t(hi); ++i) {
       for (std::uint32_t k = forward_start_[i]; k < forward_start_[i + 1]; ++k) {
         const std::uint32_t j = forward_[k];
         const int part = is_near(i, j) ? 0 : 1;
         owner[part][at[part]] = std::uint32_t(i);
         partner[part][at[part]++] = j;
       }
+      if (alone) {
+        near_.start[i + 1] = at[0];
+        far_.start[i + 1] = at[1];
+      }
+    }
   });
 }
 

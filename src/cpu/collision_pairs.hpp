@@ -186,7 +186,14 @@ class CollisionPairs {
   // of a team calls it.
   bool stencilTiles(bool just_built, GridStencilTiles& out);
   void setStencilSquares(bool on) { squares_ = on; }
-  // The share of the squares' offsets that the last substep after a build passed over (0 where none did)
+  // From this many forward offsets the squares pay. A vector of points whose squares pass over some of its offsets
+  // and not others runs a loop of as many tests as its mask has bits, and its end is mispredicted: on CS184's
+  // 50 x 50 files (2 to 4 forward offsets, half of them passed over) that cost more than the tests passed over
+  // (pinned2 and selfCollision 4% slower on one thread, with as many instructions); pinned2 at 256^2 has 20.
+  static constexpr std::size_t kSquaresMinOffsets = 8;
+  // Whether the last substep's stencil passed over what its squares ruled out, and the share of the squares' offsets
+  // it passed over (0 where it did not)
+  bool squaresUsed() const { return squares_used_; }
   double squaresRuledOut() const;
   long long rebuilds() const { return rebuilds_; }
   long long entriesBuilt() const { return entries_built_; }  // pairCount summed over the builds

@@ -176,8 +176,8 @@ void CollisionPairs<T>::makeTiles(std::size_t n) {
 template <class T>
 bool CollisionPairs<T>::stencilTiles(bool just_built, GridStencilTiles& out) {
   const std::size_t offsets = stencil_.size() - stencil_.size() / 2;
-  if (!std::is_same_v<T, float> || !squares_ || !kernels_ || edge_ <= 0 || offsets == 0 || offsets > 64 || box_ < 0 ||
-      !built_)
+  if (!std::is_same_v<T, float> || !squares_ || !kernels_ || edge_ <= 0 || offsets < kSquaresMinOffsets ||
+      offsets > 64 || box_ < 0 || !built_)
     return false;
   if (stencil_min2_.size() != tile_count_ * offsets || stencil_active_.size() != tile_count_) return false;
   if (!just_built && (stencil_recorded_ != rebuilds_ || boxes_.size() != tile_count_)) return false;
@@ -215,26 +215,40 @@ double CollisionPairs<T>::squaresRuledOut() const {
 // Each square's offsets to test in rows of squares [first, last): those whose least distance at the build does not
 // exceed the range plus the most |d_i - d_j| of a pair from the square (the diagonal of the box of the displacements
 // of every square a partner can lie in) plus the round-off farNeeded allows for. A NaN at the build, or a box that
-// is not finite, tests them all.
+// is not finite, tests them all. The boxes around a square are united by columns of squares first, then along the
+// row (a sliding window each way instead of every square around every square: this ran a fifth of the stencil's
+// instructions on a 50 x 50 cloth).
 template <class T>
 void CollisionPairs<T>::activeOffsets(long long first, long long last) {
   const int across = (w_ + edge_ - 1) / edge_, down = (h_ + edge_ - 1) / edge_;
   const int reach = (box_ + edge_ - 1) / edge_;  // squares away a partner can lie
   const std::size_t offsets = stencil_.size() - stencil_.size() / 2;
   constexpr T kInf = std::numeric_limits<T>::infinity();
-  for (auto ty = int(first); ty < int(last); ++ty)
+  static thread_local std::vector<vec3> column_lo, column_hi;
+  column_lo.resize(std::size_t(across));
+  column_hi.resize(std::size_t(across));
+  const T room = T(64) * std::numeric_limits<T>::epsilon() * extent_;
+  for (auto ty = int(first); ty < int(last); ++ty) {
+    // Each column's displacements over the rows of squares a partner of this row can lie in
     for (int tx = 0; tx < across; ++tx) {
       vec3 lo(kInf), hi(-kInf);
-      for (int y = std::max(ty - reach, 0); y <= std::min(ty + reach, down - 1); ++y)
-        for (int x = std::max(tx - reach, 0); x <= std::min(tx + reach, across - 1); ++x) {
-          const TileBox& b = boxes_[std::size_t(y) * std::size_t(across) + std::size_t(x)];
-          lo = glm::min(lo, b.dlo);
-          hi = glm::max(hi, b.dhi);
-        }
+      for (int y = std::max(ty - reach, 0); y <= std::min(ty + reach, down - 1); ++y) {
+        const TileBox& b = boxes_[std::size_t(y) * std::size_t(across) + std::size_t(tx)];
+        lo = glm::min(lo, b.dlo);
+        hi = glm::max(hi, b.dhi);
+      }
+      column_lo[std::size_t(tx)] = lo;
+      column_hi[std::size_t(tx)] = hi;
+    }
+    for (int tx = 0; tx < across; ++tx) {
+      vec3 lo(kInf), hi(-kInf);
+      for (int x = std::max(tx - reach, 0); x <= std::min(tx + reach, across - 1); ++x) {
+        lo = glm::min(lo, column_lo[std::size_t(x)]);
+        hi = glm::max(hi, column_hi[std::size_t(x)]);
+      }
       const vec3 box = hi - lo;
       const T diagonal2 = glm::dot(box, box);
-      const T need = (range_ + std::sqrt(diagonal2) + T(64) * std::numeric_limits<T>::epsilon() * extent_) *
-                     (T(1) + T(1.0 / 65536));
+      const T need = (range_ + std::sqrt(diagonal2) + room) * (T(1) + T(1.0 / 65536));
       const float need2 = diagonal2 <= std::numeric_limits<T>::max() ? float(need * need) : __builtin_inff();
       const std::size_t t = std::size_t(ty) * std::size_t(across) + std::size_t(tx);
       const float* least = stencil_min2_.data() + t * offsets;
@@ -243,6 +257,7 @@ void CollisionPairs<T>::activeOffsets(long long first, long long last) {
         active |= std::uint64_t(!(least[k] > need2)) << k;
       stencil_active_[t] = active;
     }
+  }
 }
 
 template void CollisionPairs<float>::startCheck(const std::vector<vec3>&);
