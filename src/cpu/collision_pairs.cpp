@@ -313,7 +313,7 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
         }
         part_extent_.assign(std::size_t(teamSize()), range_ + margin_);
         near_reach_ = range_ + T(0.5) * margin_;
-        stencil_min2_.resize(tile_count_ * (stencil_.size() - stencil_.size() / 2));
+        stencil_min2_.resize(tile_count_ * forwardOffsets());
         stencil_active_.resize(tile_count_);
       }))
     return;

@@ -210,6 +210,11 @@ class CollisionPairs {
   void compareTiles(bool split);
   bool splitCheck() const;  // whether finishCheck splits the check between a team's threads
   void makeTiles(std::size_t n);
+  // A grid's squares of tiles (edge_ > 0): how many across and down
+  int tilesAcross() const { return (w_ + edge_ - 1) / edge_; }
+  int tilesDown() const { return (h_ + edge_ - 1) / edge_; }
+  // The stencil's forward offsets (its second half), each pair's from its lower point
+  std::size_t forwardOffsets() const { return stencil_.size() - stencil_.size() / 2; }
   void makeStencil();
   struct ScanArgs {  // GridKernels' PairScanArgs in T
     const T *x, *y, *z, *u, *v;

@@ -60,7 +60,7 @@ void CollisionPairs<T>::boxTiles(const std::vector<vec3>& x, bool split) {
   if constexpr (std::is_same_v<T, float>)
     if (kernels_ && edge_ > 0) {  // a grid's tiles, rows of several points at once
       static_assert(sizeof(TileBox) == 12 * sizeof(float));
-      const int across = (w_ + edge_ - 1) / edge_, down = (h_ + edge_ - 1) / edge_;
+      const int across = tilesAcross(), down = tilesDown();
       TileBoxArgs args{&x.data()->x, &anchor_.data()->x, w_, h_, edge_, across, &boxes_.data()->dlo.x, 0, 0};
       if (padded_.x && padded_anchor_[0].size() == padded_.shape.size) {
         args.shape = padded_.shape;
@@ -175,15 +175,15 @@ void CollisionPairs<T>::makeTiles(std::size_t n) {
 
 template <class T>
 bool CollisionPairs<T>::stencilTiles(bool just_built, GridStencilTiles& out) {
-  const std::size_t offsets = stencil_.size() - stencil_.size() / 2;
+  const std::size_t offsets = forwardOffsets();
   if (!std::is_same_v<T, float> || !squares_ || !kernels_ || edge_ <= 0 || offsets < kSquaresMinOffsets ||
       offsets > 64 || box_ < 0 || !built_)
     return false;
   if (stencil_min2_.size() != tile_count_ * offsets || stencil_active_.size() != tile_count_) return false;
   if (!just_built && (stencil_recorded_ != rebuilds_ || boxes_.size() != tile_count_)) return false;
   out.edge = edge_;
-  out.across = (w_ + edge_ - 1) / edge_;
-  out.down = (h_ + edge_ - 1) / edge_;
+  out.across = tilesAcross();
+  out.down = tilesDown();
   out.active = stencil_active_.data();
   out.min2 = stencil_min2_.data();
   out.record = just_built;
@@ -204,7 +204,7 @@ bool CollisionPairs<T>::stencilTiles(bool just_built, GridStencilTiles& out) {
 
 template <class T>
 double CollisionPairs<T>::squaresRuledOut() const {
-  const std::size_t offsets = stencil_.size() - stencil_.size() / 2;
+  const std::size_t offsets = forwardOffsets();
   if (!squares_used_ || stencil_active_.empty() || offsets == 0) return 0;
   std::size_t tested = 0;
   for (const std::uint64_t active : stencil_active_)
@@ -220,9 +220,9 @@ double CollisionPairs<T>::squaresRuledOut() const {
 // instructions on a 50 x 50 cloth).
 template <class T>
 void CollisionPairs<T>::activeOffsets(long long first, long long last) {
-  const int across = (w_ + edge_ - 1) / edge_, down = (h_ + edge_ - 1) / edge_;
+  const int across = tilesAcross(), down = tilesDown();
   const int reach = (box_ + edge_ - 1) / edge_;  // squares away a partner can lie
-  const std::size_t offsets = stencil_.size() - stencil_.size() / 2;
+  const std::size_t offsets = forwardOffsets();
   constexpr T kInf = std::numeric_limits<T>::infinity();
   static thread_local std::vector<vec3> column_lo, column_hi;
   column_lo.resize(std::size_t(across));
