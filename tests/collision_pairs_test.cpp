@@ -5,6 +5,7 @@
 #include "core/colouring.hpp"
 #include "core/scene.hpp"
 #include "cpu/cpu_solver.hpp"
+#include "cpu/grid_kernels.hpp"
 #include "cpu/parallel.hpp"
 #include "test_paths.hpp"
 
@@ -243,6 +244,48 @@ TEST(CollisionPairs, TheFarEntriesAreNeededOnceAPairCanHaveComeWithinRange) {
   x[1].x += 0.3f * close;
   ASSERT_FALSE(pairs.update(x, 1));
   EXPECT_FALSE(pairs.farNeeded(false)) << "no far entry can be within range: passed over again";
+}
+
+// A bump raised at a corner of a 64 x 64 grid, higher than the skin: the boxes of the corner's tiles and of their
+// neighbours span more than that, but its slope moves no two points within reach of each other apart by the skin.
+// A closer look at those tiles (CollisionPairs::tilesHold) keeps the lists; the same bump raised steeply, where two
+// such points do move apart by the skin, is rebuilt. With the kernels and without.
+TEST(CollisionPairs, ACloserLookKeepsTheListsUnderAGentleBumpAndNotUnderASteepOne) {
+  constexpr int n = 64;  // tiles of 8 x 8 points
+  const float spacing = 0.01f, range = 0.019f, margin = 0.006f, height = 0.012f;
+  std::vector<vec3> rest;
+  for (int v = 0; v < n; ++v)
+    for (int u = 0; u < n; ++u)
+      rest.push_back(vec3(float(u) * spacing, 0.0f, float(v) * spacing));
+  const auto bump = [&](float radius) {  // a cone over point (0, 0), `radius` spacings wide
+    std::vector<vec3> x = rest;
+    for (int v = 0; v < n; ++v)
+      for (int u = 0; u < n; ++u)
+        x[std::size_t(v * n + u)].y += height * std::max(0.0f, 1.0f - std::hypot(float(u), float(v)) / radius);
+    return x;
+  };
+  for (const bool kernels : {false, true}) {
+    SCOPED_TRACE(kernels ? "kernels" : "scalar");
+    const auto built = [&](CollisionPairs<float>& pairs) {
+      pairs.configure(range, margin);
+      pairs.setRest(rest);
+      pairs.setGrid(n, n);
+      if (kernels) pairs.setKernels(&gridKernels(GridIsa::Auto));
+      ASSERT_TRUE(pairs.update(rest, 1));
+    };
+    // 20 spacings wide: 0.6 mm a spacing, 1.4 mm between points within reach (22 mm), 7.7 mm across tiles 0 and 1
+    CollisionPairs<float> gentle;
+    built(gentle);
+    EXPECT_FALSE(gentle.update(bump(20), 1)) << "no two points within reach moved apart by the skin";
+    EXPECT_EQ(gentle.closerLooksKept(), 1) << "the tiles' boxes called for a build, the closer look spared it";
+    EXPECT_FALSE(gentle.update(bump(20), 1));
+    EXPECT_EQ(gentle.closerLooksKept(), 2);
+    // 2 spacings wide: points (0, 0) and (1, 1), 16.5 mm apart, moved 8.5 mm against each other
+    CollisionPairs<float> steep;
+    built(steep);
+    EXPECT_TRUE(steep.update(bump(2), 1)) << "two points within reach moved apart by more than the skin";
+    EXPECT_EQ(steep.closerLooksKept(), 0);
+  }
 }
 
 TEST(CollisionPairs, CellOrderFollowsTheQueryAndDropsCellsOutsideIt) {

@@ -133,6 +133,7 @@ TEST(ContactKernels, TheTileComparisonAnswersAsTheScalarOne) {
       ASSERT_EQ(a, b) << "step " << s;
       builds += a;
     }
+    EXPECT_EQ(with.closerLooksKept(), without.closerLooksKept());
     EXPECT_GT(builds, 20);   // the motion wore the lists out many times
     EXPECT_LT(builds, 400);  // and not at every step
     EXPECT_TRUE(x87Usable()) << "the tile comparison left the x87 registers to MMX";

@@ -112,11 +112,14 @@ std::string describePairs(const CpuSolver<T>& cpu) {
   const double n = double(cpu.positions().size());
   if (!cpu.scene().sim.self_collision || p.rebuilds() == 0 || n == 0) return "";
   return fmt::format(
-      "self-collision: lists built {} times in {} substeps, {:.2f} entries a point (mean over the builds; {:.2f} at "
-      "the last); stencil: {} grid offsets{}; {:.3f} pairs in range a point and substep; skin {} at the end, {} "
+      "self-collision: lists built {} times in {} substeps{}, {:.2f} entries a point (mean over the builds; {:.2f} "
+      "at the last); stencil: {} grid offsets{}; {:.3f} pairs in range a point and substep; skin {} at the end, {} "
       "switches\n",
-      p.rebuilds(), cpu.substeps(), double(p.entriesBuilt()) / double(p.rebuilds()) / n, double(p.pairCount()) / n,
-      p.stencil().size(),
+      p.rebuilds(), cpu.substeps(),
+      p.closerLooksKept() > 0
+          ? fmt::format(" (kept {} times by a closer look at tiles their boxes did not clear)", p.closerLooksKept())
+          : std::string(),
+      double(p.entriesBuilt()) / double(p.rebuilds()) / n, double(p.pairCount()) / n, p.stencil().size(),
       p.squaresUsed()
           ? fmt::format(", {:.0f}% of its squares' offsets passed over at the last substep", 100 * p.squaresRuledOut())
           : std::string(" tested every substep"),

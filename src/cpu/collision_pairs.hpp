@@ -23,6 +23,7 @@
 #include "cpu/hash_grid.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <cstdint>
@@ -196,6 +197,8 @@ class CollisionPairs {
   bool squaresUsed() const { return squares_used_; }
   double squaresRuledOut() const;
   long long rebuilds() const { return rebuilds_; }
+  // The checks whose tiles' boxes called for a build that a closer look (tilesHold) spared
+  long long closerLooksKept() const { return kept_ + (looked_.set && !moved_.set ? 1 : 0); }
   long long entriesBuilt() const { return entries_built_; }  // pairCount summed over the builds
   T range() const { return range_; }
   T margin() const { return margin_; }
@@ -207,7 +210,21 @@ class CollisionPairs {
 
  private:
   void boxTiles(const std::vector<vec3>& x, bool split);  // needsBuild's two steps: a team may split each
-  void compareTiles(bool split);
+  void compareTiles(const std::vector<vec3>& x, bool split);
+  // A grid's `count` pairs of tiles (found: a, c, each pair's two; a == c for a tile alone) that compareTiles' boxes
+  // did not clear, cleared by smaller boxes: squares of about edge_ / kSubSquares points, then the points of two
+  // squares that are not clear
+  bool tilesHold(const std::vector<vec3>& x, const std::uint32_t* found, int count, T limit, T apart) const;
+  static constexpr int kSubSquares = 4;
+  static constexpr int kLookedAt = 64;  // the most pairs of tiles a check looks at closely
+  struct LookedAt {                     // compareTiles' pairs of tiles (a, c) to look at closely
+    std::array<std::uint32_t, 2 * kLookedAt> pairs;
+    int count = 0;
+  };
+  std::vector<LookedAt> looked_at_;     // per thread of a team
+  static constexpr int kLookShare = 8;  // ... while their tiles hold at most 1/kLookShare of the points
+  // (or two tiles): of at most 16 x 16 tiles, that many
+  static constexpr std::size_t kLookedTiles = std::max(2, kMaxCompareTiles / kLookShare);
   bool splitCheck() const;  // whether finishCheck splits the check between a team's threads
   void makeTiles(std::size_t n);
   // A grid's squares of tiles (edge_ > 0): how many across and down
@@ -305,6 +322,8 @@ class CollisionPairs {
   };
   Flag out_of_memory_;
   Flag moved_;          // needsBuild's answer, shared by a team
+  Flag looked_;         // this check's closer look cleared the pairs of tiles its boxes did not
+  long long kept_ = 0;  // closerLooksKept before this check
   bool split_ = false;  // this check is split between a team's threads (written by startCheck only)
   std::exception_ptr failure_;
   std::vector<T> sx_, sy_, sz_, su_, sv_;  // build's scratch: position, column and row of grid_.sorted()[s]

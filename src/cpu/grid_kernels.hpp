@@ -182,6 +182,11 @@ struct TileCompareArgs {
   int count = 0, first = 0, step = 1;
   float apart2 = 0, limit2 = 0;   // the squares of compareTiles' apart and limit, computed as it does
   const std::atomic<bool>* stop;  // set by another thread that has found a pair: this one may stop
+  // Where given, the pairs of tiles near and moved apart are written here (a, c with a <= c), up to `capacity`
+  // of them, for the caller to look at more closely; the answer is true only beyond that many.
+  std::uint32_t* found = nullptr;
+  int capacity = 0;
+  int* found_count = nullptr;
 };
 
 // One instruction set's kernels. Each works on the rows [y0, y1) of the grid (for a stretch colour, the

@@ -279,7 +279,17 @@ struct ContactKernels : Lanes<V> {
           box2 = k == 0 ? V::mul(box, box) : V::add(box2, V::mul(box, box));
         }
         const F near = V::andNot(V::ge(gap2, apart2), all), moved = V::andNot(V::le(box2, limit2), all);
-        if (V::any(V::bitAnd(near, moved))) return true;
+        const F both = V::bitAnd(near, moved);
+        if (!V::any(both)) continue;
+        if (!a.found) return true;
+        for (int bits = V::bits(both); bits != 0; bits &= bits - 1) {
+          const int q = c + __builtin_ctz(unsigned(bits));
+          if (q < p) continue;  // the pair of q, p, found from q
+          if (*a.found_count >= a.capacity) return true;
+          a.found[2 * *a.found_count] = std::uint32_t(p);
+          a.found[2 * *a.found_count + 1] = std::uint32_t(q);
+          ++*a.found_count;
+        }
       }
     }
     return false;
