@@ -104,11 +104,13 @@ TEST(PairStencil, TheBytesAreTheListsAlone) {
   expectSameRun<float>(scene, list_only, CpuSolverOptions{.threads = 1, .grid_isa = GridIsa::Sse2}, 60, "float, SSE2");
 }
 
-// The squares' bound, tight (CollisionPairs::stencilTiles): on a flat cloth at rest one point moves straight towards
-// its knight's-move partner (2, 1), 2.236 spacings away against a range of 2.2, by half or one and a half times the
+// The squares' bound, tight (CollisionPairs::stencilTiles): on a flat cloth at rest one end of a knight's-move pair
+// (2.236 spacings apart against a range of 2.2) moves straight towards the other, by half or one and a half times the
 // distance the pair stood beyond the range. Every other displacement is zero, so the box of the displacements
-// around the square spans exactly that move: its square may pass over the offset only while the move is shorter
-// than that distance. (A bound of half the box passes over the pair in range.)
+// around the square spans exactly that move: the square may pass over the offset only while the move is shorter
+// than that distance. (A bound of half the box passes over the pair in range.) The pair within a square of 8 x 8
+// points, then across its edges: the partner in the square beside it, below it, or both, on either side, whose
+// displacements the bound must take in (a bound of the square's own box alone passes over the pairs in range).
 TEST(PairStencil, ASquarePassesOverAnOffsetOnlyWhileNoPairThereCanBeInRange) {
   Scene scene = crumplingCloth(24, 1.1);
   scene.cloth.orientation = Orientation::Horizontal;  // flat: every pair at an offset is as far apart as the next
@@ -116,26 +118,35 @@ TEST(PairStencil, ASquarePassesOverAnOffsetOnlyWhileNoPairThereCanBeInRange) {
   scene.cloth.damping = 0;
   scene.planes.clear();
   const int w = scene.cloth.num_width_points;
-  const std::size_t i = 10 * std::size_t(w) + 10, j = i + std::size_t(w) + 2;
-  for (const double share : {0.5, 1.5}) {
-    CpuSolver<float> solver(scene, CpuSolverOptions{.threads = 1});
-    const std::vector<glm::dvec3> rest = solver.topology().initial_positions;
-    const glm::dvec3 towards = rest[j] - rest[i];
-    const double beyond = glm::length(towards) - 2 * scene.cloth.thickness;
-    ASSERT_GT(beyond, 0);
-    std::vector<glm::dvec3> v(rest.size(), glm::dvec3(0));
-    v[i] = glm::normalize(towards) * beyond * share;
-    solver.setState(rest, v);
-    solver.selfCollide();  // the lists built, the squares' least distances recorded, at rest
-    solver.accumulateForces();
-    solver.integrate();  // point i moves by v[i], no other point moves
-    solver.selfCollide();
-    const CollisionPairs<float>& pairs = solver.collisionPairs();
-    ASSERT_EQ(pairs.rebuilds(), 1) << "the move is within the lists' travel";
-    EXPECT_GT(pairs.squaresRuledOut(), 0.5) << share;
-    EXPECT_EQ(solver.selfCorrections()[i] != vec3(0), share > 1) << share;
-    EXPECT_EQ(solver.selfCorrections()[j] != vec3(0), share > 1) << share;
-  }
+  struct Case {
+    int u, v, du, dv;  // the pair's lower end and the offset to the other
+    bool partner;      // the other end moves, not the lower one
+  };
+  for (const Case c : {Case{10, 10, 2, 1, false}, Case{7, 10, 2, 1, true}, Case{8, 10, -2, 1, true},
+                       Case{10, 7, 2, 1, true}, Case{7, 7, 2, 1, true}, Case{8, 7, -2, 1, true}})
+    for (const double share : {0.5, 1.5}) {
+      SCOPED_TRACE(::testing::Message() << "pair from (" << c.u << ", " << c.v << ") by (" << c.du << ", " << c.dv
+                                        << "), " << (c.partner ? "partner" : "lower end") << " moved, " << share);
+      CpuSolver<float> solver(scene, CpuSolverOptions{.threads = 1});
+      const std::vector<glm::dvec3> rest = solver.topology().initial_positions;
+      const std::size_t i = std::size_t(c.v * w + c.u), j = std::size_t((c.v + c.dv) * w + c.u + c.du);
+      const std::size_t mover = c.partner ? j : i, other = c.partner ? i : j;
+      const glm::dvec3 towards = rest[other] - rest[mover];
+      const double beyond = glm::length(towards) - 2 * scene.cloth.thickness;
+      ASSERT_GT(beyond, 0);
+      std::vector<glm::dvec3> v(rest.size(), glm::dvec3(0));
+      v[mover] = glm::normalize(towards) * beyond * share;
+      solver.setState(rest, v);
+      solver.selfCollide();  // the lists built, the squares' least distances recorded, at rest
+      solver.accumulateForces();
+      solver.integrate();  // the one point moves by its v, no other point moves
+      solver.selfCollide();
+      const CollisionPairs<float>& pairs = solver.collisionPairs();
+      ASSERT_EQ(pairs.rebuilds(), 1) << "the move is within the lists' travel";
+      EXPECT_GT(pairs.squaresRuledOut(), 0.5);
+      EXPECT_EQ(solver.selfCorrections()[i] != vec3(0), share > 1);
+      EXPECT_EQ(solver.selfCorrections()[j] != vec3(0), share > 1);
+    }
 }
 
 // The squares pass over tests, never a pair in range: a cloth folding onto itself with a contact distance of 2.5
