@@ -216,16 +216,16 @@ class CollisionPairs {
   // squares that are not clear
   bool tilesHold(const std::vector<vec3>& x, const std::uint32_t* found, int count, T limit, T apart) const;
   static constexpr int kSubSquares = 4;
-  static constexpr int kLookedAt = 64;  // the most pairs of tiles a check looks at closely
-  struct LookedAt {                     // compareTiles' pairs of tiles (a, c) to look at closely
+  // At most kLookedAt pairs, while the tiles they name hold at most 1/kLookShare of the points (or are two): of at
+  // most 16 x 16 tiles, kLookedTiles
+  static constexpr int kLookedAt = 64, kLookShare = 8;
+  static constexpr std::size_t kLookedTiles = std::max(2, kMaxCompareTiles / kLookShare);
+  struct alignas(64) LookedAt {  // compareTiles' pairs of tiles (a, c) to look at closely, on lines of their own
     std::array<std::uint32_t, 2 * kLookedAt> pairs;
     int count = 0;
   };
-  std::vector<LookedAt> looked_at_;     // per thread of a team
-  static constexpr int kLookShare = 8;  // ... while their tiles hold at most 1/kLookShare of the points
-  // (or two tiles): of at most 16 x 16 tiles, that many
-  static constexpr std::size_t kLookedTiles = std::max(2, kMaxCompareTiles / kLookShare);
-  bool splitCheck() const;  // whether finishCheck splits the check between a team's threads
+  std::vector<LookedAt> looked_at_;  // per thread of a team
+  bool splitCheck() const;           // whether finishCheck splits the check between a team's threads
   void makeTiles(std::size_t n);
   // A grid's squares of tiles (edge_ > 0): how many across and down
   int tilesAcross() const { return (w_ + edge_ - 1) / edge_; }
