@@ -190,8 +190,9 @@ void CollisionPairs<T>::compareTiles(const std::vector<vec3>& x, bool split) {
 // Pairs of a grid's tiles that compareTiles' boxes could not clear (or a tile alone, a == c), looked at again in
 // squares of about a quarter of a tile's edge, and where two of those cannot be cleared either, point by point:
 // the same test on smaller boxes, down to the pairs themselves. The boxes of two whole tiles span twice a tile's
-// width, while only points closer than the range can collide: at 256 x 256 with CS184's thickness the corners
-// turning about the pins wore out every list in 11 substeps with 3% of the tiles failing the test. Only while the
+// width, while only points closer than the range can collide: at 256 x 256 with CS184's thickness a few tiles at a
+// time (the corners turning about the pins, then the free hem, a fold: 4 to 8 of 256 most often) wore out every
+// list in 11 substeps. Only while the
 // tiles to look at hold at most 1/kLookShare of the points: where most of a cloth moves apart (a swinging 50 x 50),
 // looking closely every substep cost more than the builds it spared.
 template <class T>
