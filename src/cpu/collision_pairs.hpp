@@ -28,6 +28,7 @@
 #include <bit>
 #include <cstdint>
 #include <exception>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -279,7 +280,26 @@ class CollisionPairs {
   int edge_ = 0;                         // a grid's tiles: squares of edge_ points (0: runs of the index)
   std::size_t tile_count_ = 0;
   struct TileBox {
-    vec3 dlo, dhi, lo, hi;
+    vec3 dlo, dhi, lo, hi;  // the box of the displacements since the anchors, and the box of the positions
+    static TileBox empty() {
+      constexpr T kInf = std::numeric_limits<T>::infinity();
+      return {vec3(kInf), vec3(-kInf), vec3(kInf), vec3(-kInf)};
+    }
+    void add(vec3 p, vec3 d) { add(TileBox{d, d, p, p}); }
+    void add(const TileBox& o) {
+      dlo = glm::min(dlo, o.dlo);
+      dhi = glm::max(dhi, o.dhi);
+      lo = glm::min(lo, o.lo);
+      hi = glm::max(hi, o.hi);
+    }
+    // compareTiles' test: true where two boxes hold no pair within range that has moved apart by `limit`, being
+    // `apart` or farther apart, or their displacements fitting a box of diagonal `limit`
+    static bool clear(const TileBox& p, const TileBox& q, T limit, T apart) {
+      const vec3 gap = glm::max(vec3(0), glm::max(q.lo - p.hi, p.lo - q.hi));
+      if (glm::dot(gap, gap) >= apart * apart) return true;
+      const vec3 box = glm::max(p.dhi, q.dhi) - glm::min(p.dlo, q.dlo);
+      return glm::dot(box, box) <= limit * limit;
+    }
   };
   std::vector<TileBox> boxes_;
   static constexpr std::size_t kSplitTiles = 32;  // from this many tiles a team splits needsBuild's work

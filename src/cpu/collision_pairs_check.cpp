@@ -88,25 +88,17 @@ void CollisionPairs<T>::boxTiles(const std::vector<vec3>& x, bool split) {
         rows(0, down);
       return;
     }
-  constexpr T kInf = std::numeric_limits<T>::infinity();
-  std::fill(boxes_.begin(), boxes_.end(), TileBox{vec3(kInf), vec3(-kInf), vec3(kInf), vec3(-kInf)});
+  std::fill(boxes_.begin(), boxes_.end(), TileBox::empty());
   bool finite = true;
   for (const Run& r : runs_) {
-    vec3 dlo(kInf), dhi(-kInf), lo(kInf), hi(-kInf);
+    TileBox run = TileBox::empty();
     for (std::uint32_t i = r.begin; i < r.end; ++i) {
       const vec3 d = x[i] - anchor_[i];
       // A non-finite position counts as moved (glm::min and max would pass over a NaN).
-      finite = finite && glm::dot(d, d) <= kInf;
-      dlo = glm::min(dlo, d);
-      dhi = glm::max(dhi, d);
-      lo = glm::min(lo, x[i]);
-      hi = glm::max(hi, x[i]);
+      finite = finite && glm::dot(d, d) <= std::numeric_limits<T>::infinity();
+      run.add(x[i], d);
     }
-    TileBox& b = boxes_[r.tile];
-    b.dlo = glm::min(b.dlo, dlo);
-    b.dhi = glm::max(b.dhi, dhi);
-    b.lo = glm::min(b.lo, lo);
-    b.hi = glm::max(b.hi, hi);
+    boxes_[r.tile].add(run);
   }
   if (!finite) moved_.set = true;
 }
@@ -157,10 +149,7 @@ void CollisionPairs<T>::compareTiles(const std::vector<vec3>& x, bool split) {
     for (std::size_t c = a; c < boxes_.size(); ++c) {
       const TileBox& q = boxes_[c];
       if (!(q.lo.x <= q.hi.x)) continue;
-      const vec3 gap = glm::max(vec3(0), glm::max(q.lo - p.hi, p.lo - q.hi));
-      if (glm::dot(gap, gap) >= apart * apart) continue;
-      const vec3 box = glm::max(p.dhi, q.dhi) - glm::min(p.dlo, q.dlo);
-      if (!(glm::dot(box, box) <= limit * limit) && (edge_ <= 0 || !add(a, c))) {
+      if (!TileBox::clear(p, q, limit, apart) && (edge_ <= 0 || !add(a, c))) {
         moved_.set = true;
         break;
       }
@@ -207,7 +196,6 @@ bool CollisionPairs<T>::tilesHold(const std::vector<vec3>& x, const std::uint32_
     return false;
   const int across = tilesAcross();
   const int sub = (edge_ + kSubSquares - 1) / kSubSquares, per = (edge_ + sub - 1) / sub;
-  constexpr T kInf = std::numeric_limits<T>::infinity();
   // Square s of tile t: its first column and row, and one past its last
   struct Square {
     int u0, v0, u1, v1;
@@ -217,43 +205,30 @@ bool CollisionPairs<T>::tilesHold(const std::vector<vec3>& x, const std::uint32_
     const int u0 = tu + s % per * sub, v0 = tv + s / per * sub;
     return Square{u0, v0, std::min({u0 + sub, w_, tu + edge_}), std::min({v0 + sub, h_, tv + edge_})};
   };
-  using Squares = std::array<TileBox, kSubSquares * kSubSquares>;
-  std::array<Squares, kLookedTiles> boxes;
-  for (std::size_t k = 0; k < distinct; ++k)
-    for (int s = 0; s < per * per; ++s) {
-      TileBox q{vec3(kInf), vec3(-kInf), vec3(kInf), vec3(-kInf)};
-      const Square e = square(tiles[k], s);
-      for (int v = e.v0; v < e.v1; ++v)
-        for (int u = e.u0; u < e.u1; ++u) {
-          const std::size_t i = std::size_t(v) * std::size_t(w_) + std::size_t(u);
-          const vec3 d = x[i] - anchor_[i];
-          q.dlo = glm::min(q.dlo, d);
-          q.dhi = glm::max(q.dhi, d);
-          q.lo = glm::min(q.lo, x[i]);
-          q.hi = glm::max(q.hi, x[i]);
-        }
-      boxes[k][std::size_t(s)] = q;
-    }
-  // compareTiles' test on two boxes: false where they may hold a pair in range that has moved apart by the margin
-  const auto clear = [&](const TileBox& p, const TileBox& q) {
-    const vec3 gap = glm::max(vec3(0), glm::max(q.lo - p.hi, p.lo - q.hi));
-    if (glm::dot(gap, gap) >= apart * apart) return true;
-    const vec3 box = glm::max(p.dhi, q.dhi) - glm::min(p.dlo, q.dlo);
-    return glm::dot(box, box) <= limit * limit;
-  };
-  const auto pointsClear = [&](const Square& e, const Square& f) {
+  // f(its point's box) for each point of square e
+  const auto forEachPoint = [&](const Square& e, auto&& f) {
     for (int v = e.v0; v < e.v1; ++v)
       for (int u = e.u0; u < e.u1; ++u) {
         const std::size_t i = std::size_t(v) * std::size_t(w_) + std::size_t(u);
         const vec3 d = x[i] - anchor_[i];
-        for (int V = f.v0; V < f.v1; ++V)
-          for (int U = f.u0; U < f.u1; ++U) {
-            const std::size_t j = std::size_t(V) * std::size_t(w_) + std::size_t(U);
-            const vec3 g = x[j] - anchor_[j];
-            if (!clear(TileBox{d, d, x[i], x[i]}, TileBox{g, g, x[j], x[j]})) return false;
-          }
+        if (!f(TileBox{d, d, x[i], x[i]})) return false;
       }
     return true;
+  };
+  using Squares = std::array<TileBox, kSubSquares * kSubSquares>;
+  std::array<Squares, kLookedTiles> boxes;
+  for (std::size_t k = 0; k < distinct; ++k)
+    for (int s = 0; s < per * per; ++s) {
+      TileBox& q = boxes[k][std::size_t(s)] = TileBox::empty();
+      forEachPoint(square(tiles[k], s), [&](const TileBox& point) {
+        q.add(point);
+        return true;
+      });
+    }
+  const auto pointsClear = [&](const Square& e, const Square& f) {
+    return forEachPoint(e, [&](const TileBox& p) {
+      return forEachPoint(f, [&](const TileBox& q) { return TileBox::clear(p, q, limit, apart); });
+    });
   };
   const auto index = [&](std::uint32_t t) {
     return std::size_t(std::lower_bound(tiles.begin(), tiles.begin() + std::ptrdiff_t(distinct), t) - tiles.begin());
@@ -263,7 +238,7 @@ bool CollisionPairs<T>::tilesHold(const std::vector<vec3>& x, const std::uint32_
     const Squares &in_a = boxes[index(a)], &in_c = boxes[index(c)];
     for (int s = 0; s < per * per; ++s)
       for (int r = a == c ? s : 0; r < per * per; ++r)
-        if (!clear(in_a[std::size_t(s)], in_c[std::size_t(r)]) &&
+        if (!TileBox::clear(in_a[std::size_t(s)], in_c[std::size_t(r)], limit, apart) &&
             (sub == 1 || !pointsClear(square(a, s), square(c, r))))
           return false;
   }
