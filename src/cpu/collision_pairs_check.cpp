@@ -288,8 +288,9 @@ bool CollisionPairs<T>::stencilTiles(bool just_built, GridStencilTiles& out) {
   if (teamThread() == 0) squares_used_ = !just_built;
   if (just_built) {
     if (teamThread() == 0) stencil_recorded_ = rebuilds_;
-    out.prepare = [this, offsets, across = out.across](long long first, long long last) {
-      const auto per_row = std::ptrdiff_t(across) * std::ptrdiff_t(offsets);
+    // Capturing `this` alone keeps the function in std::function's own storage: no allocation a build
+    out.prepare = [this](long long first, long long last) {
+      const auto per_row = std::ptrdiff_t(tilesAcross()) * std::ptrdiff_t(forwardOffsets());
       std::fill(stencil_min2_.begin() + first * per_row, stencil_min2_.begin() + last * per_row,
                 std::numeric_limits<float>::infinity());
     };
