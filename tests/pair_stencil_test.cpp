@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <cstring>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace drape {
 namespace {
@@ -165,6 +167,34 @@ TEST(PairStencil, TheSquaresKeepTheBytes) {
   expectSameRun<float>(scene, every_test, CpuSolverOptions{.threads = 1}, 40, "float");
   expectSameRun<float>(scene, every_test, CpuSolverOptions{.threads = 2, .team_min_points = 0}, 40, "2 threads");
   expectSameRun<float>(scene, every_test, CpuSolverOptions{.threads = 1, .grid_isa = GridIsa::Sse2}, 40, "SSE2");
+}
+
+// A team's threads find the pairs of one share of the points (the stencil's of their rows of squares, the lists' of
+// their points) and sum the terms of another (CpuSolver::fixPairShares): each end's term goes to the thread that
+// sums it, and the bytes are one thread's. Shares as uneven as the balance allows, either way round, through the fold.
+TEST(PairStencil, ThreadsFindingOneShareAndSummingAnotherGiveOneThreadsBytes) {
+  const Scene scene = crumplingCloth(48, 1.25);
+  const long long n = 48 * 48;
+  for (const auto& [find, sum] : {std::pair{1LL, 15LL}, std::pair{15LL, 1LL}}) {
+    SCOPED_TRACE(::testing::Message() << "finding " << find << "/16, summing " << sum << "/16");
+    CpuSolver<float> one(scene, CpuSolverOptions{.threads = 1});
+    CpuSolver<float> team(scene, CpuSolverOptions{.threads = 2, .team_min_points = 0});
+    const std::vector<long long> finds = {0, n * find / 16, n}, sums = {0, n * sum / 16, n};
+    team.fixPairShares(sums, finds);
+    double ruled_out = 0;
+    for (int f = 0; f < 40; ++f) {
+      one.stepFrame();
+      team.stepFrame();
+      ruled_out += team.collisionPairs().squaresRuledOut();
+    }
+    EXPECT_EQ(one.readPositions(), team.readPositions());
+    EXPECT_EQ(one.readDisplacements(), team.readDisplacements());
+    EXPECT_EQ(team.findShares(), finds);
+    EXPECT_EQ(team.pairShares(), sums);
+    EXPECT_EQ(team.pairTerms(), one.pairTerms());
+    EXPECT_GT(one.pairTerms(), 100000) << "the cloth must be in contact with itself";
+    EXPECT_GT(ruled_out, 0) << "the squares must take part";
+  }
 }
 
 // A contact distance of ten spacings: a ring of more offsets than a mask has bits, the last bit standing for

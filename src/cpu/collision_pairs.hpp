@@ -126,8 +126,8 @@ class CollisionPairs {
   int gridWidth() const { return w_; }
   int gridHeight() const { return h_; }
   // Which of point i's stencil partners are within `range` and not held (a NaN distance counts): bit
-  // stencilBit(k) for offset k (GridKernels::stencilFlags computes the same on a float grid). A partner whose
-  // bit is clear adds no term to the point's sum.
+  // stencilBit(k) for offset k (a float grid path lists the pairs instead: GridKernels::stencilPairs). A partner
+  // whose bit is clear adds no term to the point's sum.
   StencilMask stencilMask(const std::vector<vec3>& x, std::size_t i) const;
   // Offset k's bit in a stencil mask; every offset from 63 on shares the last (the set is looked at whole).
   // 64 bits: at 256 x 256 with CS184's thickness the stencil has 40 offsets, and a shared bit sent nine
@@ -179,13 +179,13 @@ class CollisionPairs {
   void forEachCandidate(std::size_t i, G&& g) const {
     forEachCandidate(i, ~StencilMask(0), g);
   }
-  // The stencil's squares for GridPath::stencilFlags, on a float grid whose check boxes them (GridStencilTiles): at
+  // The stencil's squares for GridPath::stencilPairs, on a float grid whose check boxes them (GridStencilTiles): at
   // a build's substep (just_built) every pair is tested and the least distance of each square's pairs at each offset
   // recorded; at the substeps after it, a square's pairs at an offset are passed over where that least distance
   // exceeds the range by more than its points can have moved against their partners since (the boxes of the
   // squares around it, as this substep's check made them), with room for round-off: those pairs are out of range,
-  // and the flags are the same. False where they do not apply (no squares, no record since the build). Every thread
-  // of a team calls it.
+  // and the pairs found are the same. False where they do not apply (no squares, no record since the build). Every
+  // thread of a team calls it.
   bool stencilTiles(bool just_built, GridStencilTiles& out);
   void setStencilSquares(bool on) { squares_ = on; }
   // From this many forward offsets the squares pay. A vector of points whose squares pass over some of its offsets

@@ -280,7 +280,6 @@ bool CollisionPairs<T>::stencilTiles(bool just_built, GridStencilTiles& out) {
   if (!just_built && (stencil_recorded_ != rebuilds_ || boxes_.size() != tile_count_)) return false;
   out.edge = edge_;
   out.across = tilesAcross();
-  out.down = tilesDown();
   out.active = stencil_active_.data();
   out.min2 = stencil_min2_.data();
   out.record = just_built;

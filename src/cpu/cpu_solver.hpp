@@ -121,10 +121,12 @@ class CpuSolver final : public Solver {
   long long teamSubsteps() const { return team_substeps_; }  // substeps run on the team since reset()
   const TeamTrial* teamTrial() const { return trial_ ? &*trial_ : nullptr; }  // where a trial decides
   long long pairTerms() const { return pair_terms_; }  // self-collision: pairs in range summed, both ends
-  // Self-collision's shares of the points in a team (thread t: [bounds[t], bounds[t + 1])), moved towards equal
-  // times after each substep; fixPairShares sets them and keeps them (a test's uneven split).
+  // Self-collision's shares of the points in a team (thread t: [bounds[t], bounds[t + 1])), to sum their terms
+  // and to find their pairs, moved towards equal times after each substep; fixPairShares sets them and keeps them
+  // (a test's uneven split; finding as summing where `find` is empty).
   const std::vector<long long>& pairShares() const { return pair_bounds_; }
-  void fixPairShares(std::vector<long long> bounds);
+  const std::vector<long long>& findShares() const { return find_bounds_; }
+  void fixPairShares(std::vector<long long> sums, std::vector<long long> find = {});
   bool wideSkin() const { return wide_skin_; }  // the lists' skin now: pair_margin (else 2/3 of it)
   int skinSwitches() const { return skin_switches_; }
   // What the last selfCollide added to each point (0 where it added nothing): its bits, which a position rounds
@@ -208,7 +210,8 @@ class CpuSolver final : public Solver {
   std::vector<T> rest_;           // per spring, in T
   std::vector<T> rest_adjacent_;  // per adjacency entry, in T
   CollisionPairs<T> pairs_;
-  std::vector<StencilMask> near_;  // per point: its stencil partners in range this substep (stencilMask)
+  // Per point: its stencil partners in range this substep (stencilMask), where no grid path finds the stencil's pairs
+  std::vector<StencilMask> near_;
   // selfCollide(): a term point i gets from its pair with j, as found (routed to the thread that sums i's
   // terms), and as that thread links it to i's other terms.
   struct FoundTerm {
@@ -227,6 +230,7 @@ class CpuSolver final : public Solver {
     std::vector<std::size_t> sent;            // this substep's the first sent[t] of to[t] (only grown)
     std::vector<PairTermOut> hits;            // the pairs in range with their terms (GridKernels::pairTerms)
     std::vector<std::uint32_t> lower, upper;  // the stencil's pairs in range, for pairTerms
+    std::size_t stencil_pairs = 0;            // how many (GridPath::stencilPairs)
     std::vector<PairTerm> terms;
     std::vector<std::uint32_t> touched;  // the first `points` are the points with terms, which the sums moved
     std::size_t points = 0;
@@ -235,13 +239,15 @@ class CpuSolver final : public Solver {
     long long summed = 0;  // terms summed this substep
   };
   std::vector<PairScratch> pair_scratch_;
-  // In a team, thread t finds and sums the pairs of points [pair_bounds_[t], pair_bounds_[t + 1]): even shares
-  // at first, then moved towards equal times (balancePairShares).
-  std::vector<long long> pair_bounds_;
+  // In a team, thread t sums the terms of points [pair_bounds_[t], pair_bounds_[t + 1]) and finds the pairs whose
+  // lower ends are in [find_bounds_[t], find_bounds_[t + 1]) (on a grid path, whole rows of the stencil's squares
+  // of it): even shares at first, then each moved towards equal times (balancePairShares). Finding and summing
+  // are apart, a barrier between, and where a cloth folds onto itself one end of its pairs finds them all.
+  std::vector<long long> pair_bounds_, find_bounds_;
   bool pair_shares_fixed_ = false;  // fixPairShares
-  // Per thread of the team: this substep's seconds for its pairs in range and sums, and its seconds a point of
-  // its share smoothed over substeps (balanceShares; -1: none yet)
-  std::vector<double> pair_seconds_, pair_per_point_;
+  // Per thread of the team: this substep's seconds for its sums (pair_) and for its stencil and search (find_),
+  // and its seconds a point of each share smoothed over substeps (balanceShares; -1: none yet)
+  std::vector<double> pair_seconds_, pair_per_point_, find_seconds_, find_per_point_;
   int pairOwner(std::uint32_t j) const {
     int t = 0;
     while ((long long)j >= pair_bounds_[std::size_t(t) + 1])

@@ -54,21 +54,23 @@ void CpuSolver<T>::selfCollide() {
       for (PairScratch& scratch : pair_scratch_) {
         scratch.to.resize(std::size_t(team));
         scratch.sent.assign(std::size_t(team), 0);
-        // A failed substep's, rethrown by step(); it may have left the stencil's flags set (see below)
-        if (std::exchange(scratch.failure, nullptr)) std::fill(near_.begin(), near_.end(), StencilMask(0));
+        scratch.failure = nullptr;  // a failed substep's, rethrown by step()
       }
-      // Each thread's share of the pairs: every other pass's at first (pointShare)
+      // Each thread's shares of the pairs: every other pass's at first (pointShare)
       const long long n = (long long)x_.size();
       if (pair_bounds_.size() != std::size_t(team) + 1 || pair_bounds_.back() != n) {
         pair_shares_fixed_ = false;
         pair_bounds_.resize(std::size_t(team) + 1);
         for (int t = 0; t < team; ++t)
           pointShare(t, team, pair_bounds_[std::size_t(t)], pair_bounds_[std::size_t(t) + 1]);
+        find_bounds_ = pair_bounds_;
         pair_per_point_.clear();
       }
       if (pair_per_point_.size() != std::size_t(team)) {
-        pair_seconds_.assign(std::size_t(team), 0);
-        pair_per_point_.assign(std::size_t(team), -1);
+        for (std::vector<double>* seconds : {&pair_seconds_, &find_seconds_})
+          seconds->assign(std::size_t(team), 0);
+        for (std::vector<double>* per_point : {&pair_per_point_, &find_per_point_})
+          per_point->assign(std::size_t(team), -1);
       }
       if constexpr (std::is_same_v<T, float>)
         if (padded)
@@ -93,48 +95,59 @@ void CpuSolver<T>::selfCollide() {
     });
     if (failure_) return;
   }
-  const std::size_t stencil = pairs_.stencil().size();
-  if (stencil > 0) {
-    if constexpr (std::is_same_v<T, float>)
-      if (padded) {
-        GridStencilTiles tiles;
-        const bool ruled_out = pairs_.stencilTiles(built, tiles);
-        grid_->stencilFlags(pairs_.stencilDu(), pairs_.stencilDv(), pairs_.stencilMixed(), int(stencil), range * range,
-                            near_, ruled_out ? &tiles : nullptr);
-      }
-    if (!padded)
-      parallelFor(0, (long long)x_.size(), threads_,
-                  [&](long long p) { near_[std::size_t(p)] = pairs_.stencilMask(x_, std::size_t(p)); });
-  }
   // Jacobi: every correction is computed from the positions before the pass, so the result does not
   // depend on the order points are visited (nor, on the GPU, on thread order). Each pair in range is found
   // once, from its lower end, with both ends' terms, each sent to the thread that owns its point; then each
   // point sums its terms in the order of forEachOrderedPair (the 27-cell query's, docs/design.md section 2),
-  // whichever thread found them. Each thread takes a contiguous share of the points, at first the one every
-  // other pass gives it: the positions, the terms' heads and the corrections then stay in the cache of the core
-  // that writes them (dealing chunks of points in turn instead measured slower on 50 x 50: every line of them
-  // moved between the cores each substep). The shares then follow the pairs (balancePairShares): a refined
-  // cloth's contacts crowd where it wrinkles, and at 256 x 256 even shares left one thread most of them.
+  // whichever thread found them. Each thread takes a contiguous share of the points to find and one to sum, at
+  // first the one every other pass gives it: the positions, the terms' heads and the corrections then stay in the
+  // cache of the core that writes them (dealing chunks of points in turn instead measured slower on 50 x 50: every
+  // line of them moved between the cores each substep). The shares then follow the work (balancePairShares): a
+  // refined cloth's contacts crowd where it wrinkles, and at 256 x 256 even shares left one thread most of them.
+  const std::size_t stencil = pairs_.stencil().size();
   const T inv_range = T(1) / range;
   const T steps = T(scene_.sim.steps_per_frame);
   const int thread = teamThread();
   PairScratch& mine = pair_scratch_[std::size_t(thread)];
   const bool team = inTeam();
-  const auto start = team ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
-  const long long lo = team ? pair_bounds_[std::size_t(thread)] : 0;
-  const long long hi = team ? pair_bounds_[std::size_t(thread) + 1] : (long long)x_.size();
+  using Clock = std::chrono::steady_clock;
+  const auto start = team ? Clock::now() : Clock::time_point();
+  const long long n = (long long)x_.size();
+  long long lo = team ? find_bounds_[std::size_t(thread)] : 0, hi = team ? find_bounds_[std::size_t(thread) + 1] : n;
+  mine.stencil_pairs = 0;
+  if (stencil > 0) {
+    if constexpr (std::is_same_v<T, float>)
+      if (padded) {
+        // The stencil's pairs of this thread's rows, listed for the same thread to find their terms: no barrier
+        // between, and no flag words a point to write, scan and clear (pinned2 at 256 x 256 on two threads: the
+        // stencil and the search 0.71-0.74 s of each thread's run with them and their wait, 0.51 s without).
+        // Whole rows of squares: a square's record is one thread's.
+        GridStencilTiles tiles;
+        const bool ruled_out = pairs_.stencilTiles(built, tiles);
+        const long long w = pairs_.gridWidth(), unit = w * (ruled_out ? tiles.edge : 1);
+        const auto whole = [&](long long bound) { return std::min(n, (bound + unit / 2) / unit * unit); };
+        lo = whole(lo);
+        hi = whole(hi);
+        mine.stencil_pairs = grid_->stencilPairs(pairs_.stencilDu(), pairs_.stencilDv(), pairs_.stencilMixed(),
+                                                 int(stencil), range * range, int(lo / w), int((hi + w - 1) / w),
+                                                 mine.lower, mine.upper, ruled_out ? &tiles : nullptr);
+      }
+    if (!padded)
+      parallelFor(0, n, threads_, [&](long long p) { near_[std::size_t(p)] = pairs_.stencilMask(x_, std::size_t(p)); });
+  }
   // The corrections this thread's last pass kept are zeroed before any thread writes this pass's (the barrier)
   clearSelfCorrections(mine);
-  findPairHits(lo, hi, stencil > 0, thickness, inv_range, pairs_.farNeeded(built), mine);
+  findPairHits(lo, hi, stencil > 0 && !padded, thickness, inv_range, pairs_.farNeeded(built), mine);
+  const auto found = team ? Clock::now() : Clock::time_point();
   teamBarrier();
   // A thread's sums are its own points' corrections, computed from terms alone: it adds them at once, as no
-  // thread reads another's points until the barrier. The stencil's flags of its points are read: cleared for
-  // the next substep, whose stencilFlags comes after several barriers.
+  // thread reads another's points until the barrier.
+  const auto summing = team ? Clock::now() : Clock::time_point();
   mine.summed = sumPairTerms(thread, steps, mine);
-  if (stencil > 0 && padded) std::fill(near_.begin() + lo, near_.begin() + hi, StencilMask(0));
-  if (team)
-    pair_seconds_[std::size_t(thread)] =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (team) {
+    find_seconds_[std::size_t(thread)] = std::chrono::duration<double>(found - start).count();
+    pair_seconds_[std::size_t(thread)] = std::chrono::duration<double>(Clock::now() - summing).count();
+  }
   teamBarrier();
   // Every thread reads the same flags after the barrier, so all take the same way (and pass the same barriers).
   if (std::any_of(pair_scratch_.begin(), pair_scratch_.end(), [](const PairScratch& s) { return bool(s.failure); })) {
@@ -159,26 +172,27 @@ template <class T>
 void CpuSolver<T>::balancePairShares() {
   constexpr double kSmoothing = 0.25;  // a substep's weight in the smoothed times
   if (pair_shares_fixed_) return;
-  balanceShares(pair_bounds_, pair_seconds_, pair_per_point_, kSmoothing,
-                std::max(1LL, pair_bounds_.back() / (16 * (long long)pair_seconds_.size())));
+  const long long least = std::max(1LL, pair_bounds_.back() / (16 * (long long)pair_seconds_.size()));
+  balanceShares(pair_bounds_, pair_seconds_, pair_per_point_, kSmoothing, least);
+  balanceShares(find_bounds_, find_seconds_, find_per_point_, kSmoothing, least);
 }
 
 template <class T>
-void CpuSolver<T>::fixPairShares(std::vector<long long> bounds) {
-  pair_bounds_ = std::move(bounds);
+void CpuSolver<T>::fixPairShares(std::vector<long long> sums, std::vector<long long> find) {
+  pair_bounds_ = std::move(sums);
+  find_bounds_ = find.empty() ? pair_bounds_ : std::move(find);
   pair_shares_fixed_ = true;
 }
 
 // The pairs in range of points [lo, hi) with a partner above them: the lists' forward pairs (their entries
-// tested side by side where the kernels run) and the stencil's forward offsets (those whose bits near_ has).
-// Each end's term goes into mine.to[the thread that sums it]; a zero term, or one for a pinned point, adds
-// nothing and is dropped.
+// tested side by side where the kernels run) and the stencil's, listed (mine.lower and upper: GridPath::stencilPairs)
+// or, where flagged, the forward offsets whose bits near_ has. Each end's term goes into mine.to[the thread that
+// sums it]; a zero term, or one for a pinned point, adds nothing and is dropped.
 template <class T>
-void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thickness, T inv_range, bool far,
+void CpuSolver<T>::findPairHits(long long lo, long long hi, bool flagged, T thickness, T inv_range, bool far,
                                 PairScratch& mine) {
   try {
-    // The lower end i of every pair found here is in [lo, hi), this thread's; the upper end j may be another's.
-    const std::size_t own = std::size_t(teamThread());
+    // Either end may be in another thread's share of the sums.
     const bool alone = mine.to.size() == 1;
     const auto send = [&](std::size_t to, std::uint32_t i, std::uint32_t j, int order, vec3 c) {
       if (c == vec3(0) || topo_.pinned[i]) return;
@@ -188,7 +202,7 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thic
       terms[sent++] = {i, j, order, c};
     };
     const auto both = [&](std::uint32_t i, std::uint32_t j, int order_i, int order_j, vec3 ci, vec3 cj) {
-      send(own, i, j, order_i, ci);
+      send(alone ? 0 : std::size_t(pairOwner(i)), i, j, order_i, ci);
       send(alone ? 0 : std::size_t(pairOwner(j)), j, i, order_j, cj);
     };
     const auto pair = [&](std::uint32_t i, std::uint32_t j) {
@@ -226,13 +240,11 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thic
         for (const auto* part : {&pairs_.nearEntries(), far ? &pairs_.farEntries() : nullptr})
           if (part)
             take(part->owner.data(), part->partner.data(), part->start[std::size_t(lo)], part->start[std::size_t(hi)]);
-        if (stencil) {
+        if (flagged) {
           mine.lower.clear();
           mine.upper.clear();
           // Most points have no stencil partner in range: they are passed over in a loop of their own, which
-          // keeps its index in a register (the loop with the calls kept it in memory: 5% of a substep of
-          // pinned2, which has none), eight flags (a cache line) at a time where all eight are clear (one at a
-          // time, the loop was most of this function on selfCollision)
+          // keeps its index in a register, eight flags (a cache line) at a time where all eight are clear
           const StencilMask* near = near_.data();
           const auto next = [near, hi](long long q) {
             for (; q + 8 <= hi; q += 8)
@@ -250,13 +262,16 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool stencil, T thic
               mine.upper.push_back(j);
             });
           }
-          take(mine.lower.data(), mine.upper.data(), 0, std::uint32_t(mine.lower.size()));
+          mine.stencil_pairs = mine.lower.size();
         }
+        if (mine.stencil_pairs > 0) take(mine.lower.data(), mine.upper.data(), 0, std::uint32_t(mine.stencil_pairs));
         return;
       }
     for (std::uint32_t k = first; k < last; ++k)
       pair(owner[k], partner[k]);
-    if (stencil)
+    for (std::size_t k = 0; k < mine.stencil_pairs; ++k)
+      pair(mine.lower[k], mine.upper[k]);
+    if (flagged)
       for (long long p = lo; p < hi; ++p) {
         const std::size_t i = std::size_t(p);
         if (near_[i] != 0)
@@ -352,8 +367,8 @@ template void CpuSolver<float>::balancePairShares();
 template void CpuSolver<double>::balancePairShares();
 template void CpuSolver<float>::clearSelfCorrections(PairScratch&);
 template void CpuSolver<double>::clearSelfCorrections(PairScratch&);
-template void CpuSolver<float>::fixPairShares(std::vector<long long>);
-template void CpuSolver<double>::fixPairShares(std::vector<long long>);
+template void CpuSolver<float>::fixPairShares(std::vector<long long>, std::vector<long long>);
+template void CpuSolver<double>::fixPairShares(std::vector<long long>, std::vector<long long>);
 template void CpuSolver<float>::findPairHits(long long, long long, bool, float, float, bool, PairScratch&);
 template void CpuSolver<double>::findPairHits(long long, long long, bool, double, double, bool, PairScratch&);
 template long long CpuSolver<float>::sumPairTerms(int, float, PairScratch&);

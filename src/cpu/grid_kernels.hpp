@@ -98,12 +98,11 @@ struct PairTermOut {
   float ci[3], cj[3];
 };
 
-// Self-collision's stencil of a grid cloth (cpu/collision_pairs.hpp): per point, whether a partner at grid
-// offset (du[k], dv[k]), k < count, lies on the grid, is not held at rest where mixed[k] (physics::heldAtRest on
-// the rest positions), and is within sqrt(range2) now (the test of physics::selfCollisionCorrection; a NaN
-// distance counts). The offsets are half the stencil (one of each +-pair) and a pair in range flags both its
-// points, which may lie in another thread's rows: the flags must be 0 before, and are set by ORs, atomic ones in the
-// rows another thread may write too.
+// Self-collision's stencil of a grid cloth (cpu/collision_pairs.hpp): the pairs of a point and its partner at grid
+// offset (du[k], dv[k]), k < count, that lies on the grid, is not held at rest where mixed[k] (physics::heldAtRest
+// on the rest positions), and is within sqrt(range2) now (the test of physics::selfCollisionCorrection; a NaN
+// distance counts). The offsets are the stencil's forward half (one of each +-pair), so each pair comes once, from
+// its lower point.
 struct GridStencilArgs {
   GridShape shape;
   const float *x, *y, *z;     // positions, padded layout
@@ -112,12 +111,9 @@ struct GridStencilArgs {
   const std::uint8_t* mixed;
   int count = 0;
   float range2 = 0;
-  // Per point, in point order: the bit of stencil offset k set where its partner there is in range (bit k,
-  // bit 63 for every k from 63 on: CollisionPairs::stencilBit). The offsets passed are the stencil's second
-  // half (forward); offset k of them is the whole stencil's half + k from the lower point and half - 1 - k
-  // from the higher.
-  std::uint64_t* flags;
-  int half = 0;
+  // The pairs in range (point indices, lower and upper end), in no set order: room for every point of the rows
+  // asked for at every offset (count * W * rows)
+  std::uint32_t *lower = nullptr, *upper = nullptr;
   // The tests a list's build rules out, passed over (CollisionPairs::stencilTiles): the grid in squares of `edge`
   // points, `across` of them a row of squares; active[t] has bit k set where offset k's pairs from square t's points
   // are tested (count <= 64), the others being out of range. Where record, every pair is tested and
@@ -129,11 +125,11 @@ struct GridStencilArgs {
   bool record = false;
 };
 
-// GridStencilArgs' squares for GridPath::stencilFlags (CollisionPairs::stencilTiles makes them): each thread of a
-// team takes whole rows of squares, `down` of them, and calls prepare(first, last) with its rows of squares before
-// its tests (the least distances cleared for a record, or the squares' offsets to test worked out).
+// GridStencilArgs' squares for GridPath::stencilPairs (CollisionPairs::stencilTiles makes them): each thread of a
+// team takes whole rows of squares and calls prepare(first, last) with them before its tests (the least distances
+// cleared for a record, or the squares' offsets to test worked out).
 struct GridStencilTiles {
-  int edge = 0, across = 0, down = 0;
+  int edge = 0, across = 0;
   const std::uint64_t* active = nullptr;
   float* min2 = nullptr;
   bool record = false;
@@ -220,9 +216,10 @@ struct GridKernels {
   // floats; inv_range: 1 / (2 thickness), the grid of cellOrder. Not grid-specific.
   int (*pairTerms)(const float* x, const std::uint32_t* owner, const std::uint32_t* partner, std::uint32_t first,
                    std::uint32_t last, float thickness, float inv_range, PairTermOut* out);
-  // Self-collision's stencil (cpu/collision_pairs.hpp) over the points of rows [y0, y1): flags[v * W + u] = 1
-  // where a stencil partner lies on the grid, is not held at rest, and is within range (see GridStencilArgs).
-  void (*stencilFlags)(const GridStencilArgs&, int y0, int y1);
+  // Self-collision's stencil (cpu/collision_pairs.hpp) from the points of rows [y0, y1): the pairs whose partner
+  // lies on the grid, is not held at rest, and is within range, written to lower and upper (see GridStencilArgs);
+  // their count returned.
+  int (*stencilPairs)(const GridStencilArgs&, int y0, int y1);
   // The slots s in [first, last) whose candidate is within reach of the point now (a NaN distance is not) and
   // not surely held or on the stencil by its offset: written to out in ascending order, their count returned.
   // What the build must look at pair by pair; a flat cloth's buckets hold almost none.

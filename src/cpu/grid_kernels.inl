@@ -299,7 +299,7 @@ struct Kernels : Lanes<V> {
             &Vbd::vbdPoints,
             &integrate,
             &Contact::pairTerms,
-            &StencilKernels<V>::stencilFlags,
+            &StencilKernels<V>::stencilPairs,
             &Contact::scanPairs,
             &Contact::scanCell,
             &Contact::collideObjects,

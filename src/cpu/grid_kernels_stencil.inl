@@ -6,11 +6,6 @@
 namespace drape {
 namespace {
 
-// CollisionPairs::stencilBit, kept here: the kernels' translation units share no inline function with the rest.
-std::uint64_t stencilBit(int k) {
-  return std::uint64_t(1) << (k < 63 ? k : 63);
-}
-
 template <class V>
 struct StencilKernels : Lanes<V> {
   using F = typename V::F;
@@ -18,24 +13,23 @@ struct StencilKernels : Lanes<V> {
   using Lanes<V>::onGrid;
 
   // A row's stencil offsets whose partner row is on the grid, worked out once a row (per vector they were
-  // a fifth of the kernel's instructions): the partner's padded index and flag index less the point's, its
-  // column less the point's, whether some pairs there are held at rest, the two ends' bits, and whether both
-  // rows are this thread's alone (plain ORs; an atomic one costs about 20 cycles here).
+  // a fifth of the kernel's instructions): the partner's padded index and point index less the point's, its
+  // column less the point's, and whether some pairs there are held at rest.
   struct StencilTerm {
-    std::ptrdiff_t padded, flag;
+    std::ptrdiff_t padded, point;
     int du;
-    bool mixed, alone;
-    std::uint64_t forward, backward;
+    bool mixed;
   };
   // Whether the squares rule tests out (GridStencilArgs::active), or record their least distances
   enum StencilTiles { kAllTested, kTilesRuleOut, kTilesRecord };
 
-  // One offset's test of the vector of points at (u0, v): their flags, and where kRecord each lane's least distance
-  // into the accumulators of the squares the lanes lie in (least0, least1; a NaN distance is -inf there, so that
-  // nothing is ruled out until the next build)
+  // One offset's test of the vector of points at (u0, v), the first point `first`: its pairs in range appended to
+  // a.lower and a.upper at `found`, and where kRecord each lane's least distance into the accumulators of the squares
+  // the lanes lie in (least0, least1; a NaN distance is -inf there, so that nothing is ruled out until the next
+  // build)
   template <bool kInterior, bool kRecord>
   static void stencilTest(const GridStencilArgs& a, const StencilTerm& t, std::ptrdiff_t q, F X, F Y, F Z, F us, F own,
-                          F r2, std::uint64_t* mine, float* least0, float* least1) {
+                          F r2, std::uint32_t first, int& found, float* least0, float* least1) {
     const GridShape& g = a.shape;
     const F all = V::eq(V::set1(0.0f), V::set1(0.0f));
     // The padding keeps every partner load inside the arrays (|du| <= kMaxStencilBox < 2 rows)
@@ -57,19 +51,11 @@ struct StencilKernels : Lanes<V> {
       const F e2 = V::add(V::add(V::mul(ex, ex), V::mul(ey, ey)), V::mul(ez, ez));
       pair = V::andNot(V::lt(e2, r2), pair);
     }
-    if (int bits = V::bits(pair); bits != 0) {
-      std::uint64_t* theirs = mine + t.flag;
-      if (t.alone)
-        for (; bits != 0; bits &= bits - 1) {
-          const int l = __builtin_ctz(unsigned(bits));
-          mine[l] |= t.forward;
-          theirs[l] |= t.backward;
-        }
-      for (; bits != 0; bits &= bits - 1) {
-        const int l = __builtin_ctz(unsigned(bits));
-        __atomic_fetch_or(mine + l, t.forward, __ATOMIC_RELAXED);
-        __atomic_fetch_or(theirs + l, t.backward, __ATOMIC_RELAXED);
-      }
+    for (int bits = V::bits(pair); bits != 0; bits &= bits - 1) {
+      const auto i = first + std::uint32_t(__builtin_ctz(unsigned(bits)));
+      a.lower[found] = i;
+      a.upper[found] = std::uint32_t(std::ptrdiff_t(i) + t.point);
+      ++found;
     }
   }
 
@@ -79,36 +65,36 @@ struct StencilKernels : Lanes<V> {
   // an offset)
   template <bool kInterior, int kTiles>
   static void stencilVector(const GridStencilArgs& a, const StencilTerm* terms, int count, std::uint64_t row, int u0,
-                            int v, F r2, int t0, int t1, float* acc0, float* acc1) {
+                            int v, F r2, int t0, int t1, float* acc0, float* acc1, int& found) {
     const GridShape& g = a.shape;
     const std::ptrdiff_t q = at(g, u0, v);
     const F X = V::load(a.x + q), Y = V::load(a.y + q), Z = V::load(a.z + q);
     const F us = V::add(V::set1(float(u0)), V::iota());
     const F own = kInterior ? V::eq(us, us) : V::lt(us, V::set1(float(g.W)));
-    std::uint64_t* mine = a.flags + std::ptrdiff_t(v) * g.W + u0;
+    const auto first = std::uint32_t(std::ptrdiff_t(v) * g.W + u0);
     if constexpr (kTiles == kAllTested) {
       for (int k = 0; k < count; ++k)
-        stencilTest<kInterior, false>(a, terms[k], q, X, Y, Z, us, own, r2, mine, nullptr, nullptr);
+        stencilTest<kInterior, false>(a, terms[k], q, X, Y, Z, us, own, r2, first, found, nullptr, nullptr);
     } else if constexpr (kTiles == kTilesRuleOut) {
       for (std::uint64_t m = (a.active[t0] | a.active[t1]) & row; m != 0; m &= m - 1)
-        stencilTest<kInterior, false>(a, terms[std::countr_zero(m)], q, X, Y, Z, us, own, r2, mine, nullptr, nullptr);
+        stencilTest<kInterior, false>(a, terms[std::countr_zero(m)], q, X, Y, Z, us, own, r2, first, found, nullptr,
+                                      nullptr);
     } else {
       for (std::uint64_t m = row; m != 0; m &= m - 1) {
         const int k = std::countr_zero(m);
-        stencilTest<kInterior, true>(a, terms[k], q, X, Y, Z, us, own, r2, mine, acc0 + k * kW, acc1 + k * kW);
+        stencilTest<kInterior, true>(a, terms[k], q, X, Y, Z, us, own, r2, first, found, acc0 + k * kW, acc1 + k * kW);
       }
     }
   }
 
   template <int kTiles>
-  static void stencilRows(const GridStencilArgs& a, int y0, int y1) {
+  static int stencilRows(const GridStencilArgs& a, int y0, int y1) {
     const GridShape& g = a.shape;
     const F r2 = V::set1(a.range2);
-    int reach = 0, side = 0;  // the rows a point's flags reach forward (no other thread writes rows from y0 + reach)
-    for (int k = 0; k < a.count; ++k) {
-      reach = a.dv[k] > reach ? a.dv[k] : reach;
+    int side = 0;  // the columns an offset reaches either way
+    for (int k = 0; k < a.count; ++k)
       side = a.du[k] > side ? a.du[k] : (-a.du[k] > side ? -a.du[k] : side);
-    }
+    int found = 0;
     static thread_local std::vector<StencilTerm> terms;
     terms.resize(std::size_t(a.count));
     // With the squares: the columns of squares each vector's first and last lanes lie in (a division each, per
@@ -141,12 +127,8 @@ struct StencilKernels : Lanes<V> {
         if (v + a.dv[k] < 0 || v + a.dv[k] >= g.H) continue;
         row |= std::uint64_t(1) << (k & 63);
         terms[std::size_t(kTiles == kAllTested ? count++ : k)] = {std::ptrdiff_t(a.dv[k]) * g.stride + a.du[k],
-                                                                  std::ptrdiff_t(a.dv[k]) * g.W + a.du[k],
-                                                                  a.du[k],
-                                                                  a.mixed[k] != 0,
-                                                                  v >= y0 + reach && v + a.dv[k] < y1,
-                                                                  stencilBit(a.half + k),
-                                                                  stencilBit(a.half - 1 - k)};
+                                                                  std::ptrdiff_t(a.dv[k]) * g.W + a.du[k], a.du[k],
+                                                                  a.mixed[k] != 0};
       }
       const int tile_row = kTiles == kAllTested ? 0 : v / a.edge * a.across;
       // Vectors whose every lane's partners are on the grid need no lane masks
@@ -162,21 +144,19 @@ struct StencilKernels : Lanes<V> {
           acc1 = acc.data() + std::size_t(t1 - tile_row) * std::size_t(a.count) * kW;
         }
         if (u0 >= side && u0 + kW + side <= g.W)
-          stencilVector<true, kTiles>(a, terms.data(), count, row, u0, v, r2, t0, t1, acc0, acc1);
+          stencilVector<true, kTiles>(a, terms.data(), count, row, u0, v, r2, t0, t1, acc0, acc1, found);
         else
-          stencilVector<false, kTiles>(a, terms.data(), count, row, u0, v, r2, t0, t1, acc0, acc1);
+          stencilVector<false, kTiles>(a, terms.data(), count, row, u0, v, r2, t0, t1, acc0, acc1, found);
       }
       if (kTiles == kTilesRecord && ((v + 1) % a.edge == 0 || v + 1 == y1)) flush(tile_row);
     }
+    return found;
   }
 
-  static void stencilFlags(const GridStencilArgs& a, int y0, int y1) {
-    if (!a.min2)
-      stencilRows<kAllTested>(a, y0, y1);
-    else if (a.record)
-      stencilRows<kTilesRecord>(a, y0, y1);
-    else
-      stencilRows<kTilesRuleOut>(a, y0, y1);
+  static int stencilPairs(const GridStencilArgs& a, int y0, int y1) {
+    if (!a.min2) return stencilRows<kAllTested>(a, y0, y1);
+    if (a.record) return stencilRows<kTilesRecord>(a, y0, y1);
+    return stencilRows<kTilesRuleOut>(a, y0, y1);
   }
 };
 

@@ -88,29 +88,37 @@ void GridPath::loadPositions(const std::vector<glm::vec3>& x) {
   });
 }
 
-void GridPath::stencilFlags(const int* du, const int* dv, const std::uint8_t* mixed, int count, float range2,
-                            std::vector<std::uint64_t>& flags, const GridStencilTiles* tiles) {
-  const GridKernels& kern = *kernels_;
-  // Each pair once, from the end whose index is lower (the stencil's second half), flagging both ends: the
-  // flags come in cleared and are only ever OR'ed.
-  const int half = count / 2;
-  const GridStencilArgs args{shape_,    x_.data(), y_.data(),    z_.data(),    rx_.data(), ry_.data(),   rz_.data(),
-                             du + half, dv + half, mixed + half, count - half, range2,     flags.data(), half};
-  if (!tiles) {
-    teamRange(0, shape_.H, [&](long long y0, long long y1) { kern.stencilFlags(args, int(y0), int(y1)); });
-    return;
+std::size_t GridPath::stencilPairs(const int* du, const int* dv, const std::uint8_t* mixed, int count, float range2,
+                                   int y0, int y1, std::vector<std::uint32_t>& lower, std::vector<std::uint32_t>& upper,
+                                   const GridStencilTiles* tiles) {
+  // The forward half: each pair once, from its lower point
+  const int half = count / 2, forward = count - half;
+  GridStencilArgs args{shape_,     x_.data(), y_.data(), z_.data(),    rx_.data(), ry_.data(),
+                       rz_.data(), du + half, dv + half, mixed + half, forward,    range2};
+  int rows = kStencilRows;
+  if (tiles) {
+    args.edge = rows = tiles->edge;
+    args.across = tiles->across;
+    args.active = tiles->active;
+    args.min2 = tiles->min2;
+    args.record = tiles->record;
+    tiles->prepare(y0 / tiles->edge, (y1 + tiles->edge - 1) / tiles->edge);
   }
-  GridStencilArgs tiled = args;
-  tiled.edge = tiles->edge;
-  tiled.across = tiles->across;
-  tiled.active = tiles->active;
-  tiled.min2 = tiles->min2;
-  tiled.record = tiles->record;
-  // By whole rows of squares: the recording threads write their own squares' least distances
-  teamRange(0, tiles->down, [&](long long t0, long long t1) {
-    tiles->prepare(t0, t1);
-    kern.stencilFlags(tiled, int(t0 * tiles->edge), int(std::min<long long>(t1 * tiles->edge, shape_.H)));
-  });
+  // A few rows a call, with room for each of their points' every offset: the vectors stay the size of the pairs in
+  // range and one call's room, not of the tests (20 offsets of 256 points a row at 256 x 256)
+  std::size_t found = 0;
+  for (int v = y0; v < y1; v += rows) {
+    const int v1 = std::min(v + rows, y1);
+    const std::size_t room = found + std::size_t(forward) * std::size_t(shape_.W) * std::size_t(v1 - v);
+    if (lower.size() < room) {
+      lower.resize(room);
+      upper.resize(room);
+    }
+    args.lower = lower.data() + found;
+    args.upper = upper.data() + found;
+    found += std::size_t(kernels_->stencilPairs(args, v, v1));
+  }
+  return found;
 }
 
 void GridPath::limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,

@@ -36,14 +36,15 @@ class GridPath {
   const float* positions(int coordinate) const {
     return coordinate == 0 ? x_.data() : coordinate == 1 ? y_.data() : z_.data();
   }
-  // Self-collision's stencil over the positions last loaded (loadPositions): flags[i] has bit stencilBit(k) set
-  // where point i's partner at stencil offset k is within sqrt(range2) and not held at rest
-  // (GridKernels::stencilFlags). du, dv, mixed: the whole stencil, sorted by dv * W + du (its second half mirrors
-  // its first). flags: all zero on entry (the caller clears them where no barrier is needed: a thread sets
-  // bits in its neighbour's rows). Called by every thread of a team, or by one thread alone.
-  // tiles: where given, the tests the list's last build rules out are passed over (GridStencilTiles).
-  void stencilFlags(const int* du, const int* dv, const std::uint8_t* mixed, int count, float range2,
-                    std::vector<std::uint64_t>& flags, const GridStencilTiles* tiles = nullptr);
+  // Self-collision's stencil over the positions last loaded (loadPositions), from the points of rows [y0, y1):
+  // the pairs in range and not held at rest, appended to lower and upper (GridKernels::stencilPairs; the vectors
+  // only grown), their count returned. du, dv, mixed: the whole stencil, sorted by dv * W + du (its second half
+  // mirrors its first). A thread of a team calls it for its own rows and writes nothing another thread reads
+  // before the next barrier. tiles: where given, [y0, y1) is whole rows of squares (y1 may be the last row) and the
+  // tests the list's last build rules out are passed over (GridStencilTiles).
+  std::size_t stencilPairs(const int* du, const int* dv, const std::uint8_t* mixed, int count, float range2, int y0,
+                           int y1, std::vector<std::uint32_t>& lower, std::vector<std::uint32_t>& upper,
+                           const GridStencilTiles* tiles = nullptr);
   // `passes` Gauss-Seidel passes over the 12 colours in order; v nullptr when it is not a displacement. wait:
   // false where the next pass reads only its own thread's rows of x and v (no barrier after they are copied out).
   // copy_out false: the positions stay in the padded arrays for collideAndCopyOut.
@@ -67,6 +68,7 @@ class GridPath {
            int sweeps, const std::vector<std::uint32_t>& colour_start);
 
  private:
+  static constexpr int kStencilRows = 4;  // stencilPairs' rows a kernel call, without the squares
   using ColourKernel = void (*)(const GridStretchArgs&, int, int, int, int);
   GridSprings springs(const float k[3], const bool enabled[3]) const;
   GridStretchArgs colourArgs(bool displacements, const GridSprings& springs);
