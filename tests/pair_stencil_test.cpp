@@ -197,6 +197,49 @@ TEST(PairStencil, ThreadsFindingOneShareAndSummingAnotherGiveOneThreadsBytes) {
   }
 }
 
+// A grid whose rows do not fill its last row of squares (42 rows in squares of 8: two rows in the last), as most
+// sizes do: the stencil's rows, split between threads in whole rows of squares, still end at the last row. A flat
+// cloth at rest, one pair of its last row (three columns apart, 3 spacings against a range of 2.9) brought within
+// range: both ends move, at a build (the squares record) and at a substep after it (the squares' masks), and at a
+// build on a team (a whole substep, whose share of the stencil's rows is the second thread's last).
+TEST(PairStencil, TheLastRowOfAGridOfPartRowsOfSquaresIsTested) {
+  Scene scene = crumplingCloth(42, 1.45);
+  scene.cloth.orientation = Orientation::Horizontal;
+  scene.sim.gravity = glm::dvec3(0);
+  scene.cloth.damping = 0;
+  scene.planes.clear();
+  const int w = scene.cloth.num_width_points;
+  ASSERT_NE(w % 8, 0);
+  const std::size_t i = std::size_t(41 * w + 10), j = i + 3;
+  for (const int threads : {1, 2})
+    for (const bool at_build : {true, false}) {
+      if (threads == 2 && !at_build) continue;  // selfCollide() alone runs outside a team
+      SCOPED_TRACE(::testing::Message() << threads << " threads, " << (at_build ? "at the build" : "after it"));
+      CpuSolver<float> solver(scene, CpuSolverOptions{.threads = threads, .team_min_points = 0});
+      std::vector<glm::dvec3> x = solver.topology().initial_positions;
+      const glm::dvec3 towards = x[j] - x[i];
+      const glm::dvec3 move = glm::normalize(towards) * (glm::length(towards) - 2 * scene.cloth.thickness) * 1.5;
+      std::vector<glm::dvec3> v(x.size(), glm::dvec3(0));
+      (at_build ? x[i] : v[i]) += move;
+      solver.setState(x, v);
+      if (threads == 2)
+        solver.step();  // on the team: forces and integrate move the point a little, the build finds the pair
+      else
+        solver.selfCollide();  // the lists built, the squares recorded
+      if (!at_build) {
+        EXPECT_EQ(solver.selfCorrections()[i], vec3(0)) << "out of range at the build";
+        solver.accumulateForces();
+        solver.integrate();  // the one point moves by its v
+        solver.selfCollide();
+        EXPECT_EQ(solver.collisionPairs().rebuilds(), 1) << "the move is within the lists' travel";
+        EXPECT_TRUE(solver.collisionPairs().squaresUsed());
+      }
+      ASSERT_TRUE(onStencil(solver.collisionPairs(), i, j));
+      EXPECT_NE(solver.selfCorrections()[i], vec3(0));
+      EXPECT_NE(solver.selfCorrections()[j], vec3(0));
+    }
+}
+
 // A contact distance of ten spacings: a ring of more offsets than a mask has bits, the last bit standing for
 // every offset from 63 on (CollisionPairs::stencilBit). Those partners are tested whenever the bit is set.
 TEST(PairStencil, AStencilOfMoreOffsetsThanBitsGivesTheListsBytes) {

@@ -125,7 +125,10 @@ void CpuSolver<T>::selfCollide() {
         GridStencilTiles tiles;
         const bool ruled_out = pairs_.stencilTiles(built, tiles);
         const long long w = pairs_.gridWidth(), unit = w * (ruled_out ? tiles.edge : 1);
-        const auto whole = [&](long long bound) { return std::min(n, (bound + unit / 2) / unit * unit); };
+        // The last bound stays the last point: a grid's last row of squares may be short of rows
+        const auto whole = [&](long long bound) {
+          return bound >= n ? n : std::min(n, (bound + unit / 2) / unit * unit);
+        };
         lo = whole(lo);
         hi = whole(hi);
         mine.stencil_pairs = grid_->stencilPairs(pairs_.stencilDu(), pairs_.stencilDv(), pairs_.stencilMixed(),
