@@ -72,8 +72,9 @@ class GridPath {
   using ColourKernel = void (*)(const GridStretchArgs&, int, int, int, int);
   GridSprings springs(const float k[3], const bool enabled[3]) const;
   GridStretchArgs colourArgs(bool displacements, const GridSprings& springs);
-  // x (and v, where not nullptr) into the padded arrays and back; every thread of a team calls them.
-  void copyIn(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>* v);
+  // x (and v, where not nullptr) into the padded arrays and back, each thread its rows; every thread of a team calls
+  // them. wait: a barrier after (false where the next step reads only its own thread's rows).
+  void copyIn(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>* v, bool wait = true);
   void copyOut(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, bool wait = true);
   // x (and v) into the padded arrays, `passes` sweeps of `colour` over the colours in order, and back.
   void sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const GridStretchArgs& args, int passes,
