@@ -44,7 +44,7 @@ void CpuSolver<T>::selfCollide() {
       }
       const double margin = wide_skin_ ? pair_margin_ : pair_margin_ * (2.0 / 3.0);
       pairs_.configure(range, derived::pairSkin(margin, range, shortest_spring_));
-      near_.resize(x_.size());
+      if (!padded) near_.resize(x_.size());  // a grid path lists the stencil's pairs instead
       first_term_.resize(x_.size(), -1);
       const int team = teamSize();
       // A scratch given up (the trial's one thread after a team) takes the corrections its points kept with it
@@ -132,8 +132,8 @@ void CpuSolver<T>::selfCollide() {
         lo = whole(lo);
         hi = whole(hi);
         mine.stencil_pairs = grid_->stencilPairs(pairs_.stencilDu(), pairs_.stencilDv(), pairs_.stencilMixed(),
-                                                 int(stencil), range * range, int(lo / w), int((hi + w - 1) / w),
-                                                 mine.lower, mine.upper, ruled_out ? &tiles : nullptr);
+                                                 int(stencil), range * range, int(lo / w), int(hi / w), mine.lower,
+                                                 mine.upper, ruled_out ? &tiles : nullptr);
       }
     if (!padded)
       parallelFor(0, n, threads_, [&](long long p) { near_[std::size_t(p)] = pairs_.stencilMask(x_, std::size_t(p)); });
