@@ -1,8 +1,14 @@
-// cpu/parallel.hpp's balanceShares: contiguous shares of the points that move towards equal times.
+// cpu/parallel.hpp: balanceShares (contiguous shares of the points that move towards equal times) and the team's
+// barrier.
 #include "cpu/parallel.hpp"
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <thread>
 #include <vector>
 
 namespace drape {
@@ -76,6 +82,77 @@ TEST(BalanceShares, TheBoundsStayInOrderAndCoverEveryItem) {
     for (std::size_t t = 0; t + 1 < bounds.size(); ++t)
       ASSERT_GE(bounds[t + 1] - bounds[t], 1) << "round " << r;
   }
+}
+
+// `threads` threads each write their slot, pass the barrier and read every slot, `rounds` times; returns the
+// reads that missed a write made before the barrier. A barrier that lets a thread through early, or loses a
+// wake-up, fails it (the second by the watchdog: a hang ends the test binary with a message, not CI's time limit).
+long long missedWrites(unsigned threads, unsigned spins, int rounds, bool nap) {
+  TeamBarrier barrier;
+  std::vector<std::atomic<int>> slot(threads);
+  std::atomic<long long> missed{0};
+  std::atomic<bool> done{false};
+  std::thread watchdog([&] {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (!done.load() && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (!done.load()) {
+      std::fprintf(stderr, "TeamBarrier: %u threads still waiting after 120 s (a lost wake-up)\n", threads);
+      std::abort();
+    }
+  });
+  std::vector<std::thread> team;
+  for (unsigned t = 0; t < threads; ++t)
+    team.emplace_back([&, t] {
+      for (int r = 1; r <= rounds; ++r) {
+        slot[t].store(r, std::memory_order_relaxed);
+        // Now and then a thread arrives late, so that the others spin out and sleep
+        if (nap && (r + int(t)) % 97 == 0) std::this_thread::sleep_for(std::chrono::microseconds(200));
+        barrier.wait(threads, spins);
+        for (unsigned u = 0; u < threads; ++u)
+          missed += slot[u].load(std::memory_order_relaxed) != r;
+        barrier.wait(threads, spins);  // no thread writes the next round before every one has read this one
+      }
+    });
+  for (std::thread& t : team)
+    t.join();
+  done = true;
+  watchdog.join();
+  return missed.load();
+}
+
+TEST(TeamBarrier, EveryThreadSeesTheWritesMadeBeforeIt) {
+  EXPECT_EQ(missedWrites(2, 20000, 20000, false), 0);
+  // More threads than this machine's two cores: most waits end asleep
+  EXPECT_EQ(missedWrites(5, 200, 2000, false), 0);
+}
+
+TEST(TeamBarrier, ASleepingThreadIsWoken) {
+  // No spinning at all: every thread but the last sleeps at every barrier, and a late one makes them wait long
+  EXPECT_EQ(missedWrites(2, 0, 3000, true), 0);
+  EXPECT_EQ(missedWrites(3, 0, 1000, true), 0);
+}
+
+TEST(TeamBarrier, ATeamScopeGivesItsThreadsTheirNumbersOneSingleAndItsBarrier) {
+  // runOnTeam is compiled with OpenMP and this file without: the scope carries the team over
+  constexpr int kThreads = 3, kRounds = 500;
+  std::atomic<int> singles{0}, numbers{0}, late{0};
+  std::vector<std::atomic<int>> reached(kThreads);
+  runOnTeam(kThreads, [&] {
+    if (!inTeam()) return;  // the runtime gave fewer threads: nothing to check
+    numbers += 1 << (4 * teamThread());
+    for (int r = 1; r <= kRounds; ++r) {
+      reached[std::size_t(teamThread())].store(r);
+      teamSingle([&] { ++singles; });  // ends with the barrier
+      for (int t = 0; t < teamSize(); ++t)
+        late += reached[std::size_t(t)].load() < r;
+      teamBarrier();
+    }
+  });
+  if (numbers.load() == 0) GTEST_SKIP() << "OpenMP gave runOnTeam one thread";
+  EXPECT_EQ(numbers.load(), 0x111) << "threads 0, 1 and 2, each once";
+  EXPECT_EQ(singles.load(), kRounds);
+  EXPECT_EQ(late.load(), 0);
 }
 
 }  // namespace

@@ -58,7 +58,8 @@ nlohmann::json peaksJson(const std::vector<MachinePeak>& peaks) {
                    {"addmul_gflops", p.addmul_gflops},
                    {"divsqrt_gops", p.divsqrt_gops},
                    {"barrier_us", p.barrier_us},
-                   {"barrier_best_us", p.barrier_best_us}});
+                   {"barrier_best_us", p.barrier_best_us},
+                   {"omp_barrier_us", p.omp_barrier_us}});
   return out;
 }
 
@@ -132,15 +133,17 @@ std::string rooflineMarkdown(const BenchReport& r) {
       "Ceilings measured on this machine just before the runs ({} vectors, the grid kernels' instructions; "
       "load average {} at the start). Triad: STREAM's a = b + s c, 12 bytes an element, over 3 × 64 MiB "
       "(memory) and 3 × 64 KiB a thread (L2). Adds and multiplies without fused multiply-add (the bits "
-      "forbid it). A barrier: one OpenMP barrier of the team, what each pass boundary of a substep costs.\n\n",
+      "forbid it). A barrier: one barrier of the team (cpu/parallel.hpp's TeamBarrier), what each pass boundary of "
+      "a substep costs, and an OpenMP barrier's median beside it (libgomp's, with a system call each).\n\n",
       r.peaks.front().isa, r.machine.load_average);
   md +=
-      "| threads | memory GB/s | L2 GB/s | add+mul GFLOP/s | div+sqrt G/s | barrier µs (median, best) "
+      "| threads | memory GB/s | L2 GB/s | add+mul GFLOP/s | div+sqrt G/s | barrier µs (median, best; OpenMP's) "
       "|\n|---|---|---|---|---|---|\n";
   for (const MachinePeak& p : r.peaks)
-    md += fmt::format("| {} | {:.1f} | {:.1f} | {:.1f} | {:.2f} | {} |\n", p.threads, p.dram_gbs, p.cache_gbs,
-                      p.addmul_gflops, p.divsqrt_gops,
-                      p.threads > 1 ? fmt::format("{:.2f}, {:.2f}", p.barrier_us, p.barrier_best_us) : "–");
+    md += fmt::format(
+        "| {} | {:.1f} | {:.1f} | {:.1f} | {:.2f} | {} |\n", p.threads, p.dram_gbs, p.cache_gbs, p.addmul_gflops,
+        p.divsqrt_gops,
+        p.threads > 1 ? fmt::format("{:.2f}, {:.2f}; {:.2f}", p.barrier_us, p.barrier_best_us, p.omp_barrier_us) : "–");
   md +=
       "\nPer pass, the work a point and call counted from the code (app/roofline.cpp says what each number "
       "holds), the least time a point the ceilings allow (the binding ceiling in brackets: memory or L2 "

@@ -178,13 +178,13 @@ bool CollisionPairs<T>::update(const std::vector<vec3>& x, int threads) {
 template <class T>
 void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
   const bool team = inTeam();
-  prepareBuild(x, team ? omp_get_num_threads() : threads);
+  prepareBuild(x, team ? teamSize() : threads);
   if (failure_) return rethrowOutsideTeam();
   const long long count = (long long)x.size();
   if (team) {
     // Dealt in chunks: a folded cloth's candidates crowd in its fold.
-    teamChunks(0, count, dealChunk(count, omp_get_num_threads()),
-               [&](long long lo, long long hi) { findPairs(x, omp_get_thread_num(), lo, hi); });
+    teamChunks(0, count, dealChunk(count, teamSize()),
+               [&](long long lo, long long hi) { findPairs(x, teamThread(), lo, hi); });
   } else {
 #pragma omp parallel num_threads(teamFor(threads, count))
     {

@@ -3,8 +3,6 @@
 #include "cpu/collision_pairs.hpp"
 #include "cpu/parallel.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -113,12 +111,10 @@ void CollisionPairs<T>::compareTiles(const std::vector<vec3>& x, bool split) {
   // Tiles this far apart hold no pair in range, with room for the round-off of the boxes' differences.
   const T apart = range_ + travel_;
   std::size_t first = 0, step = 1;
-#ifdef _OPENMP
   if (split) {
-    first = std::size_t(omp_get_thread_num());
-    step = std::size_t(omp_get_num_threads());
+    first = std::size_t(teamThread());
+    step = std::size_t(teamSize());
   }
-#endif
   // The pairs the boxes did not clear; beyond kLookedAt in all, a build
   LookedAt& found = looked_at_[first];
   found.count = 0;

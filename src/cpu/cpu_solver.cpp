@@ -206,7 +206,7 @@ template <class F>
 void CpuSolver<T>::timed(int pass, F&& f) {
   auto start = std::chrono::steady_clock::now();
   f();  // in a team, every pass ends with a barrier: thread 0's clock covers the slowest thread
-  if (omp_get_thread_num() != 0) return;
+  if (teamThread() != 0) return;
   timings_[pass].ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   ++timings_[pass].calls;
 }
@@ -228,7 +228,10 @@ void CpuSolver<T>::step() {
   in_passes_ = true;
   if (team) {
 #pragma omp parallel num_threads(team_)
-    runPasses();
+    {
+      const TeamScope scope(team_barrier_);
+      runPasses();
+    }
   } else {
     runPasses();
   }

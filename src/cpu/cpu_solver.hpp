@@ -10,6 +10,7 @@
 #include "core/tethers.hpp"
 #include "cpu/collision_pairs.hpp"
 #include "cpu/grid_path.hpp"
+#include "cpu/parallel.hpp"
 #include "cpu/physics.hpp"
 #include "cpu/team_trial.hpp"
 
@@ -188,6 +189,7 @@ class CpuSolver final : public Solver {
   int threads_ = 1;
   int team_ = 1;                            // threads a team has (team_min_points, team_trial_min_points)
   bool team_spread_ = false;                // spreadTeam done (the team's first substep)
+  TeamBarrier team_barrier_;                // the team's barrier (cpu/parallel.hpp): not OpenMP's
   std::optional<TeamTrial> trial_;          // mid-sized cloths: whether this substep runs on the team
   std::optional<GridPath> grid_;            // float grid cloths, unless the options turn it off (copyable)
   const GridKernels* kernels_ = nullptr;    // float: the SIMD integrate (any cloth)

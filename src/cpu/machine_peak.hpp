@@ -16,9 +16,10 @@ struct MachinePeak {
   double cache_gbs = 0;  // triad over 3 x 64 KiB per thread (in its L2)
   double addmul_gflops = 0;
   double divsqrt_gops = 0;
-  // One OpenMP barrier of `threads` threads (0 for one thread): the median of 5 tries of 2000, and the best. On
-  // a shared machine the two differ by orders of magnitude: a thread whose partner is descheduled waits a slice.
-  double barrier_us = 0, barrier_best_us = 0;
+  // One barrier of a team of `threads` threads (0 for one thread; cpu/parallel.hpp's TeamBarrier, what the solver's
+  // team passes): the median of 5 tries of 2000, and the best. On a shared machine the two differ by orders of
+  // magnitude: a thread whose partner is descheduled waits a slice. And the median of an OpenMP barrier's tries.
+  double barrier_us = 0, barrier_best_us = 0, omp_barrier_us = 0;
 };
 
 // A fraction of a second per probe; the best of a few tries (others share the machine).

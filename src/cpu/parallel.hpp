@@ -13,11 +13,72 @@
 #endif
 
 #include <algorithm>
+#include <atomic>
 #include <exception>
 #include <functional>
 #include <span>
 
 namespace drape {
+
+// The barrier of a team (CpuSolver::step's region, runOnTeam's): its threads spin on a shared generation, and
+// only one that has spun `spins` times sleeps (a futex, through std::atomic::wait) until the last one arrives.
+// libgomp's `omp barrier` makes a futex_wake system call at every barrier, whether or not a thread sleeps
+// (strace: 200,005 futex calls for 200,000 barriers of two threads): 0.26-0.5 us a barrier on this machine,
+// against 0.04-0.08 us for this one, and a 50 x 50 substep on a team passes 17 of them (docs/design.md, Threads).
+class TeamBarrier {
+ public:
+  // Every thread of the team calls it with the same count.
+  void wait(unsigned threads, unsigned spins) {
+    // Read before arriving: the last thread to arrive moves it on
+    const unsigned generation = generation_.load(std::memory_order_acquire);
+    if (arrived_.fetch_add(1, std::memory_order_acq_rel) + 1 == threads) {
+      arrived_.store(0, std::memory_order_relaxed);  // seen by every thread that sees the new generation
+      generation_.store(generation + 1, std::memory_order_seq_cst);
+      // A sleeper counted itself before its last look at the generation (both sequentially consistent): either
+      // it saw the new one, or this sees it and wakes it.
+      if (sleepers_.load(std::memory_order_seq_cst) != 0) generation_.notify_all();
+      return;
+    }
+    for (unsigned s = 0; s < spins; ++s) {
+      if (generation_.load(std::memory_order_acquire) != generation) return;
+#if defined(__x86_64__) || defined(__i386__)
+      __builtin_ia32_pause();
+#endif
+    }
+    sleepers_.fetch_add(1, std::memory_order_seq_cst);
+    while (generation_.load(std::memory_order_seq_cst) == generation)
+      generation_.wait(generation, std::memory_order_seq_cst);
+    sleepers_.fetch_sub(1, std::memory_order_relaxed);
+  }
+
+ private:
+  // On lines of their own: every thread writes the count, and spins reading the generation.
+  alignas(64) std::atomic<unsigned> arrived_{0};
+  alignas(64) std::atomic<unsigned> generation_{0};
+  std::atomic<unsigned> sleepers_{0};  // written only by a thread about to sleep
+};
+
+// The team the calling thread is in while a TeamScope lives (barrier null outside one): its barrier, size and
+// this thread's number. Set by the scope from OpenMP inside the region, so that code compiled without OpenMP
+// (the tests) passes the same barriers as the solver's.
+struct TeamContext {
+  TeamBarrier* barrier = nullptr;
+  unsigned threads = 1, thread = 0, spins = 0;
+};
+inline thread_local TeamContext current_team;
+
+// Inside a parallel region, on every thread: the region's loops split and wait on `barrier` (teamBarrier,
+// teamSingle) until the scope ends.
+class TeamScope {
+ public:
+  explicit TeamScope(TeamBarrier& barrier);  // parallel.cpp: reads the region's size and the thread's number
+  ~TeamScope() { current_team = previous_; }
+  TeamScope(const TeamScope&) = delete;
+  TeamScope& operator=(const TeamScope&) = delete;
+
+ private:
+  TeamContext previous_;
+};
 
 // OpenMP team for a loop of `items` iterations outside a team: one thread below kParallelItems, where
 // forking and the closing barrier cost more than the loop saves. A 50x50 cloth's loops take 10-50 us each,
@@ -31,6 +92,7 @@ inline int teamFor(int threads, long long items) {
 
 // Whether the caller is one of several threads of a team (an active parallel region).
 inline bool inTeam() {
+  if (current_team.barrier) return current_team.threads > 1;
 #ifdef _OPENMP
   return omp_in_parallel() != 0;
 #else
@@ -40,12 +102,14 @@ inline bool inTeam() {
 
 // This thread's number in its team and the team's size (0 and 1 outside a team).
 inline int teamThread() {
+  if (current_team.barrier) return int(current_team.thread);
 #ifdef _OPENMP
   if (inTeam()) return omp_get_thread_num();
 #endif
   return 0;
 }
 inline int teamSize() {
+  if (current_team.barrier) return int(current_team.threads);
 #ifdef _OPENMP
   if (inTeam()) return omp_get_num_threads();
 #endif
@@ -57,16 +121,19 @@ inline int teamSize() {
 inline void teamShare(long long first, long long last, long long& lo, long long& hi) {
   lo = first;
   hi = last;
-#ifdef _OPENMP
   if (!inTeam()) return;
-  const long long n = last - first, t = omp_get_thread_num(), count = omp_get_num_threads();
+  const long long n = last - first, t = teamThread(), count = teamSize();
   lo = first + n * t / count;
   hi = first + n * (t + 1) / count;
-#endif
 }
 
-// The team waits for all its threads (nothing outside a team).
+// The team waits for all its threads (nothing outside a team): its TeamBarrier, or an OpenMP barrier in a region
+// with no TeamScope.
 inline void teamBarrier() {
+  if (const TeamContext& team = current_team; team.barrier) {
+    if (team.threads > 1) team.barrier->wait(team.threads, team.spins);
+    return;
+  }
 #ifdef _OPENMP
   if (inTeam()) {
 #pragma omp barrier
@@ -164,6 +231,11 @@ template <class F>
 void teamSingle(F&& body) {
   if (!inTeam()) {
     body();
+    return;
+  }
+  if (current_team.barrier) {  // thread 0, where `omp single` takes whichever comes first
+    if (current_team.thread == 0) body();
+    teamBarrier();
     return;
   }
 #ifdef _OPENMP
