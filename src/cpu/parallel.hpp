@@ -27,6 +27,11 @@ namespace drape {
 // against 0.04-0.08 us for this one, and a 50 x 50 substep on a team passes 17 of them (docs/design.md, Threads).
 class TeamBarrier {
  public:
+  TeamBarrier() = default;
+  // A copy is a new barrier: a solver is copied between substeps, when no thread waits on it.
+  TeamBarrier(const TeamBarrier&) {}
+  TeamBarrier& operator=(const TeamBarrier&) { return *this; }
+
   // Every thread of the team calls it with the same count.
   void wait(unsigned threads, unsigned spins) {
     // Read before arriving: the last thread to arrive moves it on
