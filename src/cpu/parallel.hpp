@@ -73,7 +73,8 @@ struct TeamContext {
 inline thread_local TeamContext current_team;
 
 // Inside a parallel region, on every thread: the region's loops split and wait on `barrier` (teamBarrier,
-// teamSingle) until the scope ends.
+// teamSingle) until the scope ends. No parallel region may open inside it: its threads would take this team's
+// context (the solver opens none inside its team; the list build's own region is for calls outside one).
 class TeamScope {
  public:
   explicit TeamScope(TeamBarrier& barrier);  // parallel.cpp: reads the region's size and the thread's number
