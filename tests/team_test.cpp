@@ -118,6 +118,24 @@ TEST(TeamBytesContact, AFoldingClothOnATeamGivesOneThreadsBytes) {
   EXPECT_EQ(run.team.pairTerms(), run.one.pairTerms());
 }
 
+// Three threads on this machine's two cores: every barrier where a thread's core is taken ends asleep (the team's
+// barrier spins 200 pauses, not 20,000, when its threads outnumber the processors), and the rows split unevenly.
+TEST(TeamBytesContact, ATeamOfMoreThreadsThanCoresGivesOneThreadsBytesThroughTheFold) {
+  const Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/selfCollision.json");
+  CpuSolver<float> one(scene, CpuSolverOptions{.threads = 1});
+  CpuSolver<float> team(scene, CpuSolverOptions{.threads = 3, .team_min_points = 0});
+  ASSERT_EQ(team.teamThreads(), 3);
+  for (int f = 0; f < 45; ++f) {
+    one.stepFrame();
+    team.stepFrame();
+  }
+  EXPECT_EQ(team.teamSubsteps(), team.substeps());
+  EXPECT_TRUE(sameBytes(one.positions(), team.positions()));
+  EXPECT_TRUE(sameBytes(one.displacements(), team.displacements()));
+  EXPECT_GT(one.pairTerms(), 10000) << "the cloth must be in contact with itself";
+  EXPECT_EQ(team.pairTerms(), one.pairTerms());
+}
+
 // A mid-sized cloth's trial moves substeps from the team to one thread and back. A list built on one
 // thread after one built on the team must hold none of the team's pairs: they stayed in the second
 // thread's share and were listed again, twice where they were still in range (two threads' runs of the
