@@ -226,15 +226,10 @@ void CpuSolver<T>::step() {
     team_spread_ = true;
   }
   in_passes_ = true;
-  if (team) {
-#pragma omp parallel num_threads(team_)
-    {
-      const TeamScope scope(team_barrier_);
-      runPasses();
-    }
-  } else {
+  if (team)
+    runOnTeam(team_, team_barrier_, [this] { runPasses(); });
+  else
     runPasses();
-  }
   in_passes_ = false;
   soa_positions_ = !failure_ && loadedAfterPasses() ? substeps_ + 1 : -1;
   if (trial_) trial_->record(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

@@ -80,17 +80,16 @@ MachinePeak measurePeak(int threads) {
       std::vector<double> tries;
       for (int t = 0; t < 5; ++t) {
         const auto start = std::chrono::steady_clock::now();
+        if (openmp) {
 #pragma omp parallel num_threads(threads)
-        {
-          if (openmp) {
-            for (int b = 0; b < kBarriers; ++b) {
+          for (int b = 0; b < kBarriers; ++b) {
 #pragma omp barrier
-            }
-          } else {
-            const TeamScope scope(barrier);
+          }
+        } else {
+          runOnTeam(threads, barrier, [&] {
             for (int b = 0; b < kBarriers; ++b)
               teamBarrier();
-          }
+          });
         }
         tries.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count() /
                         kBarriers);

@@ -12,13 +12,17 @@ TeamScope::TeamScope(TeamBarrier& barrier) : previous_(current_team) {
   current_team = {&barrier, threads, unsigned(omp_get_thread_num()), spins};
 }
 
-void runOnTeam(int threads, const std::function<void()>& body) {
-  TeamBarrier barrier;
+void runOnTeam(int threads, TeamBarrier& barrier, const std::function<void()>& body) {
 #pragma omp parallel num_threads(threads)
   {
     const TeamScope scope(barrier);
     body();
   }
+}
+
+void runOnTeam(int threads, const std::function<void()>& body) {
+  TeamBarrier barrier;
+  runOnTeam(threads, barrier, body);
 }
 
 }  // namespace drape

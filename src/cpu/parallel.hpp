@@ -250,8 +250,10 @@ void teamSingle(F&& body) {
 #endif
 }
 
-// body() on every thread of a new team of `threads` (as CpuSolver::step runs a substep's passes): for tests of
-// code that a team runs together, compiled here with OpenMP where the tests are not.
+// body() on every thread of a new OpenMP team of `threads` waiting on `barrier` (CpuSolver::step runs a substep's
+// passes so). Compiled in parallel.cpp with OpenMP, so that tests compiled without it run a real team too; the
+// second form gives the team a barrier of its own.
+void runOnTeam(int threads, TeamBarrier& barrier, const std::function<void()>& body);
 void runOnTeam(int threads, const std::function<void()>& body);
 
 // teamSingle for a step that may throw (an allocation) among steps that every thread of a team runs: in a team the
