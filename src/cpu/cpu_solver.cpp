@@ -165,7 +165,7 @@ void CpuSolver<T>::reset() {
   list_built_at_ = last_list_life_ = -1;
   std::fill(self_correction_.begin(), self_correction_.end(), vec3(0));
   for (PairScratch& scratch : pair_scratch_)
-    scratch.points = 0;
+    scratch.points = scratch.linked = 0;
 }
 
 template <class T>

@@ -17,6 +17,7 @@
 #include <chrono>
 #include <exception>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -214,8 +215,8 @@ class CpuSolver final : public Solver {
   CollisionPairs<T> pairs_;
   // Per point: its stencil partners in range this substep (stencilMask), where no grid path finds the stencil's pairs
   std::vector<StencilMask> near_;
-  // selfCollide(): a term point i gets from its pair with j, as found (routed to the thread that sums i's
-  // terms), and as that thread links it to i's other terms.
+  // selfCollide(): a term point i gets from its pair with j, as found by another thread than the one that sums i's
+  // terms (routed to it), and as the summing thread links it to i's other terms.
   struct FoundTerm {
     std::uint32_t i, j;
     int order;  // cellOrder(cell of i, cell of j)
@@ -233,9 +234,9 @@ class CpuSolver final : public Solver {
     std::vector<PairTermOut> hits;            // the pairs in range with their terms (GridKernels::pairTerms)
     std::vector<std::uint32_t> lower, upper;  // the stencil's pairs in range, for pairTerms
     std::size_t stencil_pairs = 0;            // how many (GridPath::stencilPairs)
-    std::vector<PairTerm> terms;
-    std::vector<std::uint32_t> touched;  // the first `points` are the points with terms, which the sums moved
-    std::size_t points = 0;
+    std::vector<PairTerm> terms;              // the first `linked`, linked by point from first_term_ (linkTerm)
+    std::vector<std::uint32_t> touched;       // the first `points` are the points with terms, which the sums moved
+    std::size_t points = 0, linked = 0;
     std::vector<std::int32_t> chain;
     std::exception_ptr failure;
     long long summed = 0;  // terms summed this substep
@@ -258,6 +259,18 @@ class CpuSolver final : public Solver {
   }
   void balancePairShares();
   std::vector<std::int32_t> first_term_;  // per point: its first term in its thread's scratch, or -1
+  // Point i's term from j onto the front of i's in `to` (sized for it); a point's first term lists it in touched.
+  void linkTerm(PairScratch& to, std::uint32_t i, std::uint32_t j, int order, vec3 c) {
+    std::int32_t& first = first_term_[i];
+    to.touched[to.points] = i;
+    to.points += first < 0;
+    to.terms[to.linked] = {j, order, first, c};
+    first = std::int32_t(to.linked++);
+  }
+  void unlinkTerms(PairScratch& scratch) {  // first_term_ back to -1 at its points, as a failed substep leaves it
+    for (const std::uint32_t i : std::span(scratch.touched.data(), scratch.points))
+      first_term_[i] = -1;
+  }
   SpringColouring colouring_;
   Tethers tethers_;  // empty until the scene asks for tethers
   std::vector<T> tether_rest_;

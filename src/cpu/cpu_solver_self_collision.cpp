@@ -195,10 +195,20 @@ template <class T>
 void CpuSolver<T>::findPairHits(long long lo, long long hi, bool flagged, T thickness, T inv_range, bool far,
                                 PairScratch& mine) {
   try {
-    // Either end may be in another thread's share of the sums.
+    // Either end may be in another thread's share of the sums. A term of this thread's own share is linked to its
+    // point's at once (linkTerm), as sumPairTerms links the others' after the barrier: no copy of it in between.
     const bool alone = mine.to.size() == 1;
+    const std::size_t self = std::size_t(&mine - pair_scratch_.data());
     const auto send = [&](std::size_t to, std::uint32_t i, std::uint32_t j, int order, vec3 c) {
       if (c == vec3(0) || topo_.pinned[i]) return;
+      if (to == self) {
+        if (mine.linked == mine.terms.size()) {  // only grown: no reallocation check a term
+          mine.terms.resize(2 * mine.linked + 64);
+          if (mine.touched.size() < mine.terms.size()) mine.touched.resize(mine.terms.size());
+        }
+        linkTerm(mine, i, j, order, c);
+        return;
+      }
       std::vector<FoundTerm>& terms = mine.to[to];
       std::size_t& sent = mine.sent[to];
       if (sent == terms.size()) terms.resize(2 * sent + 64);  // only grown: no reallocation check a term
@@ -290,6 +300,7 @@ void CpuSolver<T>::clearSelfCorrections(PairScratch& scratch) {
   for (const std::uint32_t i : std::span(scratch.touched.data(), scratch.points))
     self_correction_[i] = vec3(0);
   scratch.points = 0;
+  scratch.linked = 0;
 }
 
 // The points of thread `thread`'s share (pair_bounds_): each one's terms, sent by every thread, summed in ascending
@@ -301,38 +312,41 @@ void CpuSolver<T>::clearSelfCorrections(PairScratch& scratch) {
 template <class T>
 long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
   long long summed = 0;
-  if (mine.failure) return 0;  // its search failed: none of its points moves (step() rethrows)
+  if (mine.failure) {  // its search failed: none of its points moves (step() rethrows)
+    unlinkTerms(mine);
+    return 0;
+  }
   try {
+    // The other threads' terms for this share, linked after the ones this thread found itself (findPairHits).
     // Linked by point without a branch on whether the point is new (half the terms are, unpredictably): the
     // arrays are sized for every term first, and only grown.
-    mine.points = 0;
-    std::size_t total = 0;
+    std::size_t total = mine.linked;
     for (const PairScratch& part : pair_scratch_)
       total += part.sent[std::size_t(thread)];
     if (mine.terms.size() < total) mine.terms.resize(total);
     if (mine.touched.size() < total) mine.touched.resize(total);
     // Reserved here, so that nothing below can throw: a failure leaves every point of the share where it was.
     if (mine.chain.capacity() < total) mine.chain.reserve(total);
-    PairTerm* const terms = mine.terms.data();
-    std::uint32_t* const touched = mine.touched.data();
-    std::size_t linked = 0, points = 0;
     for (const PairScratch& part : pair_scratch_)
-      for (const FoundTerm& f : std::span(part.to[std::size_t(thread)].data(), part.sent[std::size_t(thread)])) {
-        std::int32_t& first = first_term_[f.i];
-        touched[points] = f.i;
-        points += first < 0;
-        terms[linked] = {f.j, f.order, first, f.c};
-        first = std::int32_t(linked++);
-      }
-    mine.points = points;
+      for (const FoundTerm& f : std::span(part.to[std::size_t(thread)].data(), part.sent[std::size_t(thread)]))
+        linkTerm(mine, f.i, f.j, f.order, f.c);
+    PairTerm* const terms = mine.terms.data();
+    const std::uint32_t* const touched = mine.touched.data();
+    const std::size_t points = mine.points;
     std::vector<std::int32_t>& chain = mine.chain;
     for (const std::uint32_t i : std::span(touched, points)) {
       const std::int32_t head = first_term_[i];
       first_term_[i] = -1;
       vec3 sum(0);
       int count = 1;
-      if (terms[head].next < 0) {  // one term, as most points in contact have: no order to find
-        sum += terms[head].c;
+      const PairTerm& a = terms[head];
+      if (a.next < 0) {  // one term: no order to find
+        sum += a.c;
+      } else if (const PairTerm& b = terms[a.next]; b.next < 0) {  // two, as most points in contact have
+        const bool b_first = b.order < a.order || (b.order == a.order && b.j < a.j);
+        sum += b_first ? b.c : a.c;
+        sum += b_first ? a.c : b.c;
+        count = 2;
       } else {
         chain.clear();
         for (std::int32_t t = head; t >= 0; t = terms[t].next) {
@@ -358,8 +372,7 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
     }
   } catch (...) {
     mine.failure = std::current_exception();
-    for (const std::uint32_t i : std::span(mine.touched.data(), mine.points))
-      first_term_[i] = -1;
+    unlinkTerms(mine);
   }
   return summed;
 }
