@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstring>
 #include <new>
+#include <span>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -89,40 +90,42 @@ void CollisionPairs<T>::setPoint(ScanArgs& scan, const std::vector<vec3>& x, std
   }
 }
 
-// scanCell's test in T (double, or float without kernels): scanSlots for each point at slots [p0, p1).
+// scanCell's test in T (double, or float without kernels): scanSlots for each point at slots [p0, p1) against each
+// range.
 template <class T>
-int CollisionPairs<T>::scanCellSlots(const ScanArgs& a, std::uint32_t p0, std::uint32_t p1, std::uint32_t first,
-                                     std::uint32_t last, bool own, std::uint32_t* out) const {
+int CollisionPairs<T>::scanCellSlots(const ScanArgs& a, std::uint32_t p0, std::uint32_t p1, const CellRange* ranges,
+                                     int count_of, std::uint32_t* out) const {
   if constexpr (std::is_same_v<T, float>)
     if (kernels_) {
       const PairScanArgs k{a.x, a.y, a.z, a.u, a.v, 0, 0, 0, 0, 0, a.reach2, a.a2, a.b2, a.near_below};
-      return kernels_->scanCell(k, p0, p1, first, last, own, out);
+      return kernels_->scanCell(k, p0, p1, ranges, count_of, out);
     }
   int count = 0;
-  for (std::uint32_t p = p0; p < p1; ++p) {
-    ScanArgs at = a;
-    at.px = a.x[p];
-    at.py = a.y[p];
-    at.pz = a.z[p];
-    at.pu = a.u[p];
-    at.pv = a.v[p];
-    const std::uint32_t from = own ? std::max(first, p + 1) : first;
-    if (from >= last) continue;
-    const int found = scanSlots(at, from, last, out + 2 * count);
-    // scanSlots wrote the candidates' slots; spread them out to (point, slot) pairs, from the last
-    for (int k = found - 1; k >= 0; --k) {
-      out[2 * (count + k) + 1] = out[2 * count + k];
-      out[2 * (count + k)] = p;
+  for (const CellRange& range : std::span(ranges, std::size_t(count_of)))
+    for (std::uint32_t p = p0; p < p1; ++p) {
+      ScanArgs at = a;
+      at.px = a.x[p];
+      at.py = a.y[p];
+      at.pz = a.z[p];
+      at.pu = a.u[p];
+      at.pv = a.v[p];
+      const std::uint32_t from = range.own ? std::max(range.first, p + 1) : range.first;
+      if (from >= range.last) continue;
+      const int found = scanSlots(at, from, range.last, out + 2 * count);
+      // scanSlots wrote the candidates' slots; spread them out to (point, slot) pairs, from the last
+      for (int k = found - 1; k >= 0; --k) {
+        out[2 * (count + k) + 1] = out[2 * count + k];
+        out[2 * (count + k)] = p;
+      }
+      count += found;
     }
-    count += found;
-  }
   return count;
 }
 
 // Slots [lo, hi) of the grid's order, a cell's points at a time: each of the cell's forward ranges (its own row
-// first, from the cell itself) is scanned once for all of them (scanCell). A cell holds a few points (2.7 on
-// selfCollision): copying its ranges into one run for each point to scan whole, as the build once did, cost twice
-// the scans themselves.
+// first, from the cell itself) is scanned once for all of them, the ranges in one call (scanCell). A cell holds a
+// few points (2.7 on selfCollision): copying its ranges into one run for each point to scan whole, as the build once
+// did, cost twice the scans themselves.
 template <class T>
 void CollisionPairs<T>::findPairsByCell(int t, long long lo, long long hi) {
   std::vector<Pair>& mine = found_[std::size_t(t)];
@@ -136,15 +139,19 @@ void CollisionPairs<T>::findPairsByCell(int t, long long lo, long long hi) {
       while (e < hi && grid_.cellOfPoint(sorted[std::size_t(e)]) == cell)
         ++e;
       const auto p0 = std::uint32_t(s), p1 = std::uint32_t(e);
+      CellRange ranges[kCellRanges];
+      int count_of = 0;
+      std::size_t most = 0;
       grid_.forEachForwardRange(cell, [&](std::uint32_t first, std::uint32_t last, bool own) {
         if (own) first = p0 + 1;  // the own row from the slot after the first point
         if (first >= last) return;
-        const std::size_t most = 2 * std::size_t(p1 - p0) * (last - first);
-        if (found.size() < most) found.resize(most);
-        const int pairs = scanCellSlots(scan_, p0, p1, first, last, own, found.data());
-        for (int k = 0; k < pairs; ++k)
-          consider(sorted[found[2 * std::size_t(k)]], sorted[found[2 * std::size_t(k) + 1]], mine);
+        ranges[count_of++] = {first, last, own};
+        most += std::size_t(p1 - p0) * (last - first);
       });
+      if (found.size() < 2 * most) found.resize(2 * most);
+      const int pairs = count_of > 0 ? scanCellSlots(scan_, p0, p1, ranges, count_of, found.data()) : 0;
+      for (int k = 0; k < pairs; ++k)
+        consider(sorted[found[2 * std::size_t(k)]], sorted[found[2 * std::size_t(k) + 1]], mine);
       s = e;
     }
   } catch (const std::bad_alloc&) {
@@ -157,14 +164,14 @@ template void CollisionPairs<float>::consider(std::uint32_t, std::uint32_t, std:
 template void CollisionPairs<float>::findPairs(const std::vector<vec3>&, int, long long, long long);
 template void CollisionPairs<float>::setPoint(ScanArgs&, const std::vector<vec3>&, std::size_t) const;
 template void CollisionPairs<float>::findPairsByCell(int, long long, long long);
-template int CollisionPairs<float>::scanCellSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t,
-                                                  std::uint32_t, bool, std::uint32_t*) const;
+template int CollisionPairs<float>::scanCellSlots(const ScanArgs&, std::uint32_t, std::uint32_t, const CellRange*, int,
+                                                  std::uint32_t*) const;
 template int CollisionPairs<double>::scanSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t*) const;
 template void CollisionPairs<double>::consider(std::uint32_t, std::uint32_t, std::vector<Pair>&) const;
 template void CollisionPairs<double>::findPairs(const std::vector<vec3>&, int, long long, long long);
 template void CollisionPairs<double>::setPoint(ScanArgs&, const std::vector<vec3>&, std::size_t) const;
 template void CollisionPairs<double>::findPairsByCell(int, long long, long long);
-template int CollisionPairs<double>::scanCellSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t,
-                                                   std::uint32_t, bool, std::uint32_t*) const;
+template int CollisionPairs<double>::scanCellSlots(const ScanArgs&, std::uint32_t, std::uint32_t, const CellRange*, int,
+                                                   std::uint32_t*) const;
 
 }  // namespace drape

@@ -90,6 +90,14 @@ struct PairScanArgs {
   float near_below;
 };
 
+// A range of candidate slots for GridKernels::scanCell: own where it is the cell's own row, whose slots up to each
+// point's own are not its candidates.
+struct CellRange {
+  std::uint32_t first, last;
+  bool own;
+};
+inline constexpr int kCellRanges = 5;  // a cell's forward ranges at most (HashGrid::forEachForwardRange)
+
 // A self-collision pair within range, as GridKernels::pairTerms finds it: physics::selfCollisionCorrections
 // from both ends and the cellOrder of each end's partner (CollisionPairs' sum order).
 struct PairTermOut {
@@ -224,11 +232,12 @@ struct GridKernels {
   // not surely held or on the stencil by its offset: written to out in ascending order, their count returned.
   // What the build must look at pair by pair; a flat cloth's buckets hold almost none.
   int (*scanPairs)(const PairScanArgs&, std::uint32_t first, std::uint32_t last, std::uint32_t* out);
-  // scanPairs for the points at slots [p0, p1) of the same arrays (PairScanArgs' px ... pv unused), each vector of
-  // candidates loaded once for all of them; own: only the slots after a point's own. Writes each pair found as
-  // (point slot, candidate slot) to out, returns how many.
-  int (*scanCell)(const PairScanArgs&, std::uint32_t p0, std::uint32_t p1, std::uint32_t first, std::uint32_t last,
-                  bool own, std::uint32_t* out);
+  // scanPairs for the points at slots [p0, p1) of the same arrays (PairScanArgs' px ... pv unused) against each of
+  // `count` ranges of slots, each vector of candidates loaded once for all of them. Writes each pair found as
+  // (point slot, candidate slot) to out, range by range, returns how many. One call a cell: a cell holds a few
+  // points (2.7 on CS184's selfCollision) and a range a few candidates, and a call a range cost 47 ns.
+  int (*scanCell)(const PairScanArgs&, std::uint32_t p0, std::uint32_t p1, const CellRange* ranges, int count,
+                  std::uint32_t* out);
   // CpuSolver::collide on the points [first, last) without meshes: each sphere, then each plane, as
   // physics::collideSphere and collidePlane compute them, lane by lane. Returns where it stopped: the last
   // points, fewer than a vector, are the caller's.
