@@ -319,36 +319,41 @@ struct ContactKernels : Lanes<V> {
     return count;
   }
 
-  // scanPairs' test of the points at slots [p0, p1) against slots [first, last): a cell's few points, so each
+  // scanPairs' test of the points at slots [p0, p1) against each range of slots: a cell's few points, so each
   // vector of candidates is loaded once for all of them.
+  struct ScanTest {
+    F reach2, a2, b2, near_below;
+  };
   static int scanCell(const PairScanArgs& a, std::uint32_t p0, std::uint32_t p1, const CellRange* ranges, int count_of,
                       std::uint32_t* out) {
+    const ScanTest test{V::set1(a.reach2), V::set1(a.a2), V::set1(a.b2), V::set1(a.near_below)};
     int count = 0;
-    const F reach2 = V::set1(a.reach2), a2 = V::set1(a.a2), b2 = V::set1(a.b2), near_below = V::set1(a.near_below);
-    for (int r = 0; r < count_of; ++r) {
-      const CellRange& range = ranges[r];
-      const std::uint32_t first = range.first, last = range.last;
-      const bool own = range.own;
-      for (std::uint32_t s = first; s < last; s += kW) {
-        const F X = V::load(a.x + s), Y = V::load(a.y + s), Z = V::load(a.z + s), U = V::load(a.u + s),
-                W = V::load(a.v + s);
-        const int live = last - s < std::uint32_t(kW) ? (1 << (last - s)) - 1 : (1 << kW) - 1;
-        for (std::uint32_t p = p0; p < p1; ++p) {
-          int lanes = live;
-          if (own && p >= s) {  // the slots up to the point's own are not its candidates
-            if (p - s + 1 >= std::uint32_t(kW)) continue;
-            lanes &= ~((1 << (p - s + 1)) - 1);
-          }
-          const F dx = V::sub(V::set1(a.x[p]), X), dy = V::sub(V::set1(a.y[p]), Y), dz = V::sub(V::set1(a.z[p]), Z);
-          const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
-          const F du = V::sub(U, V::set1(a.u[p])), dv = V::sub(W, V::set1(a.v[p]));
-          const F nominal = V::add(V::mul(V::mul(du, du), a2), V::mul(V::mul(dv, dv), b2));
-          for (int bits = V::bits(V::andNot(V::lt(nominal, near_below), V::lt(d2, reach2))) & lanes; bits != 0;
-               bits &= bits - 1) {
-            out[2 * count] = p;
-            out[2 * count + 1] = s + std::uint32_t(__builtin_ctz(unsigned(bits)));
-            ++count;
-          }
+    for (int r = 0; r < count_of; ++r)
+      count += scanRange(a, test, p0, p1, ranges[r], out + 2 * count);
+    return count;
+  }
+  static int scanRange(const PairScanArgs& a, const ScanTest& test, std::uint32_t p0, std::uint32_t p1,
+                       const CellRange& range, std::uint32_t* out) {
+    int count = 0;
+    for (std::uint32_t s = range.first; s < range.last; s += kW) {
+      const F X = V::load(a.x + s), Y = V::load(a.y + s), Z = V::load(a.z + s), U = V::load(a.u + s),
+              W = V::load(a.v + s);
+      const int live = range.last - s < std::uint32_t(kW) ? (1 << (range.last - s)) - 1 : (1 << kW) - 1;
+      for (std::uint32_t p = p0; p < p1; ++p) {
+        int lanes = live;
+        if (range.own && p >= s) {  // the slots up to the point's own are not its candidates
+          if (p - s + 1 >= std::uint32_t(kW)) continue;
+          lanes &= ~((1 << (p - s + 1)) - 1);
+        }
+        const F dx = V::sub(V::set1(a.x[p]), X), dy = V::sub(V::set1(a.y[p]), Y), dz = V::sub(V::set1(a.z[p]), Z);
+        const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
+        const F du = V::sub(U, V::set1(a.u[p])), dv = V::sub(W, V::set1(a.v[p]));
+        const F nominal = V::add(V::mul(V::mul(du, du), test.a2), V::mul(V::mul(dv, dv), test.b2));
+        for (int bits = V::bits(V::andNot(V::lt(nominal, test.near_below), V::lt(d2, test.reach2))) & lanes; bits != 0;
+             bits &= bits - 1) {
+          out[2 * count] = p;
+          out[2 * count + 1] = s + std::uint32_t(__builtin_ctz(unsigned(bits)));
+          ++count;
         }
       }
     }
