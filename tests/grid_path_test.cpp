@@ -365,5 +365,67 @@ TEST(GridPathForces, PointsMovedBetweenSubstepsAreCopiedIn) {
   }
 }
 
+// A substep with no collider but self-collision integrates on the padded arrays, where self-collision then moves
+// its points, and leaves them there for the next substep (CpuSolver::syncPositions). Every reader must see them:
+// the accessors, health(), a pass run on its own, a state set; and reading them between substeps changes nothing.
+TEST(GridPathIntegrate, PointsLeftInThePaddedArraysReachEveryReader) {
+  Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/pinned2.json");
+  scene.cloth.num_width_points = 20;
+  scene.cloth.num_height_points = 14;
+  scene.sim.self_collision = true;
+  // The rows pressed together: pairs within range from the first substeps
+  const auto press = [](CpuSolver<float>& s) {
+    std::vector<glm::dvec3> x = s.readPositions();
+    for (glm::dvec3& p : x)
+      p.z = 0.2 * (p.z - x[0].z) + x[0].z;
+    s.setState(x, s.readDisplacements());
+  };
+  CpuSolver<float> general(scene, CpuSolverOptions{.threads = 1, .grid_path = false});
+  CpuSolver<float> grid(scene, CpuSolverOptions{.threads = 1});
+  CpuSolver<float> read(scene, CpuSolverOptions{.threads = 1});  // read after every substep
+  for (CpuSolver<float>* s : {&general, &grid, &read}) {
+    press(*s);
+    s->step();  // copies the state set in
+  }
+  ASSERT_FALSE(grid.positionsInArrays()) << "a substep after a state set starts from x and v";
+  const long long terms = grid.pairTerms();
+  std::vector<glm::vec3> seen;
+  for (int k = 0; k < 6; ++k) {
+    for (CpuSolver<float>* s : {&general, &grid, &read})
+      s->step();
+    ASSERT_TRUE(grid.positionsInArrays()) << "substep " << k << ": pinned2 integrates on the arrays";
+    ASSERT_FALSE(general.positionsInArrays());
+    seen = read.positions();
+    ASSERT_FALSE(read.positionsInArrays()) << "positions() copies them back";
+  }
+  ASSERT_GT(grid.pairTerms(), terms) << "self-collision must move points in the arrays";
+  EXPECT_TRUE(sameBytes(seen, general.positions()));
+  EXPECT_TRUE(sameBytes(read.displacements(), general.displacements()));
+  grid.health();
+  EXPECT_FALSE(grid.positionsInArrays()) << "health() reads x and v";
+  EXPECT_TRUE(sameBytes(grid.positions(), general.positions()));
+  EXPECT_TRUE(sameBytes(grid.displacements(), general.displacements()));
+  // Each other way in, from a substep that left the points in the arrays, against the general path
+  const std::vector<std::pair<std::string, std::function<void(CpuSolver<float>&)>>> readers = {
+      {"readPositions", [](CpuSolver<float>& s) { s.setState(s.readPositions(), s.readDisplacements()); }},
+      {"accumulateForces", [](CpuSolver<float>& s) { s.accumulateForces(); }},
+      {"integrate", [](CpuSolver<float>& s) { s.integrate(); }},
+      {"selfCollide", [](CpuSolver<float>& s) { s.selfCollide(); }},
+      {"limitStretch", [](CpuSolver<float>& s) { s.limitStretch(); }},
+      {"setState", [](CpuSolver<float>& s) { disturb(s, 3); }}};
+  for (const auto& [name, reader] : readers) {
+    for (CpuSolver<float>* s : {&general, &grid}) {
+      // Fast points: the stretch limit moves many of them in the last substep's arrays
+      disturb(*s, 9);
+      s->step();
+      s->step();
+      reader(*s);
+    }
+    EXPECT_TRUE(sameBytes(general.forces(), grid.forces())) << name;
+    EXPECT_TRUE(sameBytes(general.positions(), grid.positions())) << name;
+    EXPECT_TRUE(sameBytes(general.displacements(), grid.displacements())) << name;
+  }
+}
+
 }  // namespace
 }  // namespace drape

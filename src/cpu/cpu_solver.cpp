@@ -226,11 +226,15 @@ void CpuSolver<T>::step() {
     team_spread_ = true;
   }
   in_passes_ = true;
+  grid_integrate_ = gridIntegrates();
+  if (!grid_integrate_ || !forcesReadArrays()) syncPositions();
   if (team)
     runOnTeam(team_, team_barrier_, [this] { runPasses(); });
   else
     runPasses();
   in_passes_ = false;
+  positions_behind_ = grid_integrate_;  // its stretch limit left them in the arrays
+  grid_integrate_ = false;
   soa_positions_ = !failure_ && loadedAfterPasses() ? substeps_ + 1 : -1;
   if (trial_) trial_->record(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   if (failure_) std::rethrow_exception(failure_);
@@ -269,6 +273,24 @@ bool CpuSolver<T>::loadedAfterPasses() const {
          needsPass(kLimitStretch) && !needsPass(kCollideFaces) && (!needsPass(kCollideLast) || collideLastOnGrid());
 }
 
+// Whether this substep's integrate runs on the padded arrays (grid_integrate_): they hold x_ and v_ at its start,
+// and between it and the grid stretch limit only self-collision moves the points, which moves them in the arrays
+// too (displace). At 256 x 256 the copies in of the positions for self-collision and of the positions and
+// displacements for the limit were 8.5% of a one-thread run, their points no longer in the core's cache.
+template <class T>
+bool CpuSolver<T>::gridIntegrates() const {
+  return std::is_same_v<T, float> && grid_ && kernels_ && form_ == VerletForm::Displacement && in_passes_ &&
+         soa_positions_ == substeps_ && scene_.sim.stretch_scheme == StretchScheme::GaussSeidel &&
+         needsPass(kLimitStretch) && !needsPass(kXpbd) && !needsPass(kVbd) && !needsPass(kCollide) &&
+         !needsPass(kTether);
+}
+
+// Whether the forces read the positions from the padded arrays (GridPath::forces), not from x_.
+template <class T>
+bool CpuSolver<T>::forcesReadArrays() const {
+  return std::is_same_v<T, float> && grid_ && !isImplicit(scene_.sim.integrator) && !scene_.sim.wind.enabled;
+}
+
 // Whether the pass after collide is the grid stretch limit, which starts by copying its own rows in (copyIn).
 template <class T>
 bool CpuSolver<T>::stretchNextOnOwnRows() const {
@@ -305,6 +327,7 @@ template <class T>
 void CpuSolver<T>::accumulateForces() {
   const ClothSpec& cloth = scene_.cloth;
   const WindSpec& wind = scene_.sim.wind;
+  if (!in_passes_) syncPositions();
   // XPBD and VBD predict with the external forces only: their springs act in solveXpbd or solveVbd.
   const bool springs = !isImplicit(scene_.sim.integrator);
   const bool enabled[kSpringTypeCount] = {springs && cloth.enable_structural, springs && cloth.enable_shearing,
@@ -312,8 +335,8 @@ void CpuSolver<T>::accumulateForces() {
   const vec3 gravity = vec3(scene_.sim.gravity);
   if constexpr (std::is_same_v<T, float>)
     if (grid_ && springs && !wind.enabled) {
-      // integrate reads its own rows' forces: no barrier after them
-      grid_->forces(x_, f_, gravity, stiffness_.k, enabled, false, in_passes_ && soa_positions_ == substeps_);
+      // integrate reads its own rows' forces: no barrier after them, unless it writes the positions they read
+      grid_->forces(x_, f_, gravity, stiffness_.k, enabled, grid_integrate_, in_passes_ && soa_positions_ == substeps_);
       return;
     }
   const T time = T(double(substeps_) * scene_.sim.dt());
@@ -352,6 +375,12 @@ void CpuSolver<T>::integrate() {
   positionsMoved();
   const T dt2 = dt_ * dt_;
   // By pointShare in a team: the grid forces end without a barrier (runPasses)
+  if constexpr (std::is_same_v<T, float>)
+    if (grid_integrate_) {
+      grid_->integrate(x_, v_, f_, dt2, keep_);
+      teamBarrier();
+      return;
+    }
   if constexpr (std::is_same_v<T, float>)
     if (kernels_ && form_ == VerletForm::Displacement) {
       forPoints([&](long long lo, long long hi) {
@@ -427,53 +456,6 @@ void CpuSolver<T>::applyCorrections() {
   constexpr long long kBlock = 1024;
   parallelFor(0, (n + kBlock - 1) / kBlock, threads_,
               [&](long long b) { addCorrections(b * kBlock, std::min(n, (b + 1) * kBlock)); });
-}
-
-template <class T>
-void CpuSolver<T>::setState(const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& v) {
-  positionsMoved();
-  pairs_.invalidate();
-  for (std::size_t i = 0; i < x_.size(); ++i) {
-    x_[i] = vec3(x[i]);
-    v_[i] = form_ == VerletForm::Displacement ? vec3(v[i]) : vec3(x[i] - v[i]);
-  }
-}
-
-// Solver::health's scan on the state as it is, without the double copies readPositions and
-// readDisplacements make, and split between the threads on a large cloth (a frame's serial tail at 256^2:
-// 3% of a two-thread run's samples): the parts merge to the one scan's answer.
-template <class T>
-Health CpuSolver<T>::health() {
-  if (form_ != VerletForm::Displacement) return Solver::health();
-  const std::size_t n = x_.size(), springs = topo_.springs.size();
-  const int parts = teamFor(threads_, (long long)(n + springs));
-  std::vector<Health> part(static_cast<std::size_t>(parts));
-#pragma omp parallel for num_threads(parts) schedule(static)
-  for (int k = 0; k < parts; ++k) {
-    const std::size_t p0 = n * k / parts, p1 = n * (k + 1) / parts, s0 = springs * k / parts,
-                      s1 = springs * (k + 1) / parts;
-    if constexpr (std::is_same_v<T, float>)
-      if (quickHealthy(quick_health_, x_, v_, p0, p1, s0, s1)) continue;  // the scan would find nothing
-    part[std::size_t(k)] = scanHealthPart(topo_, scene_.cloth, x_, v_, HealthLimits{}, p0, p1, s0, s1);
-  }
-  Health h;
-  for (const Health& p : part)
-    h.merge(p);
-  h.substeps = substeps();
-  return h;
-}
-
-template <class T>
-std::vector<glm::dvec3> CpuSolver<T>::readPositions() {
-  return std::vector<glm::dvec3>(x_.begin(), x_.end());
-}
-
-template <class T>
-std::vector<glm::dvec3> CpuSolver<T>::readDisplacements() {
-  std::vector<glm::dvec3> out(x_.size());
-  for (std::size_t i = 0; i < x_.size(); ++i)
-    out[i] = form_ == VerletForm::Displacement ? glm::dvec3(v_[i]) : glm::dvec3(x_[i]) - glm::dvec3(v_[i]);
-  return out;
 }
 
 template <class T>

@@ -106,8 +106,14 @@ class CpuSolver final : public Solver {
   void resetTimings() override;
 
   // Direct state access for tests and tools.
-  const std::vector<vec3>& positions() const { return x_; }
-  const std::vector<vec3>& displacements() const { return v_; }
+  const std::vector<vec3>& positions() const {
+    syncPositions();
+    return x_;
+  }
+  const std::vector<vec3>& displacements() const {
+    syncPositions();
+    return v_;
+  }
   const std::vector<vec3>& forces() const { return f_; }
   void setState(const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& v);
   T mass() const { return mass_.front(); }  // point 0's (every grid point has the same)
@@ -129,6 +135,8 @@ class CpuSolver final : public Solver {
   const std::vector<long long>& pairShares() const { return pair_bounds_; }
   const std::vector<long long>& findShares() const { return find_bounds_; }
   void fixPairShares(std::vector<long long> sums, std::vector<long long> find = {});
+  // The last substep left the points in the grid path's padded arrays, to be copied back when read (syncPositions)
+  bool positionsInArrays() const { return positions_behind_; }
   bool wideSkin() const { return wide_skin_; }  // the lists' skin now: pair_margin (else 2/3 of it)
   int skinSwitches() const { return skin_switches_; }
   // What the last selfCollide added to each point (0 where it added nothing): its bits, which a position rounds
@@ -141,8 +149,14 @@ class CpuSolver final : public Solver {
   };
   void refreshDerived();
   // x_i += c; in displacement form v_i += c too, so that x_prev stays where it was (a constraint moves the point,
-  // not its past)
+  // not its past). Between a grid integrate and the stretch limit, which copies the arrays back, in the padded
+  // arrays alone.
   void displace(std::size_t i, vec3 c) {
+    if constexpr (std::is_same_v<T, float>)
+      if (grid_integrate_) {
+        grid_->displace(i, c);
+        return;
+      }
     x_[i] += c;
     if (form_ == VerletForm::Displacement) v_[i] += c;
   }
@@ -310,9 +324,22 @@ class CpuSolver final : public Solver {
   // the points move (a pass run on its own, setState, reset) clears it (positionsMoved).
   long long soa_positions_ = -1;
   bool in_passes_ = false;  // step() is running its passes, which keep soa_positions_ themselves
+  // This substep runs integrate on the padded arrays (they hold x_ and v_ at its start) and only self-collision
+  // moves the points between it and the grid stretch limit: the arrays hold x_ and v_ from integrate to the limit,
+  // so neither self-collision nor the limit copies them in (gridIntegrates). Set by step() outside its team.
+  bool grid_integrate_ = false;
+  bool gridIntegrates() const;
+  bool forcesReadArrays() const;
   void positionsMoved() {
-    if (!in_passes_) soa_positions_ = -1;
+    if (in_passes_) return;
+    syncPositions();  // a pass run on its own reads x_ and v_
+    soa_positions_ = -1;
   }
+  // A substep that integrates on the padded arrays ends with the points there, not in x_ and v_: the next one reads
+  // them there (at 256 x 256 the copy back was 5% of a one-thread run). Anything else that reads x_ or v_ copies
+  // them back first (syncPositions): the accessors, the passes run on their own, a substep that does not.
+  mutable bool positions_behind_ = false;
+  void syncPositions() const;
   bool loadedAfterPasses() const;
 };
 

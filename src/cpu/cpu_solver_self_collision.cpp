@@ -28,7 +28,7 @@ void CpuSolver<T>::selfCollide() {
   bool padded = false;
   if constexpr (std::is_same_v<T, float>)
     if (grid_) {
-      grid_->loadPositions(x_);
+      if (!grid_integrate_) grid_->loadPositions(x_);  // else integrate left them there
       padded = true;
     }
   teamSingle([&] {

@@ -29,9 +29,10 @@ void CpuSolver<T>::limitStretchColoured(bool wait) {
     if (grid_) {
       const ClothSpec& c = scene_.cloth;
       const bool enabled[kSpringTypeCount] = {c.enable_structural, c.enable_shearing, c.enable_bending};
-      // Inside step(), where the last collisions follow on the grid, the points stay in its arrays for them
+      // Inside step(), where the last collisions follow on the grid, the points stay in its arrays for them; where
+      // this substep integrated there, for the next one's (positions_behind_)
       grid_->limitStretch(x_, displacement ? &v_ : nullptr, limit, scene_.sim.stretch_passes, enabled, wait,
-                          !(in_passes_ && collideLastOnGrid()));
+                          !(in_passes_ && (collideLastOnGrid() || grid_integrate_)), grid_integrate_);
       return;
     }
   for (int pass = 0; pass < scene_.sim.stretch_passes; ++pass)

@@ -56,6 +56,21 @@ struct GridStretchArgs {
   const std::uint8_t* signed_rows = nullptr;
 };
 
+// Verlet in displacement form on the padded arrays' rows, as GridKernels::integrate computes each coordinate, the
+// forces read from the solver's vec3 array. The new positions and displacements go to the padded arrays and to the
+// solver's vec3 arrays alike, so that the passes after need no copy in (CpuSolver::integrate).
+struct GridIntegrateArgs {
+  GridShape shape;
+  float *x, *y, *z, *vx, *vy, *vz;  // padded layout, updated in place
+  const float* pinned;              // all bits set where pinned, padded layout
+  const float* inv_mass;            // padded layout
+  const float* forces;              // vec3 per point, in point order
+  float* aos_x;                     // the positions and displacements as vec3 arrays, written
+  float* aos_v;
+  float dt2 = 0, keep = 0;
+  std::uint8_t* signed_rows;  // per row: 1 where a new coordinate is -0, else 0 (GridStretchArgs::signed_rows)
+};
+
 // VBD's sweeps over one colour's points: each point's Newton step (sweep 0 from the prediction).
 struct GridVbdArgs {
   GridShape shape;
@@ -218,6 +233,8 @@ struct GridKernels {
   // keeps x and sets v to +0). Not grid-specific: it needs no neighbours.
   void (*integrate)(float* x, float* v, const float* f, const float* inv_mass3, const float* pinned3, float dt2,
                     float keep, long long first, long long last);
+  // The same on rows [y0, y1) of the padded arrays (GridIntegrateArgs).
+  void (*integrateRows)(const GridIntegrateArgs&, int y0, int y1);
   // The entries k in [first, last) whose pair {owner[k], partner[k]} is within self-collision range, by the
   // test of physics::selfCollisionCorrection (a NaN distance counts, as there), with both ends' terms and cell
   // orders (PairTermOut), written to out in ascending k; their count returned. x is the vec3 array seen as

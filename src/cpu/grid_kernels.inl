@@ -288,6 +288,52 @@ struct Kernels : Lanes<V> {
     }
   }
 
+  static void integrateRows(const GridIntegrateArgs& a, int y0, int y1) {
+    const GridShape& g = a.shape;
+    const F dt2v = V::set1(a.dt2), keepv = V::set1(a.keep), zero = V::set1(0.0f);
+    float* const soa[6] = {a.x, a.y, a.z, a.vx, a.vy, a.vz};
+    for (int row = y0; row < y1; ++row) {
+      const std::ptrdiff_t q = at(g, 0, row), first = 3 * std::ptrdiff_t(row) * g.W;
+      F negative_zero = zero;
+      int i = 0;
+      for (; i + kW <= g.W; i += kW) {
+        const F pinned = V::load(a.pinned + q + i), inv_mass = V::load(a.inv_mass + q + i);
+        F f[3], x[3], v[3];
+        V::loadVec3(a.forces + first + 3 * i, f[0], f[1], f[2]);
+        for (int c = 0; c < 3; ++c) {
+          // keep * v + (f * (1/m)) * dt^2, as integrate computes each coordinate
+          const F xe = V::load(soa[c] + q + i);
+          const F ve = V::add(V::mul(keepv, V::load(soa[3 + c] + q + i)), V::mul(V::mul(f[c], inv_mass), dt2v));
+          v[c] = V::select(pinned, zero, ve);
+          x[c] = V::select(pinned, xe, V::add(xe, ve));
+          V::store(soa[c] + q + i, x[c]);
+          V::store(soa[3 + c] + q + i, v[c]);
+          negative_zero = V::bitOr(negative_zero, V::bitOr(V::negZero(x[c]), V::negZero(v[c])));
+        }
+        V::storeVec3(a.aos_x + first + 3 * i, x[0], x[1], x[2]);
+        V::storeVec3(a.aos_v + first + 3 * i, v[0], v[1], v[2]);
+      }
+      bool tail_zero = false;
+      for (; i < g.W; ++i) {
+        const bool pinned = a.pinned[q + i] != a.pinned[q + i];  // all bits set is a NaN
+        for (int c = 0; c < 3; ++c) {
+          float& x = soa[c][q + i];
+          float& v = soa[3 + c][q + i];
+          if (pinned) {
+            v = 0.0f;
+          } else {
+            v = a.keep * v + a.forces[first + 3 * i + c] * a.inv_mass[q + i] * a.dt2;
+            x += v;
+          }
+          a.aos_x[first + 3 * i + c] = x;
+          a.aos_v[first + 3 * i + c] = v;
+          tail_zero = tail_zero || (x == 0.0f && std::signbit(x)) || (v == 0.0f && std::signbit(v));
+        }
+      }
+      a.signed_rows[row] = tail_zero || V::any(negative_zero) ? 1 : 0;
+    }
+  }
+
   static constexpr GridKernels table(const char* name) {
     return {name,
             kW,
@@ -298,6 +344,7 @@ struct Kernels : Lanes<V> {
             &Colours::xpbdColour,
             &Vbd::vbdPoints,
             &integrate,
+            &integrateRows,
             &Contact::pairTerms,
             &StencilKernels<V>::stencilPairs,
             &Contact::scanPairs,

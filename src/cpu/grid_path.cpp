@@ -24,6 +24,9 @@ GridPath::GridPath(const Topology& topo, const std::vector<float>& rest, GridIsa
   for (std::vector<float>& r : rest_)
     r.assign(shape_.size, 0.0f);
   signed_rows_.assign(std::size_t(shape_.H), 1);
+  padded_.resize(topo.initial_positions.size());
+  for (std::size_t i = 0; i < padded_.size(); ++i)
+    padded_[i] = std::uint32_t(shape_.at(int(i % topo.W), int(i / topo.W)));
   const auto w = std::uint32_t(topo.W);
   for (std::size_t s = 0; s < topo.springs.size(); ++s) {
     const Spring& sp = topo.springs[s];
@@ -81,6 +84,14 @@ void GridPath::forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f
   if (wait) teamBarrier();
 }
 
+void GridPath::integrate(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, const std::vector<glm::vec3>& f,
+                         float dt2, float keep) {
+  const GridIntegrateArgs args{shape_,     x_.data(),      y_.data(),          z_.data(),    vx_.data(),   vy_.data(),
+                               vz_.data(), pinned_.data(), inv_mass_.data(),   &f.data()->x, &x.data()->x, &v.data()->x,
+                               dt2,        keep,           signed_rows_.data()};
+  teamPart(0, shape_.H, [&](long long y0, long long y1) { kernels_->integrateRows(args, int(y0), int(y1)); });
+}
+
 void GridPath::loadPositions(const std::vector<glm::vec3>& x) {
   const GridKernels& kern = *kernels_;
   teamRange(0, shape_.H, [&](long long y0, long long y1) {
@@ -122,12 +133,12 @@ std::size_t GridPath::stencilPairs(const int* du, const int* dv, const std::uint
 }
 
 void GridPath::limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,
-                            const bool enabled[3], bool wait, bool copy_out) {
+                            const bool enabled[3], bool wait, bool copy_out, bool loaded) {
   const float unit[3] = {1, 1, 1};
   GridStretchArgs args = colourArgs(v != nullptr, springs(unit, enabled));
   args.limit = limit;
-  args.signed_rows = signed_rows_.data();  // made by copyIn, before the colours read it
-  sweepColours(x, v, args, passes, kernels_->stretchColour, wait, copy_out);
+  args.signed_rows = signed_rows_.data();  // made by copyIn or integrate, before the colours read it
+  sweepColours(x, v, args, passes, kernels_->stretchColour, wait, copy_out, loaded);
 }
 
 void GridPath::collideAndCopyOut(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, const CollideArgs& objects,
@@ -236,7 +247,7 @@ GridStretchArgs GridPath::colourArgs(bool displacements, const GridSprings& s) {
 }
 
 void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const GridStretchArgs& args,
-                            int passes, ColourKernel colour, bool wait, bool copy_out) {
+                            int passes, ColourKernel colour, bool wait, bool copy_out, bool loaded) {
   // The colours in order (colourGridSprings: 2 * direction + parity); a colour's springs share no point and
   // every spring starts in the row its thread owns, so a colour is split by rows with a barrier after it. A
   // horizontal direction's springs lie in their rows, so its first colour needs no barrier after it, nor the copy
@@ -245,7 +256,7 @@ void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v
   int first = 0;
   while (first < 6 && !args.springs.enabled[first])
     ++first;
-  copyIn(x, v, passes <= 0 || first == 6 || !horizontal(first));
+  if (!loaded) copyIn(x, v, passes <= 0 || first == 6 || !horizontal(first));
   for (int pass = 0; pass < passes; ++pass)
     for (int d = 0; d < 6; ++d) {
       if (!args.springs.enabled[d]) continue;

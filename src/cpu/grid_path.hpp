@@ -29,6 +29,24 @@ class GridPath {
   // copied in again.
   void forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f, glm::vec3 gravity, const float k[3],
               const bool enabled[3], bool wait = true, bool loaded = false);
+  // Verlet in displacement form (GridKernels::integrateRows) on the padded arrays, which must hold x and v (the last
+  // pass of the substep before copied them back): the new x and v written there and to x and v alike, each thread
+  // its own rows, no barrier after. Until a pass moves x or v on their own, the arrays hold both (loaded below).
+  void integrate(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, const std::vector<glm::vec3>& f, float dt2,
+                 float keep);
+  // Point i (in point order) moved by c in the padded arrays, its displacement with it: CpuSolver::displace in
+  // displacement form, between integrate and the stretch limit's copy back.
+  void displace(std::size_t i, glm::vec3 c) {
+    const std::size_t k = padded_[i];
+    x_[k] += c.x;
+    y_[k] += c.y;
+    z_[k] += c.z;
+    vx_[k] += c.x;
+    vy_[k] += c.y;
+    vz_[k] += c.z;
+  }
+  // The padded arrays back into x and v, by one thread outside a team (CpuSolver::syncPositions).
+  void storePositions(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v) { copyOut(x, &v, false); }
   // The positions x into the padded arrays, where self-collision's check and stencil read them (positions()).
   // Called by every thread of a team, or by one thread alone.
   void loadPositions(const std::vector<glm::vec3>& x);
@@ -47,9 +65,10 @@ class GridPath {
                            const GridStencilTiles* tiles = nullptr);
   // `passes` Gauss-Seidel passes over the 12 colours in order; v nullptr when it is not a displacement. wait:
   // false where the next pass reads only its own thread's rows of x and v (no barrier after they are copied out).
-  // copy_out false: the positions stay in the padded arrays for collideAndCopyOut.
+  // copy_out false: the positions stay in the padded arrays for collideAndCopyOut. loaded: the arrays hold x and v
+  // already (integrate), so they are not copied in.
   void limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, float limit, int passes,
-                    const bool enabled[3], bool wait = true, bool copy_out = true);
+                    const bool enabled[3], bool wait = true, bool copy_out = true, bool loaded = false);
   // After limitStretch(..., copy_out = false): the spheres' and planes' collisions of every point on the padded
   // arrays (collideRows), then x and v back; each thread its own rows, no barrier between.
   void collideAndCopyOut(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, const CollideArgs& objects,
@@ -78,7 +97,7 @@ class GridPath {
   void copyOut(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, bool wait = true);
   // x (and v) into the padded arrays, `passes` sweeps of `colour` over the colours in order, and back.
   void sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const GridStretchArgs& args, int passes,
-                    ColourKernel colour, bool wait = true, bool copy_out = true);
+                    ColourKernel colour, bool wait = true, bool copy_out = true, bool loaded = false);
 
   GridShape shape_;
   const GridKernels* kernels_;
@@ -91,6 +110,7 @@ class GridPath {
   std::vector<float> vbd_column_, vbd_row_;
   std::vector<float> lambda_[6];           // XPBD of several sweeps: per direction, each spring's multiplier
   std::vector<std::uint8_t> signed_rows_;  // per row, whether copyIn saw a -0 (GridStretchArgs::signed_rows)
+  std::vector<std::uint32_t> padded_;      // per point, its index in the padded arrays (displace)
 };
 
 }  // namespace drape
