@@ -427,5 +427,42 @@ TEST(GridPathIntegrate, PointsLeftInThePaddedArraysReachEveryReader) {
   }
 }
 
+// Where integrate left the points in the padded arrays, the sphere's and the plane's collisions run there too, before
+// and after the stretch limit: the general path's bytes, on one thread and on a team of two.
+TEST(GridPathIntegrate, CollisionsOnThePaddedArraysGiveTheGeneralPathsBytes) {
+  Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/pinned2.json");
+  scene.cloth.num_width_points = 20;
+  scene.cloth.num_height_points = 14;
+  scene.sim.self_collision = true;
+  const SphereSpec sphere{.origin = {0.5, 0.95, 0.5}, .radius = 0.2, .friction = 0.3};  // through the cloth
+  scene.spheres = {sphere};
+  const double floor = 0.97;  // a few centimetres below it, where the falling cloth lands within the run
+  scene.planes = {PlaneSpec{.point = {0, floor, 0}, .normal = {0, 1, 0}}};
+  CpuSolver<float> general(scene, CpuSolverOptions{.threads = 1, .grid_path = false});
+  CpuSolver<float> grid(scene, CpuSolverOptions{.threads = 1});
+  CpuSolver<float> team(scene, CpuSolverOptions{.threads = 2, .team_min_points = 0});
+  ASSERT_EQ(team.teamThreads(), 2);
+  for (int k = 0; k < 180; ++k)
+    for (CpuSolver<float>* s : {&general, &grid, &team})
+      s->step();
+  EXPECT_TRUE(grid.positionsInArrays());
+  EXPECT_TRUE(team.positionsInArrays());
+  const std::vector<glm::vec3> x = general.positions();
+  int on_sphere = 0, on_floor = 0, inside = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double r = glm::distance(glm::dvec3(x[i]), sphere.origin);
+    on_sphere += r < sphere.radius + 0.01;
+    on_floor += x[i].y < floor + 0.002;
+    inside += r < sphere.radius * 0.99 || x[i].y < floor - 1e-4;
+  }
+  EXPECT_GT(on_sphere, 5) << "the cloth must lie on the sphere";
+  EXPECT_GT(on_floor, 3) << "and on the plane";
+  EXPECT_EQ(inside, 0);
+  for (const CpuSolver<float>* s : {&grid, &team}) {
+    EXPECT_TRUE(sameBytes(x, s->positions())) << s->threads();
+    EXPECT_TRUE(sameBytes(general.displacements(), s->displacements())) << s->threads();
+  }
+}
+
 }  // namespace
 }  // namespace drape

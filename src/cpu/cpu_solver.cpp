@@ -274,14 +274,15 @@ bool CpuSolver<T>::loadedAfterPasses() const {
 }
 
 // Whether this substep's integrate runs on the padded arrays (grid_integrate_): they hold x_ and v_ at its start,
-// and between it and the grid stretch limit only self-collision moves the points, which moves them in the arrays
-// too (displace). At 256 x 256 the copies in of the positions for self-collision and of the positions and
-// displacements for the limit were 8.5% of a one-thread run, their points no longer in the core's cache.
+// and between it and the grid stretch limit only self-collision (displace) and the spheres' and planes' collisions
+// move the points, both of which can move them in the arrays. At 256 x 256 the copies in of the positions for
+// self-collision and of the positions and displacements for the limit were 8.5% of a one-thread run, their points no
+// longer in the core's cache.
 template <class T>
 bool CpuSolver<T>::gridIntegrates() const {
   return std::is_same_v<T, float> && grid_ && kernels_ && form_ == VerletForm::Displacement && in_passes_ &&
          soa_positions_ == substeps_ && scene_.sim.stretch_scheme == StretchScheme::GaussSeidel &&
-         needsPass(kLimitStretch) && !needsPass(kXpbd) && !needsPass(kVbd) && !needsPass(kCollide) &&
+         needsPass(kLimitStretch) && !needsPass(kXpbd) && !needsPass(kVbd) && scene_.meshes.empty() &&
          !needsPass(kTether);
 }
 

@@ -324,9 +324,9 @@ class CpuSolver final : public Solver {
   // the points move (a pass run on its own, setState, reset) clears it (positionsMoved).
   long long soa_positions_ = -1;
   bool in_passes_ = false;  // step() is running its passes, which keep soa_positions_ themselves
-  // This substep runs integrate on the padded arrays (they hold x_ and v_ at its start) and only self-collision
-  // moves the points between it and the grid stretch limit: the arrays hold x_ and v_ from integrate to the limit,
-  // so neither self-collision nor the limit copies them in (gridIntegrates). Set by step() outside its team.
+  // This substep runs integrate on the padded arrays (they hold x_ and v_ at its start) and every pass after it
+  // moves the points there (self-collision, the spheres' and planes' collisions, the stretch limit), so that none
+  // copies them in (gridIntegrates). Set by step() outside its team.
   bool grid_integrate_ = false;
   bool gridIntegrates() const;
   bool forcesReadArrays() const;

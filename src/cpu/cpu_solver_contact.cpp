@@ -40,7 +40,14 @@ void CpuSolver<T>::collidePoint(std::size_t i) {
 template <class T>
 void CpuSolver<T>::collide(bool wait) {
   positionsMoved();
-  // Spheres and planes lane by lane, several points at once; meshes (the baked field) point by point.
+  // Spheres and planes lane by lane, several points at once; meshes (the baked field) point by point. Where
+  // integrate left the points in the grid path's arrays, there.
+  if constexpr (std::is_same_v<T, float>)
+    if (grid_integrate_) {
+      grid_->collide(collideArgs());
+      if (wait) teamBarrier();
+      return;
+    }
   if constexpr (std::is_same_v<T, float>)
     if (kernels_ && form_ == VerletForm::Displacement && scene_.meshes.empty()) {
       const CollideArgs args = collideArgs();
@@ -73,6 +80,11 @@ CollideArgs CpuSolver<T>::collideArgs() {
 // them (collideLastOnGrid; the stretch limit left them there), then copied back.
 template <class T>
 void CpuSolver<T>::collideLast() {
+  if constexpr (std::is_same_v<T, float>)
+    if (grid_integrate_) {  // and left there for the next substep (positions_behind_)
+      grid_->collide(collideArgs());
+      return;
+    }
   if constexpr (std::is_same_v<T, float>)
     if (collideLastOnGrid()) {
       grid_->collideAndCopyOut(x_, v_, collideArgs(), false);

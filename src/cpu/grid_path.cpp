@@ -143,10 +143,14 @@ void GridPath::limitStretch(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v
 
 void GridPath::collideAndCopyOut(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, const CollideArgs& objects,
                                  bool wait) {
+  collide(objects);
+  copyOut(x, &v, wait);
+}
+
+void GridPath::collide(const CollideArgs& objects) {
   const CollideRowsArgs args{objects,    shape_,     x_.data(),  y_.data(),     z_.data(),
                              vx_.data(), vy_.data(), vz_.data(), pinned_.data()};
   teamPart(0, shape_.H, [&](long long y0, long long y1) { kernels_->collideRows(args, int(y0), int(y1)); });
-  copyOut(x, &v, wait);
 }
 
 void GridPath::xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float alpha_tilde[3],
@@ -256,7 +260,13 @@ void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v
   int first = 0;
   while (first < 6 && !args.springs.enabled[first])
     ++first;
-  if (!loaded) copyIn(x, v, passes <= 0 || first == 6 || !horizontal(first));
+  // Where the arrays hold the points already, the barrier the copy in would end with: the pass before may end
+  // without one (CpuSolver::collide)
+  const bool wait_in = passes <= 0 || first == 6 || !horizontal(first);
+  if (!loaded)
+    copyIn(x, v, wait_in);
+  else if (wait_in)
+    teamBarrier();
   for (int pass = 0; pass < passes; ++pass)
     for (int d = 0; d < 6; ++d) {
       if (!args.springs.enabled[d]) continue;

@@ -73,6 +73,9 @@ class GridPath {
   // arrays (collideRows), then x and v back; each thread its own rows, no barrier between.
   void collideAndCopyOut(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, const CollideArgs& objects,
                          bool wait = true);
+  // The same collisions on the padded arrays where they hold the points (after integrate), each thread its own
+  // rows, no barrier after, nothing copied back.
+  void collide(const CollideArgs& objects);
   // XPBD's `sweeps` sweeps over the colours in order, with the compliances over dt^2 per spring type; the
   // multipliers start at 0 (one sweep never reads them).
   void xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float alpha_tilde[3], const bool enabled[3],
