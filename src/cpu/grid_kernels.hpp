@@ -3,7 +3,8 @@
 // colour their ends, at consecutive addresses. Each point's (each spring's) operations are those of the
 // general path (cpu/physics.hpp) in the same order, one lane each, so the bytes are the general path's
 // (tests/grid_path_test.cpp holds the two together). The positions are worked on as a structure of arrays
-// in a padded layout (GridShape), copied from and back to the solver's vec3 arrays around a pass.
+// in a padded layout (GridShape), copied from and back to the solver's vec3 arrays around a pass, or kept there
+// from pass to pass (CpuSolver::gridIntegrates).
 #pragma once
 
 #include <atomic>
