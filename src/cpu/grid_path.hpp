@@ -1,7 +1,8 @@
 // The float solver's grid path: forces, the Gauss-Seidel stretch limit and XPBD's and VBD's sweeps of a grid cloth with
 // the grid kernels (cpu/grid_kernels.hpp), the positions and displacements copied into a padded structure of arrays for
-// the pass and back after it, or kept there from integrate to the next substep (CpuSolver::gridIntegrates). The bytes are the general path's (tests/grid_path_test.cpp); the mesh path and double
-// keep the gathers over the adjacency and the colouring.
+// the pass and back after it, or kept there from integrate to the next substep (CpuSolver::gridIntegrates). The bytes
+// are the general path's (tests/grid_path_test.cpp); the mesh path and double keep the gathers over the adjacency and
+// the colouring.
 #pragma once
 
 #include "core/topology.hpp"
