@@ -387,6 +387,8 @@ TEST(GridPathIntegrate, PointsLeftInThePaddedArraysReachEveryReader) {
     press(*s);
     s->step();  // copies the state set in
   }
+  ASSERT_TRUE(grid.keepsPointsInArrays());
+  ASSERT_FALSE(general.keepsPointsInArrays()) << "the general path has no arrays";
   ASSERT_FALSE(grid.positionsInArrays()) << "a substep after a state set starts from x and v";
   const long long terms = grid.pairTerms();
   std::vector<glm::vec3> seen;

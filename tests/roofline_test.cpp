@@ -35,6 +35,19 @@ TEST(Roofline, AnInteriorPointHasTwelveSpringEnds) {
   EXPECT_LT(passWork(gridRun(8, "avx2"), "forces")->divsqrt, 11);
 }
 
+// Where the grid path keeps the points in its arrays through the substeps, integrate runs in the forces' sweep:
+// forces carries its work and no row of its own, and the stretch limit copies nothing in or back.
+TEST(Roofline, IntegrateInTheForcesSweepIsCountedThere) {
+  BenchRun kept = gridRun(256, "avx2");
+  kept.points_in_arrays = true;
+  const BenchRun copied = gridRun(256, "avx2");
+  EXPECT_DOUBLE_EQ(passWork(kept, "forces")->addmul,
+                   passWork(copied, "forces")->addmul + passWork(copied, "integrate")->addmul);
+  EXPECT_DOUBLE_EQ(passWork(kept, "forces")->divsqrt, passWork(copied, "forces")->divsqrt);
+  EXPECT_FALSE(passWork(kept, "integrate"));
+  EXPECT_DOUBLE_EQ(passWork(copied, "limit_stretch")->bytes - passWork(kept, "limit_stretch")->bytes, 48);
+}
+
 TEST(Roofline, OnlyPassesTheModelCoversHaveWork) {
   EXPECT_FALSE(passWork(gridRun(50, ""), "forces")) << "the mesh path's gathers are not modelled";
   EXPECT_FALSE(passWork(gridRun(50, ""), "limit_stretch"));

@@ -80,6 +80,9 @@ struct BenchRun {
   double team_over_solo = 0;  // the trial's last measured team time over one thread's (0: no trial or no probe)
   double pair_entries_per_point = 0;
   double rebuilds_per_substep = 0;
+  // The grid path kept the points in its padded arrays through the substeps (CpuSolver::keepsPointsInArrays):
+  // integrate ran inside the forces' sweep, and nothing was copied in or back around the stretch limit
+  bool points_in_arrays = false;
   // CPU solvers: the process's CPU time over the timed frames' wall time (all threads; below the thread
   // count where other work on the machine took the cores). 0 where not measured.
   double cpu_share = 0;

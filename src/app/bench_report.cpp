@@ -92,6 +92,7 @@ nlohmann::json benchJson(const BenchReport& r) {
     if (!isGpuSolver(run.solver))
       o["cpu"] = {
           {"grid_kernels", run.grid_kernels},
+          {"points_in_arrays", run.points_in_arrays},
           {"team_threads", run.team_threads},
           {"team_share", run.team_share},
           {"team_over_solo", run.team_over_solo > 0 ? nlohmann::json(run.team_over_solo) : nlohmann::json(nullptr)},

@@ -36,6 +36,8 @@ void recordCpuDetails(const Solver& solver, const Scene& scene, BenchRun& run) {
   run.iterations = scene.sim.iterations;
   if (const auto* cpu = dynamic_cast<const CpuSolver<float>*>(&solver)) {
     run.grid_kernels = cpu->gridKernels();
+    // (with wind the forces take the general path, and integrate runs on its own)
+    run.points_in_arrays = cpu->keepsPointsInArrays() && !scene.sim.wind.enabled;
     // A mid-sized cloth's trial may have run some substeps on one thread: the way most of them ran.
     run.team_threads = 2 * cpu->teamSubsteps() >= cpu->substeps() ? cpu->teamThreads() : 1;
     run.team_share = cpu->substeps() > 0 ? double(cpu->teamSubsteps()) / double(cpu->substeps()) : 0;
@@ -94,6 +96,13 @@ std::optional<PassWork> passWork(const BenchRun& run, const std::string& pass) {
                     96 + 28 + 4 + (sweeps > 1 ? 12 * sweeps : 0)};
   }
   if ((xpbd || vbd) && pass != "integrate" && pass != "self_collide" && pass != "collide") return std::nullopt;
+  if (pass == "forces" && grid && run.points_in_arrays)
+    // As below, with integrate's work (15) in the same sweep: the positions read from the arrays (12), the mass
+    // (4), six rest lengths (24), the forces written (12, read back from cache two rows later); integrate's
+    // displacements read (12), positions and displacements written to the arrays and the vec3s (48), the pin
+    // mask and 1/m (8).
+    return PassWork{14 * ends + 3 + 15, ends, 12 + 4 + 24 + 12 + 12 + 48 + 8};
+  if (pass == "integrate" && run.points_in_arrays) return std::nullopt;  // in the forces' sweep: a wait alone
   if (pass == "forces" && grid)
     // Per spring, once (springRow): d (3), |d|^2 (3 mul, 2 add), sqrt, len - rest, k (), / len; per spring
     // end (addSpring): d again (3), s d (3), f += (3); gravity times mass (3). Bytes: the positions read as
@@ -121,7 +130,8 @@ std::optional<PassWork> passWork(const BenchRun& run, const std::string& pass) {
     // and v copied in and back (4 x 24), the pin masks (4) and six rest lengths (24); the colours' sweeps over
     // the copies stay in cache.
     const double springs = gridSprings(n) / (n * n) * run.stretch_passes;
-    return PassWork{11 * springs, 0, 96 + 28};
+    // Where the points stay in the arrays, nothing is copied: x and v read and written once by the sweeps
+    return PassWork{11 * springs, 0, (run.points_in_arrays ? 48 : 96) + 28};
   }
   return std::nullopt;
 }
@@ -178,6 +188,7 @@ std::string rooflineMarkdown(const BenchReport& r) {
       const auto& [least, kind] = *std::max_element(std::begin(bounds), std::end(bounds),
                                                     [](const auto& a, const auto& b) { return a.first < b.first; });
       std::string name = pass.name;
+      if (pass.name == "forces" && run.points_in_arrays) name += " (with integrate)";
       if (pass.name == "self_collide")
         name += fmt::format(" ({:.1f} entries, {:.2f} rebuilds)", run.pair_entries_per_point, run.rebuilds_per_substep);
       md += fmt::format("| {} | {} | {} | {} | {:.0f} | {:.0f} | {:.0f} | {:.2f} ({}) | {:.2f} | {:.0f}% |\n", scene,

@@ -280,10 +280,14 @@ bool CpuSolver<T>::loadedAfterPasses() const {
 // longer in the core's cache.
 template <class T>
 bool CpuSolver<T>::gridIntegrates() const {
-  return std::is_same_v<T, float> && grid_ && kernels_ && form_ == VerletForm::Displacement && in_passes_ &&
-         soa_positions_ == substeps_ && scene_.sim.stretch_scheme == StretchScheme::GaussSeidel &&
-         needsPass(kLimitStretch) && !needsPass(kXpbd) && !needsPass(kVbd) && scene_.meshes.empty() &&
-         !needsPass(kTether);
+  return in_passes_ && soa_positions_ == substeps_ && keepsPointsInArrays();
+}
+
+template <class T>
+bool CpuSolver<T>::keepsPointsInArrays() const {
+  return std::is_same_v<T, float> && grid_ && kernels_ && form_ == VerletForm::Displacement &&
+         scene_.sim.stretch_scheme == StretchScheme::GaussSeidel && needsPass(kLimitStretch) && !needsPass(kXpbd) &&
+         !needsPass(kVbd) && scene_.meshes.empty() && !needsPass(kTether);
 }
 
 // Whether the forces read the positions from the padded arrays (GridPath::forces), not from x_.
@@ -335,6 +339,12 @@ void CpuSolver<T>::accumulateForces() {
                                           springs && cloth.enable_bending};
   const vec3 gravity = vec3(scene_.sim.gravity);
   if constexpr (std::is_same_v<T, float>)
+    if (grid_ && springs && !wind.enabled && grid_integrate_) {
+      // and integrate in the same sweep (integrate() then only waits for it)
+      grid_->forcesAndIntegrate(x_, v_, f_, gravity, stiffness_.k, enabled, dt_ * dt_, keep_);
+      return;
+    }
+  if constexpr (std::is_same_v<T, float>)
     if (grid_ && springs && !wind.enabled) {
       // integrate reads its own rows' forces: no barrier after them, unless it writes the positions they read
       grid_->forces(x_, f_, gravity, stiffness_.k, enabled, grid_integrate_, in_passes_ && soa_positions_ == substeps_);
@@ -378,7 +388,7 @@ void CpuSolver<T>::integrate() {
   // By pointShare in a team: the grid forces end without a barrier (runPasses)
   if constexpr (std::is_same_v<T, float>)
     if (grid_integrate_) {
-      grid_->integrate(x_, v_, f_, dt2, keep_);
+      if (!forcesReadArrays()) grid_->integrate(x_, v_, f_, dt2, keep_);  // else done with the forces
       teamBarrier();
       return;
     }

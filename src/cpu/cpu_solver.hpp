@@ -135,6 +135,10 @@ class CpuSolver final : public Solver {
   const std::vector<long long>& pairShares() const { return pair_bounds_; }
   const std::vector<long long>& findShares() const { return find_bounds_; }
   void fixPairShares(std::vector<long long> sums, std::vector<long long> find = {});
+  // Whether the substeps keep the points in the grid path's padded arrays from one to the next (gridIntegrates),
+  // integrate then running in the forces' sweep (GridPath::forcesAndIntegrate): what the scene and options say; a
+  // substep after a state set or a reset copies them in first.
+  bool keepsPointsInArrays() const;
   // The last substep left the points in the grid path's padded arrays, to be copied back when read (syncPositions)
   bool positionsInArrays() const { return positions_behind_; }
   bool wideSkin() const { return wide_skin_; }  // the lists' skin now: pair_margin (else 2/3 of it)

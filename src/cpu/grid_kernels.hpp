@@ -34,6 +34,8 @@ struct GridSprings {
   bool enabled[6] = {};
 };
 
+struct GridIntegrateArgs;
+
 struct GridForceArgs {
   GridShape shape;
   const float *x, *y, *z;  // positions, padded layout
@@ -41,6 +43,10 @@ struct GridForceArgs {
   float gravity[3] = {};
   GridSprings springs;
   float* forces;  // vec3 per point, in point order (CpuSolver's forces_)
+  // Where given, integrateRows of rows [integrate_from, integrate_to) in the same sweep, each row two rows after
+  // its forces, once no later row's forces read its positions (a spring spans up to two rows)
+  const GridIntegrateArgs* integrate = nullptr;
+  int integrate_from = 0, integrate_to = 0;
 };
 
 struct GridStretchArgs {

@@ -255,6 +255,7 @@ struct Kernels : Lanes<V> {
       springRow(a, row, rows);
     const F gx = V::set1(a.gravity[0]), gy = V::set1(a.gravity[1]), gz = V::set1(a.gravity[2]);
     RowTerms terms;
+    const auto integrates = [&](int row) { return a.integrate && row >= a.integrate_from && row < a.integrate_to; };
     for (int row = y0; row < y1; ++row) {
       springRow(a, row, rows);
       rowTerms(a, rows, row, terms);
@@ -264,7 +265,11 @@ struct Kernels : Lanes<V> {
         rowForces<true>(a, terms, row, gx, gy, gz);
       else
         rowForces<false>(a, terms, row, gx, gy, gz);
+      // Row - 2's points are read by no later row's springs or forces: their forces and positions still in cache
+      if (integrates(row - 2)) integrateRows(*a.integrate, row - 2, row - 1);
     }
+    for (int row = std::max(y1 - 2, y0); row < y1; ++row)
+      if (integrates(row)) integrateRows(*a.integrate, row, row + 1);
   }
 
   static void integrate(float* x, float* v, const float* f, const float* inv_mass3, const float* pinned3, float dt2,

@@ -72,23 +72,51 @@ void GridPath::forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f
     teamRange(0, shape_.H, [&](long long y0, long long y1) {
       kern.toSoa(shape_, &x.data()->x, x_.data(), y_.data(), z_.data(), int(y0), int(y1), nullptr);
     });
-  GridForceArgs args{shape_,
-                     x_.data(),
-                     y_.data(),
-                     z_.data(),
-                     mass_.data(),
-                     {gravity.x, gravity.y, gravity.z},
-                     springs(k, enabled),
-                     &f.data()->x};
+  const GridForceArgs args = forceArgs(f, gravity, k, enabled);
   teamPart(0, shape_.H, [&](long long y0, long long y1) { kern.forces(args, int(y0), int(y1)); });
   if (wait) teamBarrier();
 }
 
+GridForceArgs GridPath::forceArgs(std::vector<glm::vec3>& f, glm::vec3 gravity, const float k[3],
+                                  const bool enabled[3]) const {
+  return GridForceArgs{shape_,
+                       x_.data(),
+                       y_.data(),
+                       z_.data(),
+                       mass_.data(),
+                       {gravity.x, gravity.y, gravity.z},
+                       springs(k, enabled),
+                       &f.data()->x};
+}
+
+GridIntegrateArgs GridPath::integrateArgs(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v,
+                                          const std::vector<glm::vec3>& f, float dt2, float keep) {
+  return GridIntegrateArgs{shape_,     x_.data(),      y_.data(),          z_.data(),    vx_.data(),   vy_.data(),
+                           vz_.data(), pinned_.data(), inv_mass_.data(),   &f.data()->x, &x.data()->x, &v.data()->x,
+                           dt2,        keep,           signed_rows_.data()};
+}
+
+void GridPath::forcesAndIntegrate(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, std::vector<glm::vec3>& f,
+                                  glm::vec3 gravity, const float k[3], const bool enabled[3], float dt2, float keep) {
+  const GridIntegrateArgs step = integrateArgs(x, v, f, dt2, keep);
+  GridForceArgs args = forceArgs(f, gravity, k, enabled);
+  args.integrate = &step;
+  long long y0, y1;
+  teamShare(0, shape_.H, y0, y1);
+  // A thread's first and last two rows wait for the other threads' forces, which read them
+  const bool first = !inTeam() || teamThread() == 0, last = !inTeam() || teamThread() == teamSize() - 1;
+  args.integrate_from = int(first ? y0 : std::min(y0 + 2, y1));
+  args.integrate_to = int(std::max<long long>(args.integrate_from, last ? y1 : y1 - 2));
+  if (y0 < y1) kernels_->forces(args, int(y0), int(y1));
+  if (first && last) return;
+  teamBarrier();
+  if (y0 < args.integrate_from) kernels_->integrateRows(step, int(y0), args.integrate_from);
+  if (args.integrate_to < y1) kernels_->integrateRows(step, args.integrate_to, int(y1));
+}
+
 void GridPath::integrate(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, const std::vector<glm::vec3>& f,
                          float dt2, float keep) {
-  const GridIntegrateArgs args{shape_,     x_.data(),      y_.data(),          z_.data(),    vx_.data(),   vy_.data(),
-                               vz_.data(), pinned_.data(), inv_mass_.data(),   &f.data()->x, &x.data()->x, &v.data()->x,
-                               dt2,        keep,           signed_rows_.data()};
+  const GridIntegrateArgs args = integrateArgs(x, v, f, dt2, keep);
   teamPart(0, shape_.H, [&](long long y0, long long y1) { kernels_->integrateRows(args, int(y0), int(y1)); });
 }
 

@@ -48,6 +48,11 @@ class GridPath {
   }
   // The padded arrays back into x and v, by one thread outside a team (CpuSolver::syncPositions).
   void storePositions(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v) { copyOut(x, &v, false); }
+  // forces() on the padded arrays, which hold x and v (as for integrate), and integrate in the same sweep: each row
+  // once no later row's forces read it, a thread's first and last two rows (which another thread's forces read)
+  // after a barrier. No barrier after.
+  void forcesAndIntegrate(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, std::vector<glm::vec3>& f,
+                          glm::vec3 gravity, const float k[3], const bool enabled[3], float dt2, float keep);
   // The positions x into the padded arrays, where self-collision's check and stencil read them (positions()).
   // Called by every thread of a team, or by one thread alone.
   void loadPositions(const std::vector<glm::vec3>& x);
@@ -94,6 +99,9 @@ class GridPath {
   static constexpr int kStencilRows = 4;  // stencilPairs' rows a kernel call, without the squares
   using ColourKernel = void (*)(const GridStretchArgs&, int, int, int, int);
   GridSprings springs(const float k[3], const bool enabled[3]) const;
+  GridForceArgs forceArgs(std::vector<glm::vec3>& f, glm::vec3 gravity, const float k[3], const bool enabled[3]) const;
+  GridIntegrateArgs integrateArgs(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, const std::vector<glm::vec3>& f,
+                                  float dt2, float keep);
   GridStretchArgs colourArgs(bool displacements, const GridSprings& springs);
   // x (and v, where not nullptr) into the padded arrays and back, each thread its rows; every thread of a team calls
   // them. wait: a barrier after (false where the next step reads only its own thread's rows).
