@@ -131,7 +131,7 @@ std::optional<PassWork> passWork(const BenchRun& run, const std::string& pass) {
     // the copies stay in cache.
     const double springs = gridSprings(n) / (n * n) * run.stretch_passes;
     // Where the points stay in the arrays, nothing is copied: x and v read and written once by the sweeps
-    return PassWork{11 * springs, 0, (run.points_in_arrays ? 48 : 96) + 28};
+    return PassWork{11 * springs, 0, (run.points_in_arrays ? 48.0 : 96.0) + 28};
   }
   return std::nullopt;
 }

@@ -346,8 +346,8 @@ void CpuSolver<T>::accumulateForces() {
     }
   if constexpr (std::is_same_v<T, float>)
     if (grid_ && springs && !wind.enabled) {
-      // integrate reads its own rows' forces: no barrier after them, unless it writes the positions they read
-      grid_->forces(x_, f_, gravity, stiffness_.k, enabled, grid_integrate_, in_passes_ && soa_positions_ == substeps_);
+      // integrate reads its own rows' forces: no barrier after them
+      grid_->forces(x_, f_, gravity, stiffness_.k, enabled, false, in_passes_ && soa_positions_ == substeps_);
       return;
     }
   const T time = T(double(substeps_) * scene_.sim.dt());

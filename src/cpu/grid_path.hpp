@@ -30,9 +30,9 @@ class GridPath {
   // copied in again.
   void forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f, glm::vec3 gravity, const float k[3],
               const bool enabled[3], bool wait = true, bool loaded = false);
-  // Verlet in displacement form (GridKernels::integrateRows) on the padded arrays, which must hold x and v (the last
-  // pass of the substep before copied them back): the new x and v written there and to x and v alike, each thread
-  // its own rows, no barrier after. Until a pass moves x or v on their own, the arrays hold both (loaded below).
+  // Verlet in displacement form (GridKernels::integrateRows) on the padded arrays, which must hold x and v (the
+  // substep before left them there): the new x and v written there and to x and v alike, each thread its own rows,
+  // no barrier after. Until a pass moves x or v on their own, the arrays hold both (loaded below).
   void integrate(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, const std::vector<glm::vec3>& f, float dt2,
                  float keep);
   // Point i (in point order) moved by c in the padded arrays, its displacement with it: CpuSolver::displace in
