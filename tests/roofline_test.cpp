@@ -141,7 +141,7 @@ TEST(Roofline, ShareIsTheLeastTimeOverTheMeasuredOne) {
   large.cpu_share = 0.5;
   r.runs = {small, large};
   const std::string md = rooflineMarkdown(r);
-  EXPECT_NE(md.find("| 1 | 10.0 | 100.0 | 20.0 | 1.00 | – |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 1 | 10.0 | 0.0 | 100.0 | 20.0 | 1.00 | – |"), std::string::npos) << md;
   EXPECT_NE(md.find("| pinned2 | 50 | cpu ×1 avx2 | integrate | 15 | 0 | 65 | 0.75 (add+mul) | 3.00 | 25% |"),
             std::string::npos)
       << md;
@@ -155,6 +155,40 @@ TEST(Roofline, ShareIsTheLeastTimeOverTheMeasuredOne) {
       std::string::npos)
       << md;
   EXPECT_EQ(rooflineMarkdown(BenchReport{}), "") << "no probes, no section";
+}
+
+// A cloth's state (128 bytes a point) past half a core's L2 but within the L3 probe's arrays and half the reported
+// L3 is held to the L3's bandwidth; with no L3 reported, or past the probe's arrays, to memory's.
+TEST(Roofline, AStateTheL3HoldsIsHeldToTheL3sBandwidth) {
+  BenchReport r;
+  MachinePeak one;
+  one.isa = "avx2";
+  one.dram_gbs = 10;
+  one.l3_gbs = 40;
+  one.cache_gbs = 100;
+  one.addmul_gflops = 1000;
+  one.divsqrt_gops = 1000;
+  one.l2_bytes = 2 << 20;
+  one.l3_bytes = 64 << 20;
+  r.peaks.push_back(one);
+  const double calls = 30;
+  BenchRun mid = gridRun(256, "avx2");  // 8 MiB of state
+  mid.passes.push_back({"integrate", 10e-6 * 256.0 * 256.0 * calls, calls});
+  BenchRun large = gridRun(512, "avx2");  // 32 MiB: past the probe's 12 MiB
+  large.passes.push_back({"integrate", 10e-6 * 512.0 * 512.0 * calls, calls});
+  BenchRun small = gridRun(64, "avx2");  // 512 KiB: within half the 2 MiB L2
+  small.passes.push_back({"integrate", 10e-6 * 64.0 * 64.0 * calls, calls});
+  r.runs = {mid, large, small};
+  std::string md = rooflineMarkdown(r);
+  // integrate's 65 bytes at 40, 10 and 100 GB/s
+  EXPECT_NE(md.find("| pinned2 | 256 | cpu ×1 avx2 | integrate | 15 | 0 | 65 | 1.62 (L3) |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| pinned2 | 512 | cpu ×1 avx2 | integrate | 15 | 0 | 65 | 6.50 (memory) |"), std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| pinned2 | 64 | cpu ×1 avx2 | integrate | 15 | 0 | 65 | 0.65 (L2) |"), std::string::npos) << md;
+  r.peaks[0].l3_bytes = 0;  // the system does not say
+  md = rooflineMarkdown(r);
+  EXPECT_NE(md.find("| pinned2 | 256 | cpu ×1 avx2 | integrate | 15 | 0 | 65 | 6.50 (memory) |"), std::string::npos)
+      << md;
 }
 
 TEST(Roofline, ATeamIsHeldToTheCeilingsOfItsThreads) {
@@ -176,7 +210,7 @@ TEST(Roofline, ATeamIsHeldToTheCeilingsOfItsThreads) {
   // ceilings would allow 65 ns, more than was measured)
   r.runs = {team};
   const std::string md = rooflineMarkdown(r);
-  EXPECT_NE(md.find("| 2 | 2.0 | 100.0 | 2.0 | 2.00 | 3.00, 0.25; 0.50 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 2 | 2.0 | 0.0 | 100.0 | 2.0 | 2.00 | 3.00, 0.25; 0.50 |"), std::string::npos) << md;
   EXPECT_NE(md.find("| 7.50 (add+mul) | 15.00 | 50% |"), std::string::npos) << md;
 }
 

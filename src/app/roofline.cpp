@@ -16,10 +16,28 @@ double gridSprings(double n) {
   return (2 * n * n - 2 * n) + 2 * (n - 1) * (n - 1) + (2 * n * n - 4 * n);
 }
 
-// Where the arrays a pass touches live: a cloth of up to this many bytes of state (positions, displacements,
-// forces, the kernels' copies and rest lengths: about 128 bytes a point) stays in a core's L2.
+// Where the arrays a pass touches live: a cloth's state (positions, displacements, forces, the kernels' copies and
+// rest lengths: about 128 bytes a point) stays in a core's L2 up to half of it (512 KiB where the system does not
+// say), and in the L3 up to the L3 probe's arrays (12 MiB a thread) and half the L3 the system reports; beyond,
+// it streams from memory.
 constexpr double kCacheBytes = 512.0 * 1024;
+constexpr double kL3ProbeBytesPerThread = 12.0 * 1024 * 1024;
 constexpr double kStateBytesPerPoint = 128;
+
+struct Ceiling {
+  double gbs;
+  const char* where;
+};
+
+Ceiling bandwidthFor(const MachinePeak& peak, const BenchRun& run) {
+  const double state = double(run.points) * kStateBytesPerPoint;
+  const double l2 = peak.l2_bytes > 0 ? 0.5 * double(peak.l2_bytes) : kCacheBytes;
+  if (state <= l2 * std::max(1, run.team_threads)) return {peak.cache_gbs, "L2"};
+  if (peak.l3_gbs > 0 && state <= 0.5 * double(peak.l3_bytes) &&
+      state <= kL3ProbeBytesPerThread * std::max(1, run.team_threads))
+    return {peak.l3_gbs, "L3"};
+  return {peak.dram_gbs, "memory"};
+}
 
 const MachinePeak* peakFor(const BenchReport& r, const BenchRun& run) {
   if (r.peaks.empty()) return nullptr;
@@ -56,6 +74,9 @@ nlohmann::json peaksJson(const std::vector<MachinePeak>& peaks) {
     out.push_back({{"isa", p.isa},
                    {"threads", p.threads},
                    {"memory_gbs", p.dram_gbs},
+                   {"l3_gbs", p.l3_gbs},
+                   {"l2_bytes", p.l2_bytes},
+                   {"l3_bytes", p.l3_bytes},
                    {"l2_gbs", p.cache_gbs},
                    {"addmul_gflops", p.addmul_gflops},
                    {"divsqrt_gops", p.divsqrt_gops},
@@ -142,22 +163,25 @@ std::string rooflineMarkdown(const BenchReport& r) {
   md += fmt::format(
       "Ceilings measured on this machine just before the runs ({} vectors, the grid kernels' instructions; "
       "load average {} at the start). Triad: STREAM's a = b + s c, 12 bytes an element, over 3 × 64 MiB "
-      "(memory) and 3 × 64 KiB a thread (L2). Adds and multiplies without fused multiply-add (the bits "
+      "(memory), 3 × 4 MiB a thread (L3, past a core's L2) and 3 × 64 KiB a thread (L2). Adds and multiplies without "
+      "fused multiply-add (the bits "
       "forbid it). A barrier: one barrier of the team (cpu/parallel.hpp's TeamBarrier), what each pass boundary of "
       "a substep costs, and an OpenMP barrier's median beside it (libgomp's, with a system call each).\n\n",
       r.peaks.front().isa, r.machine.load_average);
   md +=
-      "| threads | memory GB/s | L2 GB/s | add+mul GFLOP/s | div+sqrt G/s | barrier µs (median, best; OpenMP's) "
-      "|\n|---|---|---|---|---|---|\n";
+      "| threads | memory GB/s | L3 GB/s | L2 GB/s | add+mul GFLOP/s | div+sqrt G/s | barrier µs (median, best; "
+      "OpenMP's) |\n|---|---|---|---|---|---|---|\n";
   for (const MachinePeak& p : r.peaks)
     md += fmt::format(
-        "| {} | {:.1f} | {:.1f} | {:.1f} | {:.2f} | {} |\n", p.threads, p.dram_gbs, p.cache_gbs, p.addmul_gflops,
-        p.divsqrt_gops,
+        "| {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.2f} | {} |\n", p.threads, p.dram_gbs, p.l3_gbs, p.cache_gbs,
+        p.addmul_gflops, p.divsqrt_gops,
         p.threads > 1 ? fmt::format("{:.2f}, {:.2f}; {:.2f}", p.barrier_us, p.barrier_best_us, p.omp_barrier_us) : "–");
   md +=
       "\nPer pass, the work a point and call counted from the code (app/roofline.cpp says what each number "
-      "holds), the least time a point the ceilings allow (the binding ceiling in brackets: memory or L2 "
-      "bandwidth by where the cloth's state fits, add+mul or div+sqrt throughput), the measured time, and "
+      "holds), the least time a point the ceilings allow (the binding ceiling in brackets: memory, L3 or L2 "
+      "bandwidth by where the cloth's state fits (about 128 bytes a point: L2 up to half the L2 the system "
+      "reports, L3 up to the L3 probe's arrays and half the reported L3), add+mul or div+sqrt throughput), the "
+      "measured time, and "
       "their ratio: the share of the roofline the pass reaches. Self-collision: list entries a point and "
       "rebuilds a substep at the end of the run; a rebuild's work is not in the model. A one-thread run's "
       "pass times are wall clock times the run's CPU share (its CPU time over its wall time, in brackets after "
@@ -169,8 +193,7 @@ std::string rooflineMarkdown(const BenchReport& r) {
   for (const BenchRun& run : r.runs) {
     const MachinePeak* peak = peakFor(r, run);
     if (!peak || run.passes.empty() || run.points <= 0) continue;
-    const bool in_cache = double(run.points) * kStateBytesPerPoint <= kCacheBytes;
-    const double gbs = in_cache ? peak->cache_gbs : peak->dram_gbs;
+    const Ceiling memory = bandwidthFor(*peak, run);
     const std::string scene = std::filesystem::path(run.scene).stem().string();
     std::string solver = fmt::format("{} ×{}", run.solver, run.threads);
     if (!run.grid_kernels.empty()) solver += " " + run.grid_kernels;
@@ -182,7 +205,7 @@ std::string rooflineMarkdown(const BenchReport& r) {
       const std::optional<PassWork> w = passWork(run, pass.name);
       if (!w || pass.calls_per_frame <= 0) continue;
       const double measured = on_core * pass.ms_per_frame * 1e6 / (pass.calls_per_frame * double(run.points));
-      const std::pair<double, const char*> bounds[] = {{w->bytes / gbs, in_cache ? "L2" : "memory"},
+      const std::pair<double, const char*> bounds[] = {{w->bytes / memory.gbs, memory.where},
                                                        {w->addmul / peak->addmul_gflops, "add+mul"},
                                                        {w->divsqrt / peak->divsqrt_gops, "div+sqrt"}};
       const auto& [least, kind] = *std::max_element(std::begin(bounds), std::end(bounds),

@@ -3,6 +3,7 @@
 #include "cpu/parallel.hpp"
 
 #include <omp.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -61,7 +62,10 @@ MachinePeak measurePeak(int threads) {
   peak.isa = k.name;
   peak.threads = threads;
   peak.dram_gbs = triadGbs(k, threads, (16LL << 20) / threads / 8 * 8, 4);  // 64 MiB an array in all
+  peak.l3_gbs = triadGbs(k, threads, 1LL << 20, 30);                        // 4 MiB an array and thread
   peak.cache_gbs = triadGbs(k, threads, 16LL << 10, 2000);                  // 64 KiB an array, in L2
+  peak.l2_bytes = std::max(0L, sysconf(_SC_LEVEL2_CACHE_SIZE));
+  peak.l3_bytes = std::max(0L, sysconf(_SC_LEVEL3_CACHE_SIZE));
   const long long reps = 4'000'000;
   std::vector<float> sink(static_cast<std::size_t>(threads), 0.0f);
   double s = bestSeconds(threads, 5, [&](int t) { sink[std::size_t(t)] = k.probeAddMul(reps); });
