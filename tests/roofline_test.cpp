@@ -24,6 +24,19 @@ BenchRun gridRun(int n, const std::string& kernels) {
   return run;
 }
 
+// One thread's ceilings, made up: memory, L3 and L2 GB/s, add+mul GFLOP/s, div+sqrt G/s
+MachinePeak peakOf(double dram, double l3, double l2, double addmul, double divsqrt) {
+  MachinePeak p;
+  p.isa = "avx2";
+  p.threads = 1;
+  p.dram_gbs = dram;
+  p.l3_gbs = l3;
+  p.cache_gbs = l2;
+  p.addmul_gflops = addmul;
+  p.divsqrt_gops = divsqrt;
+  return p;
+}
+
 TEST(Roofline, AnInteriorPointHasTwelveSpringEnds) {
   // 2 ends a spring; a large grid's springs a point tend to 6, each with a square root and a division (once,
   // for both ends), so forces' count tends to 12.
@@ -120,14 +133,7 @@ TEST(Roofline, VbdsSweepIsFourRootsAndDivisionsASpringEndAndSevenAPoint) {
 TEST(Roofline, ShareIsTheLeastTimeOverTheMeasuredOne) {
   BenchReport r;
   r.machine.load_average = "0.50 0.40 0.30";
-  MachinePeak one;
-  one.isa = "avx2";
-  one.threads = 1;
-  one.dram_gbs = 10;
-  one.cache_gbs = 100;
-  one.addmul_gflops = 20;
-  one.divsqrt_gops = 1;
-  r.peaks.push_back(one);
+  r.peaks.push_back(peakOf(10, 0, 100, 20, 1));
   BenchRun small = gridRun(50, "avx2");  // 2500 points: its state fits L2
   const double calls = 30;               // a frame's substeps
   // integrate: 65 bytes, 15 add/mul. L2: 0.65 ns, add+mul: 0.75 ns, which binds. Measured 3 ns a point.
@@ -161,13 +167,7 @@ TEST(Roofline, ShareIsTheLeastTimeOverTheMeasuredOne) {
 // L3 is held to the L3's bandwidth; with no L3 reported, or past the probe's arrays, to memory's.
 TEST(Roofline, AStateTheL3HoldsIsHeldToTheL3sBandwidth) {
   BenchReport r;
-  MachinePeak one;
-  one.isa = "avx2";
-  one.dram_gbs = 10;
-  one.l3_gbs = 40;
-  one.cache_gbs = 100;
-  one.addmul_gflops = 1000;
-  one.divsqrt_gops = 1000;
+  MachinePeak one = peakOf(10, 40, 100, 1000, 1000);
   one.l2_bytes = 2 << 20;
   one.l3_bytes = 64 << 20;
   r.peaks.push_back(one);
