@@ -414,7 +414,23 @@ TEST(GridPathIntegrate, PointsLeftInThePaddedArraysReachEveryReader) {
       {"integrate", [](CpuSolver<float>& s) { s.integrate(); }},
       {"selfCollide", [](CpuSolver<float>& s) { s.selfCollide(); }},
       {"limitStretch", [](CpuSolver<float>& s) { s.limitStretch(); }},
-      {"setState", [](CpuSolver<float>& s) { disturb(s, 3); }}};
+      {"setState", [](CpuSolver<float>& s) { disturb(s, 3); }},
+      // Live parameters (the viewer's): a substep of another integrator, or with wind, reads x_ and v_
+      {"setParams to XPBD",
+       [](CpuSolver<float>& s) {
+         SimParams sim = s.scene().sim;
+         sim.integrator = Integrator::Xpbd;
+         s.setParams(s.scene().cloth, sim);
+         s.step();
+       }},
+      {"setParams with wind", [](CpuSolver<float>& s) {
+         SimParams sim = s.scene().sim;
+         sim.integrator = Integrator::Verlet;
+         sim.wind.enabled = true;
+         s.setParams(s.scene().cloth, sim);
+         s.step();
+         s.step();
+       }}};
   for (const auto& [name, reader] : readers) {
     for (CpuSolver<float>* s : {&general, &grid}) {
       // Fast points: the stretch limit moves many of them in the last substep's arrays
