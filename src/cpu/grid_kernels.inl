@@ -272,25 +272,34 @@ struct Kernels : Lanes<V> {
       if (integrates(row)) integrateRows(*a.integrate, row, row + 1);
   }
 
+  // One coordinate's Verlet step in displacement form, lane by lane: v = keep * v + (f * (1/m)) * dt^2, as
+  // integrateVerlet computes it, and x += v; a pinned lane (all bits set) keeps x and gets v = +0.
+  static void verletLanes(F& x, F& v, F f, F inv_mass, F pinned, F keep, F dt2) {
+    const F ve = V::add(V::mul(keep, v), V::mul(V::mul(f, inv_mass), dt2));
+    v = V::select(pinned, V::set1(0.0f), ve);
+    x = V::select(pinned, x, V::add(x, ve));
+  }
+  static void verletScalar(float& x, float& v, float f, float inv_mass, float pinned, float keep, float dt2) {
+    if (pinned != pinned) {  // all bits set is a NaN
+      v = 0.0f;
+      return;
+    }
+    v = keep * v + f * inv_mass * dt2;
+    x += v;
+  }
+
   static void integrate(float* x, float* v, const float* f, const float* inv_mass3, const float* pinned3, float dt2,
                         float keep, long long first, long long last) {
-    const F dt2v = V::set1(dt2), keepv = V::set1(keep), zero = V::set1(0.0f);
+    const F dt2v = V::set1(dt2), keepv = V::set1(keep);
     long long e = first;
     for (; e + kW <= last; e += kW) {
-      const F pinned = V::load(pinned3 + e), xe = V::load(x + e);
-      // keep * v + (f * (1/m)) * dt^2, as integrateVerlet computes each coordinate
-      const F ve = V::add(V::mul(keepv, V::load(v + e)), V::mul(V::mul(V::load(f + e), V::load(inv_mass3 + e)), dt2v));
-      V::store(v + e, V::select(pinned, zero, ve));
-      V::store(x + e, V::select(pinned, xe, V::add(xe, ve)));
+      F xe = V::load(x + e), ve = V::load(v + e);
+      verletLanes(xe, ve, V::load(f + e), V::load(inv_mass3 + e), V::load(pinned3 + e), keepv, dt2v);
+      V::store(v + e, ve);
+      V::store(x + e, xe);
     }
-    for (; e < last; ++e) {
-      if (pinned3[e] != pinned3[e]) {  // all bits set is a NaN
-        v[e] = 0.0f;
-        continue;
-      }
-      v[e] = keep * v[e] + f[e] * inv_mass3[e] * dt2;
-      x[e] += v[e];
-    }
+    for (; e < last; ++e)
+      verletScalar(x[e], v[e], f[e], inv_mass3[e], pinned3[e], keep, dt2);
   }
 
   static void integrateRows(const GridIntegrateArgs& a, int y0, int y1) {
@@ -306,11 +315,9 @@ struct Kernels : Lanes<V> {
         F f[3], x[3], v[3];
         V::loadVec3(a.forces + first + 3 * i, f[0], f[1], f[2]);
         for (int c = 0; c < 3; ++c) {
-          // keep * v + (f * (1/m)) * dt^2, as integrate computes each coordinate
-          const F xe = V::load(soa[c] + q + i);
-          const F ve = V::add(V::mul(keepv, V::load(soa[3 + c] + q + i)), V::mul(V::mul(f[c], inv_mass), dt2v));
-          v[c] = V::select(pinned, zero, ve);
-          x[c] = V::select(pinned, xe, V::add(xe, ve));
+          x[c] = V::load(soa[c] + q + i);
+          v[c] = V::load(soa[3 + c] + q + i);
+          verletLanes(x[c], v[c], f[c], inv_mass, pinned, keepv, dt2v);
           V::store(soa[c] + q + i, x[c]);
           V::store(soa[3 + c] + q + i, v[c]);
           negative_zero = V::bitOr(negative_zero, V::bitOr(V::negZero(x[c]), V::negZero(v[c])));
@@ -320,16 +327,10 @@ struct Kernels : Lanes<V> {
       }
       bool tail_zero = false;
       for (; i < g.W; ++i) {
-        const bool pinned = a.pinned[q + i] != a.pinned[q + i];  // all bits set is a NaN
         for (int c = 0; c < 3; ++c) {
           float& x = soa[c][q + i];
           float& v = soa[3 + c][q + i];
-          if (pinned) {
-            v = 0.0f;
-          } else {
-            v = a.keep * v + a.forces[first + 3 * i + c] * a.inv_mass[q + i] * a.dt2;
-            x += v;
-          }
+          verletScalar(x, v, a.forces[first + 3 * i + c], a.inv_mass[q + i], a.pinned[q + i], a.keep, a.dt2);
           a.aos_x[first + 3 * i + c] = x;
           a.aos_v[first + 3 * i + c] = v;
           tail_zero = tail_zero || (x == 0.0f && std::signbit(x)) || (v == 0.0f && std::signbit(v));
