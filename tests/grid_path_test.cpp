@@ -325,24 +325,35 @@ TEST(GridPathTeam, TwoThreadsGiveOneThreadsBytes) {
   }
 }
 
+// pinned2 at 20 x 14 with self-collision: the grid path's passes with no collider, in a few milliseconds
+Scene smallPinned2() {
+  Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/pinned2.json");
+  scene.cloth.num_width_points = 20;
+  scene.cloth.num_height_points = 14;
+  scene.sim.self_collision = true;
+  return scene;
+}
+
+// The cloth's rows pressed together (its depth a fifth of what it was): pairs within self-collision's range
+void pressRows(CpuSolver<float>& s) {
+  std::vector<glm::dvec3> x = s.readPositions();
+  for (glm::dvec3& p : x)
+    p.z = 0.2 * (p.z - x[0].z) + x[0].z;
+  s.setState(x, s.readDisplacements());
+}
+
 // After a substep whose last pass to move the points is the stretch limit's copy back (pinned2: no collider), the
 // next substep's forces read the positions already in the padded arrays. Whatever moves the points in between
 // (a state set, a pass run on its own, a reset) must have them copied in again: each
 // against the general path, which keeps no copy.
 TEST(GridPathForces, PointsMovedBetweenSubstepsAreCopiedIn) {
-  Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/pinned2.json");
-  scene.cloth.num_width_points = 20;
-  scene.cloth.num_height_points = 14;
-  scene.sim.self_collision = true;
+  Scene scene = smallPinned2();
   const std::vector<std::pair<std::string, std::function<void(CpuSolver<float>&)>>> moves = {
       {"setState", [](CpuSolver<float>& s) { disturb(s, 5); }},
       {"integrate", [](CpuSolver<float>& s) { s.integrate(); }},
       {"selfCollide after setState",
        [](CpuSolver<float>& s) {
-         std::vector<glm::dvec3> x = s.readPositions();
-         for (glm::dvec3& p : x)
-           p.z = 0.2 * (p.z - x[0].z) + x[0].z;  // the rows pressed together: points within range
-         s.setState(x, s.readDisplacements());
+         pressRows(s);
          s.step();
          const std::vector<glm::vec3> before = s.positions();
          s.selfCollide();
@@ -369,23 +380,13 @@ TEST(GridPathForces, PointsMovedBetweenSubstepsAreCopiedIn) {
 // its points, and leaves them there for the next substep (CpuSolver::syncPositions). Every reader must see them:
 // the accessors, health(), a pass run on its own, a state set; and reading them between substeps changes nothing.
 TEST(GridPathIntegrate, PointsLeftInThePaddedArraysReachEveryReader) {
-  Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/pinned2.json");
-  scene.cloth.num_width_points = 20;
-  scene.cloth.num_height_points = 14;
-  scene.sim.self_collision = true;
-  // The rows pressed together: pairs within range from the first substeps
-  const auto press = [](CpuSolver<float>& s) {
-    std::vector<glm::dvec3> x = s.readPositions();
-    for (glm::dvec3& p : x)
-      p.z = 0.2 * (p.z - x[0].z) + x[0].z;
-    s.setState(x, s.readDisplacements());
-  };
+  Scene scene = smallPinned2();
   CpuSolver<float> general(scene, CpuSolverOptions{.threads = 1, .grid_path = false});
   CpuSolver<float> grid(scene, CpuSolverOptions{.threads = 1});
   CpuSolver<float> read(scene, CpuSolverOptions{.threads = 1});  // read after every substep
   for (CpuSolver<float>* s : {&general, &grid, &read}) {
-    press(*s);
-    s->step();  // copies the state set in
+    pressRows(*s);  // pairs within range from the first substeps
+    s->step();      // copies the state set in
   }
   ASSERT_TRUE(grid.keepsPointsInArrays());
   ASSERT_FALSE(general.keepsPointsInArrays()) << "the general path has no arrays";
@@ -448,10 +449,7 @@ TEST(GridPathIntegrate, PointsLeftInThePaddedArraysReachEveryReader) {
 // Where integrate left the points in the padded arrays, the sphere's and the plane's collisions run there too, before
 // and after the stretch limit: the general path's bytes, on one thread and on a team of two.
 TEST(GridPathIntegrate, CollisionsOnThePaddedArraysGiveTheGeneralPathsBytes) {
-  Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/pinned2.json");
-  scene.cloth.num_width_points = 20;
-  scene.cloth.num_height_points = 14;
-  scene.sim.self_collision = true;
+  Scene scene = smallPinned2();
   const SphereSpec sphere{.origin = {0.5, 0.95, 0.5}, .radius = 0.2, .friction = 0.3};  // through the cloth
   scene.spheres = {sphere};
   const double floor = 0.97;  // a few centimetres below it, where the falling cloth lands within the run
