@@ -169,9 +169,11 @@ TEST(PairStencil, TheSquaresKeepTheBytes) {
   expectSameRun<float>(scene, every_test, CpuSolverOptions{.threads = 1, .grid_isa = GridIsa::Sse2}, 40, "SSE2");
 }
 
-// A team's threads find the pairs of one share of the points (the stencil's of their rows of squares, the lists' of
-// their points) and sum the terms of another (CpuSolver::fixPairShares): each end's term goes to the thread that
-// sums it, and the bytes are one thread's. Shares as uneven as the balance allows, either way round, through the fold.
+// A team's threads find the pairs of one share of the points (the stencil's of their rows, whole rows of squares at a
+// build, the lists' of their points) and sum the terms of another (CpuSolver::fixPairShares): each end's term goes to
+// the thread that sums it, and the bytes are one thread's. Shares as uneven as the balance allows, either way round,
+// through the fold; between builds the finding threads split a row of squares (48 / 16 = 3 rows and 45 rows, squares
+// of 8), each with its own copy of the row's offsets to test.
 TEST(PairStencil, ThreadsFindingOneShareAndSummingAnotherGiveOneThreadsBytes) {
   const Scene scene = crumplingCloth(48, 1.25);
   const long long n = 48 * 48;

@@ -314,7 +314,8 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
         part_extent_.assign(std::size_t(teamSize()), range_ + margin_);
         near_reach_ = range_ + T(0.5) * margin_;
         stencil_min2_.resize(tile_count_ * forwardOffsets());
-        stencil_active_.resize(tile_count_);
+        stencil_active_.resize(tile_count_ * std::size_t(teamSize()));
+        active_rows_.assign(std::size_t(teamSize()), {0, 0});
       }))
     return;
   const T near2 = near_reach_ * near_reach_;

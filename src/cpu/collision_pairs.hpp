@@ -304,9 +304,12 @@ class CollisionPairs {
   std::vector<TileBox> boxes_;
   static constexpr std::size_t kSplitTiles = 32;  // from this many tiles a team splits needsBuild's work
   // stencilTiles': per square and forward offset the least squared distance at the build (recorded at the build of
-  // count stencil_recorded_), per square the offsets to test
+  // count stencil_recorded_); per thread of the team and square the offsets to test, and the rows of squares
+  // [first, second) the thread prepared them for last. A row of squares may be split between two threads (the
+  // stencil's shares are whole rows of points between builds): each prepares its own copy of it.
   std::vector<float> stencil_min2_;
   std::vector<std::uint64_t> stencil_active_;
+  std::vector<std::pair<int, int>> active_rows_;
   long long stencil_recorded_ = -1;
   bool squares_ = true;
   bool squares_used_ = false;  // the last substep's stencil passed over what the squares ruled out

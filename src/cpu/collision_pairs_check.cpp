@@ -272,11 +272,14 @@ bool CollisionPairs<T>::stencilTiles(bool just_built, GridStencilTiles& out) {
   if (!std::is_same_v<T, float> || !squares_ || !kernels_ || edge_ <= 0 || offsets < kSquaresMinOffsets ||
       offsets > 64 || box_ < 0 || !built_)
     return false;
-  if (stencil_min2_.size() != tile_count_ * offsets || stencil_active_.size() != tile_count_) return false;
+  const auto thread = std::size_t(teamThread());
+  if (stencil_min2_.size() != tile_count_ * offsets || stencil_active_.size() < tile_count_ * (thread + 1) ||
+      active_rows_.size() <= thread)
+    return false;
   if (!just_built && (stencil_recorded_ != rebuilds_ || boxes_.size() != tile_count_)) return false;
   out.edge = edge_;
   out.across = tilesAcross();
-  out.active = stencil_active_.data();
+  out.active = stencil_active_.data() + thread * tile_count_;
   out.min2 = stencil_min2_.data();
   out.record = just_built;
   // No thread reads these before the next substep's call, several barriers on
@@ -299,10 +302,19 @@ template <class T>
 double CollisionPairs<T>::squaresRuledOut() const {
   const std::size_t offsets = forwardOffsets();
   if (!squares_used_ || stencil_active_.empty() || offsets == 0) return 0;
-  std::size_t tested = 0;
-  for (const std::uint64_t active : stencil_active_)
-    tested += std::size_t(std::popcount(active));
-  return 1.0 - double(tested) / double(stencil_active_.size() * offsets);
+  // Each row of squares from the first thread that prepared it
+  std::size_t tested = 0, squares = 0;
+  const auto across = std::size_t(tilesAcross());
+  for (int ty = 0; ty < tilesDown(); ++ty)
+    for (std::size_t t = 0; t < active_rows_.size(); ++t)
+      if (active_rows_[t].first <= ty && ty < active_rows_[t].second) {
+        const std::uint64_t* row = stencil_active_.data() + t * tile_count_ + std::size_t(ty) * across;
+        for (std::size_t tx = 0; tx < across; ++tx)
+          tested += std::size_t(std::popcount(row[tx]));
+        squares += across;
+        break;
+      }
+  return squares == 0 ? 0 : 1.0 - double(tested) / double(squares * offsets);
 }
 
 // Each square's offsets to test in rows of squares [first, last): those whose least distance at the build does not
@@ -321,6 +333,9 @@ void CollisionPairs<T>::activeOffsets(long long first, long long last) {
   column_lo.resize(std::size_t(across));
   column_hi.resize(std::size_t(across));
   const T room = T(64) * std::numeric_limits<T>::epsilon() * extent_;
+  const auto thread = std::size_t(teamThread());
+  std::uint64_t* const mine = stencil_active_.data() + thread * tile_count_;
+  active_rows_[thread] = {int(first), int(last)};
   for (auto ty = int(first); ty < int(last); ++ty) {
     // Each column's displacements over the rows of squares a partner of this row can lie in
     for (int tx = 0; tx < across; ++tx) {
@@ -348,7 +363,7 @@ void CollisionPairs<T>::activeOffsets(long long first, long long last) {
       std::uint64_t active = 0;
       for (std::size_t k = 0; k < offsets; ++k)
         active |= std::uint64_t(!(least[k] > need2)) << k;
-      stencil_active_[t] = active;
+      mine[t] = active;
     }
   }
 }

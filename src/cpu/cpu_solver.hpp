@@ -261,21 +261,23 @@ class CpuSolver final : public Solver {
   };
   std::vector<PairScratch> pair_scratch_;
   // In a team, thread t sums the terms of points [pair_bounds_[t], pair_bounds_[t + 1]) and finds the pairs whose
-  // lower ends are in [find_bounds_[t], find_bounds_[t + 1]) (on a grid path, whole rows of the stencil's squares
-  // of it): even shares at first, then each moved towards equal times (balancePairShares). Finding and summing
-  // are apart, a barrier between, and where a cloth folds onto itself one end of its pairs finds them all.
-  std::vector<long long> pair_bounds_, find_bounds_;
+  // lower ends are in [find_bounds_[t], find_bounds_[t + 1]) (on a grid path, whole rows of it), or in a substep
+  // that built the lists in [built_find_bounds_[t], ...) (on a grid path, whole rows of the stencil's squares: that
+  // substep records them, testing every offset of every point, so its work lies elsewhere): even shares at first,
+  // then each moved towards equal times (balancePairShares). Finding and summing are apart, a barrier between, and
+  // where a cloth folds onto itself one end of its pairs finds them all.
+  std::vector<long long> pair_bounds_, find_bounds_, built_find_bounds_;
   bool pair_shares_fixed_ = false;  // fixPairShares
   // Per thread of the team: this substep's seconds for its sums (pair_) and for its stencil and search (find_),
   // and its seconds a point of each share smoothed over substeps (balanceShares; -1: none yet)
-  std::vector<double> pair_seconds_, pair_per_point_, find_seconds_, find_per_point_;
+  std::vector<double> pair_seconds_, pair_per_point_, find_seconds_, find_per_point_, built_find_per_point_;
   int pairOwner(std::uint32_t j) const {
     int t = 0;
     while ((long long)j >= pair_bounds_[std::size_t(t) + 1])
       ++t;
     return t;
   }
-  void balancePairShares();
+  void balancePairShares(bool built);
   std::vector<std::int32_t> first_term_;  // per point: its first term in its thread's scratch, or -1
   // Point i's term from j onto the front of i's in `to` (sized for it); a point's first term lists it in touched.
   void linkTerm(PairScratch& to, std::uint32_t i, std::uint32_t j, int order, vec3 c) {

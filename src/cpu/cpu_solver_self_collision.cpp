@@ -63,13 +63,13 @@ void CpuSolver<T>::selfCollide() {
         pair_bounds_.resize(std::size_t(team) + 1);
         for (int t = 0; t < team; ++t)
           pointShare(t, team, pair_bounds_[std::size_t(t)], pair_bounds_[std::size_t(t) + 1]);
-        find_bounds_ = pair_bounds_;
+        find_bounds_ = built_find_bounds_ = pair_bounds_;
         pair_per_point_.clear();
       }
       if (pair_per_point_.size() != std::size_t(team)) {
         for (std::vector<double>* seconds : {&pair_seconds_, &find_seconds_})
           seconds->assign(std::size_t(team), 0);
-        for (std::vector<double>* per_point : {&pair_per_point_, &find_per_point_})
+        for (std::vector<double>* per_point : {&pair_per_point_, &find_per_point_, &built_find_per_point_})
           per_point->assign(std::size_t(team), -1);
       }
       if constexpr (std::is_same_v<T, float>)
@@ -113,7 +113,8 @@ void CpuSolver<T>::selfCollide() {
   using Clock = std::chrono::steady_clock;
   const auto start = team ? Clock::now() : Clock::time_point();
   const long long n = (long long)x_.size();
-  long long lo = team ? find_bounds_[std::size_t(thread)] : 0, hi = team ? find_bounds_[std::size_t(thread) + 1] : n;
+  const std::vector<long long>& find_bounds = built ? built_find_bounds_ : find_bounds_;
+  long long lo = team ? find_bounds[std::size_t(thread)] : 0, hi = team ? find_bounds[std::size_t(thread) + 1] : n;
   mine.stencil_pairs = 0;
   if (stencil > 0) {
     if constexpr (std::is_same_v<T, float>)
@@ -123,8 +124,8 @@ void CpuSolver<T>::selfCollide() {
         // stencil and the search 0.71-0.74 s of each thread's run with them and their wait, 0.51 s without).
         // Whole rows of squares: a square's record is one thread's.
         GridStencilTiles tiles;
-        const bool ruled_out = pairs_.stencilTiles(built, tiles);
-        const long long w = pairs_.gridWidth(), unit = w * (ruled_out ? tiles.edge : 1);
+        const bool ruled_out = pairs_.stencilTiles(built, tiles), record = ruled_out && tiles.record;
+        const long long w = pairs_.gridWidth(), unit = w * (record ? tiles.edge : 1);
         // The last bound stays the last point: a grid's last row of squares may be short of rows
         const auto whole = [&](long long bound) {
           return bound >= n ? n : std::min(n, (bound + unit / 2) / unit * unit);
@@ -165,25 +166,28 @@ void CpuSolver<T>::selfCollide() {
     for (const PairScratch& s : pair_scratch_)
       pair_terms_ += s.summed;  // pairs in range, counted from both ends for `drape simulate -v`
     pairs_.setPaddedPositions(nullptr, nullptr, nullptr, nullptr);  // they change before the next substep's
-    if (team) balancePairShares();
+    if (team) balancePairShares(built);
   }
 }
 
 // The team's shares of the pairs towards equal times (balanceShares), unless a test fixed them. Which thread
 // sums a point's terms does not change them (each point orders its own): the bytes do not depend on the shares.
 template <class T>
-void CpuSolver<T>::balancePairShares() {
+void CpuSolver<T>::balancePairShares(bool built) {
   constexpr double kSmoothing = 0.25;  // a substep's weight in the smoothed times
   if (pair_shares_fixed_) return;
   const long long least = std::max(1LL, pair_bounds_.back() / (16 * (long long)pair_seconds_.size()));
   balanceShares(pair_bounds_, pair_seconds_, pair_per_point_, kSmoothing, least);
-  balanceShares(find_bounds_, find_seconds_, find_per_point_, kSmoothing, least);
+  if (built)
+    balanceShares(built_find_bounds_, find_seconds_, built_find_per_point_, kSmoothing, least);
+  else
+    balanceShares(find_bounds_, find_seconds_, find_per_point_, kSmoothing, least);
 }
 
 template <class T>
 void CpuSolver<T>::fixPairShares(std::vector<long long> sums, std::vector<long long> find) {
   pair_bounds_ = std::move(sums);
-  find_bounds_ = find.empty() ? pair_bounds_ : std::move(find);
+  find_bounds_ = built_find_bounds_ = find.empty() ? pair_bounds_ : std::move(find);
   pair_shares_fixed_ = true;
 }
 
@@ -379,8 +383,8 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
 
 template void CpuSolver<float>::selfCollide();
 template void CpuSolver<double>::selfCollide();
-template void CpuSolver<float>::balancePairShares();
-template void CpuSolver<double>::balancePairShares();
+template void CpuSolver<float>::balancePairShares(bool);
+template void CpuSolver<double>::balancePairShares(bool);
 template void CpuSolver<float>::clearSelfCorrections(PairScratch&);
 template void CpuSolver<double>::clearSelfCorrections(PairScratch&);
 template void CpuSolver<float>::fixPairShares(std::vector<long long>, std::vector<long long>);
