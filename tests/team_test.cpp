@@ -177,6 +177,31 @@ TEST(TeamBytesContact, UnevenPairSharesGiveOneThreadsBytes) {
   }
 }
 
+// The stretch limit's rows follow the time they take (GridPath::colourRows): where they are not the even split of
+// the passes before and after, those passes' rows are another thread's, and the bytes must still be one thread's.
+// Splits as uneven as a test can make them, either way round, with the limit (Verlet) and XPBD's sweeps.
+TEST(TeamBytesLimit, UnevenColourRowsGiveOneThreadsBytes) {
+  for (const Integrator integrator : {Integrator::Verlet, Integrator::Xpbd})
+    for (const long long sixteenths : {1LL, 15LL}) {
+      SCOPED_TRACE(::testing::Message() << integratorName(integrator) << ", " << sixteenths << "/16 of the rows");
+      Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/pinned2.json");
+      scene.sim.integrator = integrator;
+      CpuSolver<float> one(scene, CpuSolverOptions{.threads = 1});
+      CpuSolver<float> team(scene, CpuSolverOptions{.threads = 2, .team_min_points = 0});
+      const long long h = scene.cloth.num_height_points;
+      const std::vector<long long> rows = {0, h * sixteenths / 16, h};
+      team.fixColourRows(rows);
+      for (int f = 0; f < 20; ++f) {
+        one.stepFrame();
+        team.stepFrame();
+      }
+      ASSERT_EQ(team.colourRows(), rows) << "fixed";
+      EXPECT_EQ(team.teamSubsteps(), team.substeps());
+      EXPECT_TRUE(sameBytes(one.positions(), team.positions()));
+      EXPECT_TRUE(sameBytes(one.displacements(), team.displacements()));
+    }
+}
+
 // From kSplitTiles tiles a team splits the lists' check (boxes and comparisons of the tiles) between its
 // threads: the same builds at the same substeps, so the same bytes.
 TEST(TeamBytesLarge, ATeamSharesTheListCheckOfALargeCloth) {

@@ -135,6 +135,12 @@ class CpuSolver final : public Solver {
   const std::vector<long long>& pairShares() const { return pair_bounds_; }
   const std::vector<long long>& findShares() const { return find_bounds_; }
   void fixPairShares(std::vector<long long> sums, std::vector<long long> find = {});
+  // The grid path's rows of the stretch limit's colours per thread of a team (GridPath::colourRows; empty without
+  // a grid path or a team), and a test's fixed split of them.
+  std::vector<long long> colourRows() const { return grid_ ? grid_->colourRows() : std::vector<long long>{}; }
+  void fixColourRows(std::vector<long long> rows) {
+    if (grid_) grid_->fixColourRows(std::move(rows));
+  }
   // Whether the substeps keep the points in the grid path's padded arrays from one to the next (gridIntegrates),
   // integrate then running in the forces' sweep (GridPath::forcesAndIntegrate): what the scene and options say; a
   // substep after a state set or a reset copies them in first.

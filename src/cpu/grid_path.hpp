@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace drape {
@@ -82,6 +83,16 @@ class GridPath {
   // The same collisions on the padded arrays where they hold the points (after integrate), each thread its own
   // rows, no barrier after, nothing copied back.
   void collide(const CollideArgs& objects);
+  // A team's rows of the colours (thread t: [rows[t], rows[t + 1])) on a cloth of kParallelItems points or more,
+  // moved towards equal times after each sweep (smaller cloths: the even split); fixColourRows sets them and keeps
+  // them, at any size (a test's uneven split).
+  const std::vector<long long>& colourRows() const { return colour_rows_; }
+  void fixColourRows(std::vector<long long> rows) {
+    colour_rows_ = std::move(rows);
+    colour_seconds_.assign(colour_rows_.size() - 1, 0);
+    colour_per_row_.assign(colour_rows_.size() - 1, -1);
+    colour_rows_fixed_ = true;
+  }
   // XPBD's `sweeps` sweeps over the colours in order, with the compliances over dt^2 per spring type; the
   // multipliers start at 0 (one sweep never reads them).
   void xpbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const float alpha_tilde[3], const bool enabled[3],
@@ -123,6 +134,11 @@ class GridPath {
   std::vector<float> lambda_[6];           // XPBD of several sweeps: per direction, each spring's multiplier
   std::vector<std::uint8_t> signed_rows_;  // per row, whether copyIn saw a -0 (GridStretchArgs::signed_rows)
   std::vector<std::uint32_t> padded_;      // per point, its index in the padded arrays (displace)
+  // The colours' rows of each thread of a team (sweepColours), its seconds for them at the last sweep and its
+  // seconds a row smoothed over sweeps (balanceShares)
+  std::vector<long long> colour_rows_;
+  std::vector<double> colour_seconds_, colour_per_row_;
+  bool colour_rows_fixed_ = false;
 };
 
 }  // namespace drape
