@@ -78,7 +78,8 @@ class CollisionPairsCase : public ::testing::TestWithParam<PairCase> {};
 TEST_P(CollisionPairsCase, ListsEveryPairInRangeAndSumsInTheGridOrder) {
   const PairCase pc = GetParam();
   const Scene scene = cs184Scene(pc.scene);
-  CpuSolver<float> solver(scene, CpuSolverOptions{.threads = 1, .pair_margin = pc.margin});
+  CpuSolver<float> solver(scene,
+                          CpuSolverOptions{.threads = 1, .pair_margin = pc.margin, .keep_self_corrections = true});
   const float thickness = float(scene.cloth.thickness);
   const float range = 2.0f * thickness;
   const float steps = float(scene.sim.steps_per_frame);
@@ -345,7 +346,7 @@ void expectTheSolversSumIsTheGridQuerys() {
     x.emplace_back(0.51 + 0.004 * (k % 4) + 0.0007 * std::sin(1.3 * k),
                    0.295 + 0.003 * (k / 4 % 4) + 0.0005 * std::cos(0.7 * k),
                    0.695 + 0.002 * (k / 16) + 0.0003 * std::sin(2.9 * k));
-  CpuSolver<T> solver(scene, CpuSolverOptions{.threads = 1});
+  CpuSolver<T> solver(scene, CpuSolverOptions{.threads = 1, .keep_self_corrections = true});
   solver.setState(x, std::vector<glm::dvec3>(x.size(), glm::dvec3(0)));
   const std::vector<v3> before = solver.positions();
   HashGrid<T> grid;
@@ -367,6 +368,12 @@ void expectTheSolversSumIsTheGridQuerys() {
     const v3 moved = before[i] + expected;
     EXPECT_EQ(std::memcmp(&moved, &solver.positions()[i], sizeof(v3)), 0) << "point " << i;
   }
+  // Without keep_self_corrections nothing is kept, and the points move the same
+  CpuSolver<T> plain(scene, CpuSolverOptions{.threads = 1});
+  plain.setState(x, std::vector<glm::dvec3>(x.size(), glm::dvec3(0)));
+  plain.selfCollide();
+  EXPECT_TRUE(plain.selfCorrections().empty());
+  EXPECT_EQ(std::memcmp(plain.positions().data(), solver.positions().data(), sizeof(v3) * x.size()), 0);
 }
 
 TEST(CollisionPairs, TheSolversSumOrdersManyTermsAsTheGridQuery) {

@@ -129,7 +129,7 @@ TEST(PairStencil, ASquarePassesOverAnOffsetOnlyWhileNoPairThereCanBeInRange) {
     for (const double share : {0.5, 1.5}) {
       SCOPED_TRACE(::testing::Message() << "pair from (" << c.u << ", " << c.v << ") by (" << c.du << ", " << c.dv
                                         << "), " << (c.partner ? "partner" : "lower end") << " moved, " << share);
-      CpuSolver<float> solver(scene, CpuSolverOptions{.threads = 1});
+      CpuSolver<float> solver(scene, CpuSolverOptions{.threads = 1, .keep_self_corrections = true});
       const std::vector<glm::dvec3> rest = solver.topology().initial_positions;
       const std::size_t i = std::size_t(c.v * w + c.u), j = std::size_t((c.v + c.dv) * w + c.u + c.du);
       const std::size_t mover = c.partner ? j : i, other = c.partner ? i : j;
@@ -217,7 +217,8 @@ TEST(PairStencil, TheLastRowOfAGridOfPartRowsOfSquaresIsTested) {
     for (const bool at_build : {true, false}) {
       if (threads == 2 && !at_build) continue;  // selfCollide() alone runs outside a team
       SCOPED_TRACE(::testing::Message() << threads << " threads, " << (at_build ? "at the build" : "after it"));
-      CpuSolver<float> solver(scene, CpuSolverOptions{.threads = threads, .team_min_points = 0});
+      CpuSolver<float> solver(
+          scene, CpuSolverOptions{.threads = threads, .team_min_points = 0, .keep_self_corrections = true});
       std::vector<glm::dvec3> x = solver.topology().initial_positions;
       const glm::dvec3 towards = x[j] - x[i];
       const glm::dvec3 move = glm::normalize(towards) * (glm::length(towards) - 2 * scene.cloth.thickness) * 1.5;

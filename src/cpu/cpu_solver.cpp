@@ -72,7 +72,7 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
     }
   f_.resize(n);
   correction_.resize(n);
-  self_correction_.assign(n, vec3(0));
+  if (options.keep_self_corrections) self_correction_.assign(n, vec3(0));
   resetTimings();
   refreshDerived();
   reset();

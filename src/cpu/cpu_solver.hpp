@@ -68,6 +68,10 @@ struct CpuSolverOptions {
   // From this many points up to team_min_points, each substep runs on the team or on one thread, whichever
   // the solver measured faster (TeamTrial); below, one thread.
   long long team_trial_min_points = kTeamTrialMinPoints;
+  // Keep what each selfCollide added to each point (selfCorrections), for the tests that look at it: a write a
+  // moved point and its clearing at the next pass, which nothing else reads (pinned2 at 256^2 on one thread: 0.97
+  // of the run's time without them).
+  bool keep_self_corrections = false;
 };
 
 template <class T>
@@ -150,7 +154,7 @@ class CpuSolver final : public Solver {
   bool wideSkin() const { return wide_skin_; }  // the lists' skin now: pair_margin (else 2/3 of it)
   int skinSwitches() const { return skin_switches_; }
   // What the last selfCollide added to each point (0 where it added nothing): its bits, which a position rounds
-  // away.
+  // away. Kept only with CpuSolverOptions::keep_self_corrections (else empty).
   const std::vector<vec3>& selfCorrections() const { return self_correction_; }
 
  private:

@@ -301,8 +301,9 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool flagged, T thic
 
 template <class T>
 void CpuSolver<T>::clearSelfCorrections(PairScratch& scratch) {
-  for (const std::uint32_t i : std::span(scratch.touched.data(), scratch.points))
-    self_correction_[i] = vec3(0);
+  if (!self_correction_.empty())
+    for (const std::uint32_t i : std::span(scratch.touched.data(), scratch.points))
+      self_correction_[i] = vec3(0);
   scratch.points = 0;
   scratch.linked = 0;
 }
@@ -370,7 +371,7 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
         count = int(chain.size());
       }
       const vec3 c = sum / (T(count) * steps);
-      self_correction_[i] = c;
+      if (!self_correction_.empty()) self_correction_[i] = c;
       displace(i, c);
       summed += count;
     }
