@@ -195,16 +195,15 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
       findPairs(x, t, lo, hi);
     }
   }
-  teamSingle([&] {
-    guarded([&] {
-      if (out_of_memory_.set) {
-        found_.clear();
-        failAllocation();
-      }
-      assembleLists(x.size());
-    });
-  });
-  if (failure_) return rethrowOutsideTeam();
+  if (!teamSerial(failure_, [&] {
+        if (out_of_memory_.set) {
+          found_.clear();
+          failAllocation();
+        }
+        sizeLists(x.size());
+      }))
+    return rethrowOutsideTeam();
+  assembleLists(x.size());
   finishBuild(x);
   rethrowOutsideTeam();
 }
@@ -273,23 +272,54 @@ void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
 }
 
 template <class T>
-void CollisionPairs<T>::assembleLists(std::size_t n) {
+void CollisionPairs<T>::sizeLists(std::size_t n) {
   both_ends_.made = false;
-  forward_start_.assign(n + 1, 0);
+  std::size_t pairs = 0;
+  for (const std::vector<Pair>& part : found_)
+    pairs += part.size();
+  forward_start_.resize(n + 1);
+  forward_start_[0] = 0;
+  forward_.resize(pairs);
+  forward_owner_.resize(pairs);
+  fill_.resize(n);
+  part_pairs_.assign(std::size_t(teamSize()), 0);
+}
+
+// The pairs every thread found into the forward lists, by their lower ends: in a team each thread takes the pairs of
+// its share of the points (reading every thread's), counts them, and after a barrier places them from the entries of
+// the threads before it. A point's partners are in the order the pairs were found, whichever threads place them.
+// One thread did it all while the others waited: 0.19 ms a build at 256^2.
+template <class T>
+void CollisionPairs<T>::assembleLists(std::size_t n) {
+  long long first, last;
+  teamShare(0, (long long)n, first, last);
+  const auto lo = std::uint32_t(first), hi = std::uint32_t(last);
+  std::fill(forward_start_.begin() + first + 1, forward_start_.begin() + last + 1, 0);
+  std::uint32_t mine = 0;
   for (const std::vector<Pair>& part : found_)
     for (const Pair& pair : part)
-      ++forward_start_[std::min(pair.i, pair.j) + 1];
-  for (std::size_t i = 0; i < n; ++i)
-    forward_start_[i + 1] += forward_start_[i];
-  forward_.resize(forward_start_[n]);
-  fill_.assign(forward_start_.begin(), forward_start_.end() - 1);
+      if (const std::uint32_t i = std::min(pair.i, pair.j); i >= lo && i < hi) {
+        ++forward_start_[i + 1];
+        ++mine;
+      }
+  const auto thread = std::size_t(teamThread());
+  part_pairs_[thread] = mine;
+  teamBarrier();
+  std::uint32_t at = 0;  // the entries of the threads before this one
+  for (std::size_t t = 0; t < thread; ++t)
+    at += part_pairs_[t];
+  for (std::uint32_t i = lo; i < hi; ++i) {
+    fill_[i] = at;
+    const std::uint32_t count = forward_start_[i + 1];
+    std::fill(forward_owner_.begin() + at, forward_owner_.begin() + at + count, i);
+    at += count;
+    forward_start_[i + 1] = at;
+  }
   for (const std::vector<Pair>& part : found_)
     for (const Pair& pair : part)
-      forward_[fill_[std::min(pair.i, pair.j)]++] = std::max(pair.i, pair.j);
-  forward_owner_.resize(forward_.size());
-  for (std::size_t i = 0; i < n; ++i)
-    std::fill(forward_owner_.begin() + forward_start_[i], forward_owner_.begin() + forward_start_[i + 1],
-              std::uint32_t(i));
+      if (const std::uint32_t i = std::min(pair.i, pair.j); i >= lo && i < hi)
+        forward_[fill_[i]++] = std::max(pair.i, pair.j);
+  teamBarrier();
 }
 
 // The build's anchors (the positions it was made from, and their padded copy), the check's bounds, and the list's
@@ -312,6 +342,7 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
           }
         }
         part_extent_.assign(std::size_t(teamSize()), range_ + margin_);
+        part_near_.assign(std::size_t(teamSize()), 0);
         near_reach_ = range_ + T(0.5) * margin_;
         stencil_min2_.resize(tile_count_ * forwardOffsets());
         stencil_active_.resize(tile_count_ * std::size_t(teamSize()));
@@ -324,23 +355,24 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
     const vec3 d = x[i] - x[j];
     return !(glm::dot(d, d) >= near2);
   };
-  // In a team, each point's counts of near and far entries first, into the starts that the team then sums; alone,
-  // the entries' pass makes the starts as it goes
+  // In a team, each thread counts its points' near entries first: the entries' pass then starts each thread's
+  // points after the entries of the threads before it, and writes the starts as it goes (as one thread alone does).
+  // Before, one thread summed every point's counts while the others waited: 0.17 ms a build at 256^2.
   const bool alone = teamSize() == 1;
+  const auto thread = std::size_t(teamThread());
   teamPart(0, (long long)n, [&](long long lo, long long hi) {
     T extent = range_ + margin_;
+    std::uint32_t near = 0;
     for (auto i = std::size_t(lo); i < std::size_t(hi); ++i) {
       const vec3& p = x[i];
       anchor_[i] = p;
       extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
       if (alone) continue;
-      std::uint32_t near = 0;
       for (std::uint32_t k = forward_start_[i]; k < forward_start_[i + 1]; ++k)
         near += is_near(i, forward_[k]);
-      near_.start[i + 1] = near;
-      far_.start[i + 1] = forward_start_[i + 1] - forward_start_[i] - near;
     }
-    part_extent_[std::size_t(teamThread())] = extent;
+    part_extent_[thread] = extent;
+    part_near_[thread] = near;
   });
   if (size > 0)
     teamPart(0, (long long)size, [&](long long lo, long long hi) {
@@ -349,21 +381,21 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
         std::copy(from[c] + lo, from[c] + hi, padded_anchor_[c].begin() + lo);
     });
   teamBarrier();
-  teamSingle([&] {
+  // Nothing reads these before the entries' barrier
+  if (thread == 0) {
     const T extent = *std::max_element(part_extent_.begin(), part_extent_.end());
     travel_ = safeTravel(margin_, extent + margin_);
     extent_ = extent + margin_;
-    for (std::size_t i = 0; !alone && i < n; ++i) {
-      near_.start[i + 1] += near_.start[i];
-      far_.start[i + 1] += far_.start[i];
-    }
     built_ = true;
     ++rebuilds_;
     entries_built_ += (long long)pairCount();
-  });
-  // Each thread writes only its points' entries: a slot past its own is the next thread's
+  }
+  // Each thread writes only its points' entries and starts: a slot past its own is the next thread's
   teamRange(0, (long long)n, [&](long long lo, long long hi) {
-    std::uint32_t at[2] = {near_.start[std::size_t(lo)], far_.start[std::size_t(lo)]};
+    std::uint32_t before = 0;  // near entries of the threads before this one
+    for (std::size_t t = 0; t < thread; ++t)
+      before += part_near_[t];
+    std::uint32_t at[2] = {before, forward_start_[std::size_t(lo)] - before};
     std::uint32_t* owner[2] = {near_.owner.data(), far_.owner.data()};
     std::uint32_t* partner[2] = {near_.partner.data(), far_.partner.data()};
     for (auto i = std::size_t(lo); i < std::size_t(hi); ++i) {
@@ -373,10 +405,8 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
         owner[part][at[part]] = std::uint32_t(i);
         partner[part][at[part]++] = j;
       }
-      if (alone) {
-        near_.start[i + 1] = at[0];
-        far_.start[i + 1] = at[1];
-      }
+      near_.start[i + 1] = at[0];
+      far_.start[i + 1] = at[1];
     }
   });
 }

@@ -265,9 +265,11 @@ class CollisionPairs {
     GridShape shape{};
     const float *x = nullptr, *y = nullptr, *z = nullptr;
   };
-  Padded padded_;                        // setPaddedPositions
-  std::vector<float> padded_anchor_[3];  // anchor_ in padded_'s layout, where the last build had it (else empty)
-  std::vector<T> part_extent_;           // finishBuild's largest coordinate, per thread of the team
+  Padded padded_;                          // setPaddedPositions
+  std::vector<float> padded_anchor_[3];    // anchor_ in padded_'s layout, where the last build had it (else empty)
+  std::vector<T> part_extent_;             // finishBuild's largest coordinate, per thread of the team
+  std::vector<std::uint32_t> part_near_;   // finishBuild's near entries, per thread of the team
+  std::vector<std::uint32_t> part_pairs_;  // assembleLists' pairs, per thread of the team
   // needsBuild()'s tiles, as runs of consecutive points, and per tile the box of its displacements since the build
   // and the box of its points
   static constexpr int kTileEdge = 8, kTilesAcross = 16;
@@ -327,6 +329,7 @@ class CollisionPairs {
   void setPoint(ScanArgs& scan, const std::vector<vec3>& x, std::size_t i) const;
   void consider(std::uint32_t i, std::uint32_t j, std::vector<Pair>& mine) const;
   std::vector<std::vector<std::uint32_t>> cell_found_;  // findPairsByCell's pairs of slots, per thread
+  void sizeLists(std::size_t n);                        // serial: the lists sized for the pairs found
   void assembleLists(std::size_t n);
   void finishBuild(const std::vector<vec3>& x);
   template <class F>
