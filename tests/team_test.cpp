@@ -2,6 +2,7 @@
 // in float and double; and the team trial (cpu/team_trial.hpp) that decides whether a cloth below
 // kTeamMinPoints gets a team picks the faster way by its measurements, probes again, and follows the
 // machine when it changes.
+#include "app/solver_factory.hpp"
 #include "cpu/cpu_solver.hpp"
 #include "cpu/team_trial.hpp"
 #include "same_bytes.hpp"
@@ -200,6 +201,25 @@ TEST(TeamBytesLimit, UnevenColourRowsGiveOneThreadsBytes) {
       EXPECT_TRUE(sameBytes(one.positions(), team.positions()));
       EXPECT_TRUE(sameBytes(one.displacements(), team.displacements()));
     }
+}
+
+// `simulate -v` says each thread's share of the work that follows its times at the end: the stretch limit's rows,
+// self-collision's search and its sums (here fixed, uneven, so the figures are known).
+TEST(TeamShares, VerboseOutputGivesEachThreadsShare) {
+  const Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/selfCollision.json");
+  const long long h = scene.cloth.num_height_points, n = h * scene.cloth.num_width_points;
+  CpuSolver<float> team(scene, CpuSolverOptions{.threads = 2, .team_min_points = 0});
+  team.fixColourRows({0, h / 16, h});
+  team.fixPairShares({0, n / 16, n}, {0, n - n / 16, n});
+  team.stepFrame();
+  const std::string said = describeThreads(team);
+  EXPECT_NE(said.find("a team of 2 ran 30 of 30 substeps"), std::string::npos) << said;
+  EXPECT_NE(said.find("the stretch limit's rows 6/94%"), std::string::npos) << said;
+  EXPECT_NE(said.find("self-collision's search 94/6%"), std::string::npos) << said;
+  EXPECT_NE(said.find("its sums 6/94%"), std::string::npos) << said;
+  CpuSolver<float> one(scene, CpuSolverOptions{.threads = 1});
+  one.stepFrame();
+  EXPECT_EQ(describeThreads(one), "") << "one thread: no team to describe";
 }
 
 // From kSplitTiles tiles a team splits the lists' check (boxes and comparisons of the tiles) between its

@@ -8,6 +8,7 @@
 #include "gpu/gpu_solver.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cmath>
 
@@ -140,6 +141,22 @@ std::string describeTeam(const CpuSolver<T>& cpu) {
           "thread's time)",
           trial->teamOverSolo());
   }
+  // Where the shares moved with the work (balanceShares), each thread's part of them at the end
+  const auto parts = [](const std::vector<long long>& bounds) {
+    std::string text;
+    for (std::size_t t = 0; t + 1 < bounds.size(); ++t)
+      text +=
+          fmt::format("{}{:.0f}", t > 0 ? "/" : "", 100.0 * double(bounds[t + 1] - bounds[t]) / double(bounds.back()));
+    return text + "%";
+  };
+  std::vector<std::string> shares;
+  if (const std::vector<long long> rows = cpu.colourRows(); rows.size() > 2 && rows.back() > 0)
+    shares.push_back("the stretch limit's rows " + parts(rows));
+  if (cpu.scene().sim.self_collision && cpu.findShares().size() > 2 && cpu.findShares().back() > 0) {
+    shares.push_back("self-collision's search " + parts(cpu.findShares()));
+    shares.push_back("its sums " + parts(cpu.pairShares()));
+  }
+  if (!shares.empty()) out += fmt::format("; each thread's share at the end: {}", fmt::join(shares, ", "));
   return out + "\n";
 }
 
