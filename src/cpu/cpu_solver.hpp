@@ -69,7 +69,7 @@ struct CpuSolverOptions {
   // the solver measured faster (TeamTrial); below, one thread.
   long long team_trial_min_points = kTeamTrialMinPoints;
   // Keep what each selfCollide added to each point (selfCorrections), for the tests that look at it: a write a
-  // moved point and its clearing at the next pass, which nothing else reads (pinned2 at 256^2 on one thread: 0.97
+  // moved point and its clearing at the next pass, which nothing else reads (pinned2 at 256^2 on one thread: 0.99
   // of the run's time without them).
   bool keep_self_corrections = false;
 };
