@@ -9,6 +9,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <numeric>
 #include <utility>
 
 namespace drape {
@@ -305,9 +306,8 @@ void CollisionPairs<T>::assembleLists(std::size_t n) {
   const auto thread = std::size_t(teamThread());
   part_pairs_[thread] = mine;
   teamBarrier();
-  std::uint32_t at = 0;  // the entries of the threads before this one
-  for (std::size_t t = 0; t < thread; ++t)
-    at += part_pairs_[t];
+  // from the entries of the threads before this one
+  std::uint32_t at = std::accumulate(part_pairs_.begin(), part_pairs_.begin() + std::ptrdiff_t(thread), 0u);
   for (std::uint32_t i = lo; i < hi; ++i) {
     fill_[i] = at;
     const std::uint32_t count = forward_start_[i + 1];
@@ -392,9 +392,8 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
   }
   // Each thread writes only its points' entries and starts: a slot past its own is the next thread's
   teamRange(0, (long long)n, [&](long long lo, long long hi) {
-    std::uint32_t before = 0;  // near entries of the threads before this one
-    for (std::size_t t = 0; t < thread; ++t)
-      before += part_near_[t];
+    // after the near entries of the threads before this one
+    const std::uint32_t before = std::accumulate(part_near_.begin(), part_near_.begin() + std::ptrdiff_t(thread), 0u);
     std::uint32_t at[2] = {before, forward_start_[std::size_t(lo)] - before};
     std::uint32_t* owner[2] = {near_.owner.data(), far_.owner.data()};
     std::uint32_t* partner[2] = {near_.partner.data(), far_.partner.data()};

@@ -289,37 +289,10 @@ void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v
   int first = 0;
   while (first < 6 && !args.springs.enabled[first])
     ++first;
+  long long y0, y1;
+  const bool follow = followsColourTimes(), even = colourRows(follow, y0, y1);
   // Where the arrays hold the points already, the barrier the copy in would end with: the pass before may end
   // without one (CpuSolver::collide)
-  // A team's rows follow the time they take (balanceShares): where the limit acts, near the pins of a hanging
-  // cloth, a row takes several times as long as where it does not. Where they are not the even split of every
-  // other pass, a thread's rows were not all its own in the pass before, nor are they in the next: a barrier
-  // before the first colour and after the copy out. From kParallelItems points: on smaller cloths the clocks and
-  // the barriers cost more than the waits they save (CS184's 50 x 50 files on a team 4% slower, 128^2 no faster).
-  const int team = teamSize(), thread = teamThread();
-  const bool follow = team > 1 && (colour_rows_fixed_ || (long long)shape_.W * shape_.H >= kParallelItems);
-  const auto evenRow = [&](int t) { return (long long)shape_.H * t / team; };  // teamShare's split
-  if (follow && (colour_rows_.size() != std::size_t(team) + 1 || colour_rows_.back() != shape_.H)) {
-    teamBarrier();  // no thread reads them until every thread has seen they need making
-    if (thread == 0) {
-      colour_rows_.resize(std::size_t(team) + 1);
-      for (int t = 0; t <= team; ++t)
-        colour_rows_[std::size_t(t)] = evenRow(t);
-      colour_seconds_.assign(std::size_t(team), 0);
-      colour_per_row_.assign(std::size_t(team), -1);
-    }
-    teamBarrier();
-  }
-  long long y0 = 0, y1 = shape_.H;
-  bool even = true;
-  if (follow) {
-    y0 = colour_rows_[std::size_t(thread)];
-    y1 = colour_rows_[std::size_t(thread) + 1];
-    for (int t = 1; t < team && even; ++t)
-      even = colour_rows_[std::size_t(t)] == evenRow(t);
-  } else {
-    teamShare(0, shape_.H, y0, y1);
-  }
   const bool wait_in = passes <= 0 || first == 6 || !horizontal(first) || !even;
   if (!loaded)
     copyIn(x, v, wait_in);
@@ -338,13 +311,48 @@ void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v
       }
     }
   if (follow) {
-    colour_seconds_[std::size_t(thread)] = std::chrono::duration<double>(work).count();
+    const auto thread = std::size_t(teamThread());
+    colour_seconds_[thread] = std::chrono::duration<double>(work).count();
     // Every thread wrote its seconds before the last colour's barrier; none reads the rows again before the next
     // sweep, several barriers on
     if (thread == 0 && passes > 0 && !colour_rows_fixed_)
       balanceShares(colour_rows_, colour_seconds_, colour_per_row_, 0.25, 2);
   }
   if (copy_out) copyOut(x, v, wait || !even);
+}
+
+// A team's rows follow the time they take (balanceShares): where the limit acts, near the pins of a hanging cloth, a
+// row takes several times as long as where it does not. From kParallelItems points: on smaller cloths the clocks and
+// the barriers they need cost more than the waits they save (CS184's 50 x 50 files on a team 4% slower, 128^2 no
+// faster).
+bool GridPath::followsColourTimes() const {
+  return inTeam() && (colour_rows_fixed_ || (long long)shape_.W * shape_.H >= kParallelItems);
+}
+
+// This thread's rows of the colours [y0, y1), and whether every thread's are the even split of every other pass
+// (teamShare's). Where they are not, a thread's rows were not all its own in the pass before, nor are they in the
+// next: the caller puts a barrier before the first colour and after the copy out.
+bool GridPath::colourRows(bool follow, long long& y0, long long& y1) {
+  teamShare(0, shape_.H, y0, y1);
+  if (!follow) return true;
+  const int team = teamSize(), thread = teamThread();
+  const auto evenRow = [&](int t) { return (long long)shape_.H * t / team; };  // teamShare's split
+  if (colour_rows_.size() != std::size_t(team) + 1 || colour_rows_.back() != shape_.H) {
+    teamBarrier();  // no thread reads them until every thread has seen they need making
+    if (thread == 0) {
+      colour_rows_.resize(std::size_t(team) + 1);
+      for (int t = 0; t <= team; ++t)
+        colour_rows_[std::size_t(t)] = evenRow(t);
+      colour_seconds_.assign(std::size_t(team), 0);
+      colour_per_row_.assign(std::size_t(team), -1);
+    }
+    teamBarrier();
+  }
+  y0 = colour_rows_[std::size_t(thread)];
+  y1 = colour_rows_[std::size_t(thread) + 1];
+  for (int t = 1; t < team; ++t)
+    if (colour_rows_[std::size_t(t)] != evenRow(t)) return false;
+  return true;
 }
 
 }  // namespace drape

@@ -118,6 +118,8 @@ class GridPath {
   // them. wait: a barrier after (false where the next step reads only its own thread's rows).
   void copyIn(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>* v, bool wait = true);
   void copyOut(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, bool wait = true);
+  bool followsColourTimes() const;
+  bool colourRows(bool follow, long long& y0, long long& y1);
   // x (and v) into the padded arrays, `passes` sweeps of `colour` over the colours in order, and back.
   void sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const GridStretchArgs& args, int passes,
                     ColourKernel colour, bool wait = true, bool copy_out = true, bool loaded = false);
