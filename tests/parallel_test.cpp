@@ -1,11 +1,12 @@
-// cpu/parallel.hpp: balanceShares (contiguous shares of the points that move towards equal times) and the team's
-// barrier.
+// cpu/parallel.hpp: balanceShares (contiguous shares of the points that move towards equal times), the team's
+// barrier and its threads' progress counts.
 #include "cpu/parallel.hpp"
 
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <thread>
@@ -131,6 +132,74 @@ TEST(TeamBarrier, ASleepingThreadIsWoken) {
   // No spinning at all: every thread but the last sleeps at every barrier, and a late one makes them wait long
   EXPECT_EQ(missedWrites(2, 0, 3000, true), 0);
   EXPECT_EQ(missedWrites(3, 0, 1000, true), 0);
+}
+
+// `threads` threads in a row, `rounds` times: each writes its slot, publishes the round (TeamProgress), awaits its
+// neighbours' and reads their slots; returns the reads that missed a neighbour's write of that round. A neighbour
+// may be one round ahead (it awaits only this thread's round before), never two. Counts start at `first`, so that a
+// start just below 2^32 crosses the wrap. A hang (a lost wake-up) ends the binary, as missedWrites's.
+long long missedNeighbourWrites(unsigned threads, unsigned spins, int rounds, std::uint32_t first, bool nap,
+                                long long* ahead_by_two) {
+  TeamProgress progress;
+  progress.resize(threads);
+  for (unsigned t = 0; t < threads; ++t)
+    progress.publish(t, first);
+  std::vector<std::atomic<std::uint32_t>> slot(threads);
+  for (auto& s : slot)
+    s.store(first);
+  std::atomic<long long> missed{0}, two{0};
+  std::atomic<bool> done{false};
+  std::thread watchdog([&] {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (!done.load() && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (!done.load()) {
+      std::fprintf(stderr, "TeamProgress: %u threads still waiting after 120 s (a lost wake-up)\n", threads);
+      std::abort();
+    }
+  });
+  std::vector<std::thread> team;
+  for (unsigned t = 0; t < threads; ++t)
+    team.emplace_back([&, t] {
+      for (int r = 1; r <= rounds; ++r) {
+        const std::uint32_t round = first + std::uint32_t(r);
+        slot[t].store(round, std::memory_order_relaxed);
+        if (nap && (r + int(t)) % 97 == 0) std::this_thread::sleep_for(std::chrono::microseconds(200));
+        progress.publish(t, round);
+        for (const unsigned u : {t - 1, t + 1}) {
+          if (u >= threads) continue;  // t - 1 of thread 0 wraps past the team too
+          progress.await(u, round, spins);
+          const auto seen = std::int32_t(slot[u].load(std::memory_order_relaxed) - round);
+          missed += seen < 0;
+          two += seen > 1;
+        }
+      }
+    });
+  for (std::thread& t : team)
+    t.join();
+  done = true;
+  watchdog.join();
+  *ahead_by_two = two.load();
+  return missed.load();
+}
+
+TEST(TeamProgress, ANeighbourSeesTheWritesMadeBeforeAPublishAndIsNeverTwoAhead) {
+  long long two = -1;
+  EXPECT_EQ(missedNeighbourWrites(2, 20000, 20000, 0, false, &two), 0);
+  EXPECT_EQ(two, 0);
+  // More threads than cores; the middle ones have two neighbours
+  EXPECT_EQ(missedNeighbourWrites(5, 200, 3000, 0, false, &two), 0);
+  EXPECT_EQ(two, 0);
+}
+
+TEST(TeamProgress, ASleepingThreadIsWokenAndTheCountsWrap) {
+  long long two = -1;
+  // No spinning: every wait that is not already over sleeps; a late thread now and then makes them sleep long
+  EXPECT_EQ(missedNeighbourWrites(3, 0, 2000, 0, true, &two), 0);
+  EXPECT_EQ(two, 0);
+  // From 1000 below 2^32: the counts wrap to 0 halfway, and a count just past the wrap is still later
+  EXPECT_EQ(missedNeighbourWrites(2, 0, 2000, 0xFFFFFFFFu - 999u, false, &two), 0);
+  EXPECT_EQ(two, 0);
 }
 
 TEST(TeamBarrier, ATeamScopeGivesItsThreadsTheirNumbersOneSingleAndItsBarrier) {

@@ -7,6 +7,7 @@
 
 #include "core/topology.hpp"
 #include "cpu/grid_kernels.hpp"
+#include "cpu/parallel.hpp"
 
 #include <glm/glm.hpp>
 
@@ -108,6 +109,7 @@ class GridPath {
 
  private:
   static constexpr int kStencilRows = 4;  // stencilPairs' rows a kernel call, without the squares
+  static constexpr int kBand = 2;         // the most rows a spring ends below its start (kGridDirections' dy)
   using ColourKernel = void (*)(const GridStretchArgs&, int, int, int, int);
   GridSprings springs(const float k[3], const bool enabled[3]) const;
   GridForceArgs forceArgs(std::vector<glm::vec3>& f, glm::vec3 gravity, const float k[3], const bool enabled[3]) const;
@@ -120,6 +122,7 @@ class GridPath {
   void copyOut(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, bool wait = true);
   bool followsColourTimes() const;
   bool colourRows(bool follow, long long& y0, long long& y1);
+  bool colourBands(bool follow) const;
   // x (and v) into the padded arrays, `passes` sweeps of `colour` over the colours in order, and back.
   void sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const GridStretchArgs& args, int passes,
                     ColourKernel colour, bool wait = true, bool copy_out = true, bool loaded = false);
@@ -141,6 +144,8 @@ class GridPath {
   std::vector<long long> colour_rows_;
   std::vector<double> colour_seconds_, colour_per_row_;
   bool colour_rows_fixed_ = false;
+  // Each thread's count of the colours whose rows next to its neighbours' it has done (colourBands)
+  TeamProgress colour_progress_;
 };
 
 }  // namespace drape

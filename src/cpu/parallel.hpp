@@ -14,8 +14,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdint>
 #include <exception>
 #include <functional>
+#include <memory>
 #include <span>
 
 namespace drape {
@@ -61,6 +63,57 @@ class TeamBarrier {
   alignas(64) std::atomic<unsigned> arrived_{0};
   alignas(64) std::atomic<unsigned> generation_{0};
   std::atomic<unsigned> sleepers_{0};  // written only by a thread about to sleep
+};
+
+// Each thread's count of the steps it has finished, for steps that need only some threads' earlier steps done
+// rather than every thread's (a barrier): a thread publishes each step it ends and, before a step, awaits the
+// counts of the threads whose rows it shares (GridPath's colours: a thread's neighbours). A waiting thread spins,
+// then sleeps as TeamBarrier's does. The counts wrap: they are compared by their difference.
+class TeamProgress {
+ public:
+  TeamProgress() = default;
+  // A copy is new, as a barrier's (a solver is copied between substeps, when no thread uses it)
+  TeamProgress(const TeamProgress&) {}
+  TeamProgress& operator=(const TeamProgress&) { return *this; }
+
+  // Outside concurrent use: a count for each of `threads` threads, all 0
+  void resize(unsigned threads) {
+    slots_ = std::make_unique<Slot[]>(threads);
+    size_ = threads;
+  }
+  unsigned size() const { return size_; }
+  std::uint32_t count(unsigned thread) const { return slots_[thread].count.load(std::memory_order_relaxed); }
+  // Thread `thread`'s count is now `count`: everything it wrote before is seen by a thread that awaits it
+  void publish(unsigned thread, std::uint32_t count) {
+    Slot& slot = slots_[thread];
+    slot.count.store(count, std::memory_order_seq_cst);
+    // As TeamBarrier's last thread: a sleeper counted itself before its last look at the count
+    if (slot.sleepers.load(std::memory_order_seq_cst) != 0) slot.count.notify_all();
+  }
+  // Until thread `other` has published `count` or more
+  void await(unsigned other, std::uint32_t count, unsigned spins) {
+    Slot& slot = slots_[other];
+    const auto reached = [count](std::uint32_t c) { return std::int32_t(c - count) >= 0; };
+    for (unsigned s = 0; s < spins; ++s) {
+      if (reached(slot.count.load(std::memory_order_acquire))) return;
+#if defined(__x86_64__) || defined(__i386__)
+      __builtin_ia32_pause();
+#endif
+    }
+    slot.sleepers.fetch_add(1, std::memory_order_seq_cst);
+    for (std::uint32_t c; !reached(c = slot.count.load(std::memory_order_seq_cst));)
+      slot.count.wait(c, std::memory_order_seq_cst);
+    slot.sleepers.fetch_sub(1, std::memory_order_relaxed);
+  }
+
+ private:
+  // A line each: a thread writes its own count and its neighbours spin reading it
+  struct alignas(64) Slot {
+    std::atomic<std::uint32_t> count{0};
+    std::atomic<std::uint32_t> sleepers{0};  // written only by a thread about to sleep
+  };
+  std::unique_ptr<Slot[]> slots_;
+  unsigned size_ = 0;
 };
 
 // The team the calling thread is in while a TeamScope lives (barrier null outside one): its barrier, size and
@@ -145,6 +198,11 @@ inline void teamBarrier() {
 #pragma omp barrier
   }
 #endif
+}
+
+// Until thread `other` of this thread's team has published `count` (TeamProgress), spinning as its barrier does
+inline void teamAwait(TeamProgress& progress, int other, std::uint32_t count) {
+  progress.await(unsigned(other), count, current_team.barrier ? current_team.spins : 20000);
 }
 
 // body(lo, hi) on this thread's share of [first, last), with no barrier: for a loop whose next reader reads only
