@@ -308,26 +308,26 @@ void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v
   }
   const bool above = bands && thread > 0, below = bands && thread + 1 < team;
   std::uint32_t done = bands ? colour_progress_.count(unsigned(thread)) : 0;
-  const std::uint32_t first_done = done;
+  int left = 0;  // colours, the last of which ends with the sweep's barrier
+  for (int d = 0; d < 6; ++d)
+    left += args.springs.enabled[d] ? 2 * std::max(passes, 0) : 0;
+  const bool any = left > 0;
   using Clock = std::chrono::steady_clock;
   Clock::duration work{};
-  if (follow) colour_seconds_[std::size_t(thread)] = 0;
-  // Where the rows follow their times, each thread's seconds so far, written before the barrier that ends the sweep
   const auto run = [&](long long from, long long to, int d, int parity) {
     if (from >= to) return;
     const auto start = follow ? Clock::now() : Clock::time_point();
     colour(args, d, parity, int(from), int(to));
-    if (!follow) return;
-    work += Clock::now() - start;
-    colour_seconds_[std::size_t(thread)] = std::chrono::duration<double>(work).count();
+    if (follow) work += Clock::now() - start;
   };
   for (int pass = 0; pass < passes; ++pass)
     for (int d = 0; d < 6; ++d) {
       if (!args.springs.enabled[d]) continue;
       for (int parity = 0; parity < 2; ++parity) {
+        --left;
         if (!bands) {
           run(y0, y1, d, parity);
-          if (parity == 1 || !horizontal(d)) teamBarrier();
+          if (left > 0 && (parity == 1 || !horizontal(d))) teamBarrier();
           continue;
         }
         run(above ? y0 + kBand : y0, below ? y1 - kBand : y1, d, parity);
@@ -338,9 +338,10 @@ void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v
         colour_progress_.publish(unsigned(thread), ++done);
       }
     }
-  if (done != first_done) teamBarrier();  // the last colour's, as every colour's without bands
-  // Every thread wrote its seconds before the last colour's barrier; none reads the rows again before the next
-  // sweep, several barriers on
+  // Each thread's seconds before the last colour's barrier, which thread 0 reads after it; no thread reads the rows
+  // again before the next sweep, several barriers on
+  if (follow) colour_seconds_[std::size_t(thread)] = std::chrono::duration<double>(work).count();
+  if (any) teamBarrier();
   if (follow && thread == 0 && passes > 0 && !colour_rows_fixed_)
     balanceShares(colour_rows_, colour_seconds_, colour_per_row_, 0.25, 2);
   if (copy_out) copyOut(x, v, wait || !even);
