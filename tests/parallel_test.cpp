@@ -85,6 +85,32 @@ TEST(BalanceShares, TheBoundsStayInOrderAndCoverEveryItem) {
   }
 }
 
+// Ends the test binary with a message unless it is destroyed within 120 s: threads that lost a wake-up hang, and
+// a hang fails here rather than at CI's time limit.
+class Watchdog {
+ public:
+  Watchdog(const char* what, unsigned threads)
+      : thread_([this, what, threads] {
+          const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+          while (!done_.load() && std::chrono::steady_clock::now() < deadline)
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+          if (!done_.load()) {
+            std::fprintf(stderr, "%s: %u threads still waiting after 120 s (a lost wake-up)\n", what, threads);
+            std::abort();
+          }
+        }) {}
+  ~Watchdog() {
+    done_ = true;
+    thread_.join();
+  }
+  Watchdog(const Watchdog&) = delete;
+  Watchdog& operator=(const Watchdog&) = delete;
+
+ private:
+  std::atomic<bool> done_{false};  // before thread_, which reads it
+  std::thread thread_;
+};
+
 // `threads` threads each write their slot, pass the barrier and read every slot, `rounds` times; returns the
 // reads that missed a write made before the barrier. A barrier that lets a thread through early, or loses a
 // wake-up, fails it (the second by the watchdog: a hang ends the test binary with a message, not CI's time limit).
@@ -92,16 +118,7 @@ long long missedWrites(unsigned threads, unsigned spins, int rounds, bool nap) {
   TeamBarrier barrier;
   std::vector<std::atomic<int>> slot(threads);
   std::atomic<long long> missed{0};
-  std::atomic<bool> done{false};
-  std::thread watchdog([&] {
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    while (!done.load() && std::chrono::steady_clock::now() < deadline)
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    if (!done.load()) {
-      std::fprintf(stderr, "TeamBarrier: %u threads still waiting after 120 s (a lost wake-up)\n", threads);
-      std::abort();
-    }
-  });
+  const Watchdog watchdog("TeamBarrier", threads);
   std::vector<std::thread> team;
   for (unsigned t = 0; t < threads; ++t)
     team.emplace_back([&, t] {
@@ -117,8 +134,6 @@ long long missedWrites(unsigned threads, unsigned spins, int rounds, bool nap) {
     });
   for (std::thread& t : team)
     t.join();
-  done = true;
-  watchdog.join();
   return missed.load();
 }
 
@@ -137,7 +152,7 @@ TEST(TeamBarrier, ASleepingThreadIsWoken) {
 // `threads` threads in a row, `rounds` times: each writes its slot, publishes the round (TeamProgress), awaits its
 // neighbours' and reads their slots; returns the reads that missed a neighbour's write of that round. A neighbour
 // may be one round ahead (it awaits only this thread's round before), never two. Counts start at `first`, so that a
-// start just below 2^32 crosses the wrap. A hang (a lost wake-up) ends the binary, as missedWrites's.
+// start just below 2^32 crosses the wrap.
 long long missedNeighbourWrites(unsigned threads, unsigned spins, int rounds, std::uint32_t first, bool nap,
                                 long long* ahead_by_two) {
   TeamProgress progress;
@@ -148,16 +163,7 @@ long long missedNeighbourWrites(unsigned threads, unsigned spins, int rounds, st
   for (auto& s : slot)
     s.store(first);
   std::atomic<long long> missed{0}, two{0};
-  std::atomic<bool> done{false};
-  std::thread watchdog([&] {
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    while (!done.load() && std::chrono::steady_clock::now() < deadline)
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    if (!done.load()) {
-      std::fprintf(stderr, "TeamProgress: %u threads still waiting after 120 s (a lost wake-up)\n", threads);
-      std::abort();
-    }
-  });
+  const Watchdog watchdog("TeamProgress", threads);
   std::vector<std::thread> team;
   for (unsigned t = 0; t < threads; ++t)
     team.emplace_back([&, t] {
@@ -177,8 +183,6 @@ long long missedNeighbourWrites(unsigned threads, unsigned spins, int rounds, st
     });
   for (std::thread& t : team)
     t.join();
-  done = true;
-  watchdog.join();
   *ahead_by_two = two.load();
   return missed.load();
 }
