@@ -331,8 +331,11 @@ void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v
           continue;
         }
         run(above ? y0 + kBand : y0, below ? y1 - kBand : y1, d, parity);
-        if (above) teamAwait(colour_progress_, thread - 1, done);
-        if (below) teamAwait(colour_progress_, thread + 1, done);
+        // A horizontal direction's second colour waits for nothing: its springs and its first colour's lie in their
+        // rows, so its bands meet no row a neighbour wrote since the wait before that first colour
+        const bool await = !(parity == 1 && horizontal(d));
+        if (above && await) teamAwait(colour_progress_, thread - 1, done);
+        if (below && await) teamAwait(colour_progress_, thread + 1, done);
         if (above) run(y0, y0 + kBand, d, parity);
         if (below) run(y1 - kBand, y1, d, parity);
         colour_progress_.publish(unsigned(thread), ++done);
