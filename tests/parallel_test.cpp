@@ -174,7 +174,7 @@ long long missedNeighbourWrites(unsigned threads, unsigned spins, int rounds, st
         progress.publish(t, round);
         for (const unsigned u : {t - 1, t + 1}) {
           if (u >= threads) continue;  // t - 1 of thread 0 wraps past the team too
-          progress.await(u, round, spins);
+          missed += !TeamProgress::reached(progress.await(u, round, spins), round);  // it returns what it saw
           const auto seen = std::int32_t(slot[u].load(std::memory_order_relaxed) - round);
           missed += seen < 0;
           two += seen > 1;

@@ -308,6 +308,8 @@ void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v
   }
   const bool above = bands && thread > 0, below = bands && thread + 1 < team;
   std::uint32_t done = bands ? colour_progress_.count(unsigned(thread)) : 0;
+  // Every thread's count is this one's at the start: each published the last sweep's colours before its barrier
+  std::uint32_t seen_above = done, seen_below = done;
   int left = 0;  // colours, the last of which ends with the sweep's barrier
   for (int d = 0; d < 6; ++d)
     left += args.springs.enabled[d] ? 2 * std::max(passes, 0) : 0;
@@ -334,8 +336,8 @@ void GridPath::sweepColours(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v
         // A horizontal direction's second colour waits for nothing: its springs and its first colour's lie in their
         // rows, so its bands meet no row a neighbour wrote since the wait before that first colour
         const bool await = !(parity == 1 && horizontal(d));
-        if (above && await) teamAwait(colour_progress_, thread - 1, done);
-        if (below && await) teamAwait(colour_progress_, thread + 1, done);
+        if (above && await) teamAwait(colour_progress_, thread - 1, done, seen_above);
+        if (below && await) teamAwait(colour_progress_, thread + 1, done, seen_below);
         if (above) run(y0, y0 + kBand, d, parity);
         if (below) run(y1 - kBand, y1, d, parity);
         colour_progress_.publish(unsigned(thread), ++done);

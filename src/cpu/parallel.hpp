@@ -90,20 +90,22 @@ class TeamProgress {
     // As TeamBarrier's last thread: a sleeper counted itself before its last look at the count
     if (slot.sleepers.load(std::memory_order_seq_cst) != 0) slot.count.notify_all();
   }
-  // Until thread `other` has published `count` or more
-  void await(unsigned other, std::uint32_t count, unsigned spins) {
+  static bool reached(std::uint32_t seen, std::uint32_t count) { return std::int32_t(seen - count) >= 0; }
+  // Until thread `other` has published `count` or more; returns the count it saw (`count` or more)
+  std::uint32_t await(unsigned other, std::uint32_t count, unsigned spins) {
     Slot& slot = slots_[other];
-    const auto reached = [count](std::uint32_t c) { return std::int32_t(c - count) >= 0; };
     for (unsigned s = 0; s < spins; ++s) {
-      if (reached(slot.count.load(std::memory_order_acquire))) return;
+      if (const std::uint32_t c = slot.count.load(std::memory_order_acquire); reached(c, count)) return c;
 #if defined(__x86_64__) || defined(__i386__)
       __builtin_ia32_pause();
 #endif
     }
     slot.sleepers.fetch_add(1, std::memory_order_seq_cst);
-    for (std::uint32_t c; !reached(c = slot.count.load(std::memory_order_seq_cst));)
+    std::uint32_t c;
+    while (!reached(c = slot.count.load(std::memory_order_seq_cst), count))
       slot.count.wait(c, std::memory_order_seq_cst);
     slot.sleepers.fetch_sub(1, std::memory_order_relaxed);
+    return c;
   }
 
  private:
@@ -200,9 +202,12 @@ inline void teamBarrier() {
 #endif
 }
 
-// Until thread `other` of this thread's team has published `count` (TeamProgress), spinning as its barrier does
-inline void teamAwait(TeamProgress& progress, int other, std::uint32_t count) {
-  progress.await(unsigned(other), count, current_team.barrier ? current_team.spins : 20000);
+// Until thread `other` of this thread's team has published `count` (TeamProgress), spinning as its barrier does.
+// `seen`: a count this thread saw it publish before (it only grows), which spares reading its line again while
+// that is enough: a neighbour a step ahead is awaited at every other step only, not at every one.
+inline void teamAwait(TeamProgress& progress, int other, std::uint32_t count, std::uint32_t& seen) {
+  if (TeamProgress::reached(seen, count)) return;
+  seen = progress.await(unsigned(other), count, current_team.barrier ? current_team.spins : 20000);
 }
 
 // body(lo, hi) on this thread's share of [first, last), with no barrier: for a loop whose next reader reads only
