@@ -189,11 +189,8 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
   } else {
 #pragma omp parallel num_threads(teamFor(threads, count))
     {
-      long long lo = 0, hi = count;
       const int t = omp_get_thread_num(), n = omp_get_num_threads();
-      lo = count * t / n;
-      hi = count * (t + 1) / n;
-      findPairs(x, t, lo, hi);
+      findPairs(x, t, evenShare(count, t, n), evenShare(count, t + 1, n));
     }
   }
   if (!teamSerial(failure_, [&] {

@@ -246,13 +246,13 @@ template <class T>
 void CpuSolver<T>::pointShare(int t, int team, long long& lo, long long& hi) const {
   if (grid_) {
     const long long rows = topo_.H, w = topo_.W;
-    lo = rows * t / team * w;
-    hi = rows * (t + 1) / team * w;
+    lo = evenShare(rows, t, team) * w;
+    hi = evenShare(rows, t + 1, team) * w;
     return;
   }
   const auto n = (long long)x_.size();
-  lo = n * t / team;
-  hi = n * (t + 1) / team;
+  lo = evenShare(n, t, team);
+  hi = evenShare(n, t + 1, team);
 }
 
 // Whether the last collisions run on the grid path's padded arrays, between the stretch limit's sweeps and its

@@ -365,7 +365,7 @@ bool GridPath::colourBands(bool follow) const {
   const int team = teamSize();
   for (int t = 0; t < team; ++t) {
     const long long rows = follow ? colour_rows_[std::size_t(t) + 1] - colour_rows_[std::size_t(t)]
-                                  : (long long)shape_.H * (t + 1) / team - (long long)shape_.H * t / team;
+                                  : evenShare(shape_.H, t + 1, team) - evenShare(shape_.H, t, team);
     if (rows < 2 * kBand) return false;
   }
   return true;
@@ -386,13 +386,12 @@ bool GridPath::colourRows(bool follow, long long& y0, long long& y1) {
   teamShare(0, shape_.H, y0, y1);
   if (!follow) return true;
   const int team = teamSize(), thread = teamThread();
-  const auto evenRow = [&](int t) { return (long long)shape_.H * t / team; };  // teamShare's split
   if (colour_rows_.size() != std::size_t(team) + 1 || colour_rows_.back() != shape_.H) {
     teamBarrier();  // no thread reads them until every thread has seen they need making
     if (thread == 0) {
       colour_rows_.resize(std::size_t(team) + 1);
       for (int t = 0; t <= team; ++t)
-        colour_rows_[std::size_t(t)] = evenRow(t);
+        colour_rows_[std::size_t(t)] = evenShare(shape_.H, t, team);
       colour_seconds_.assign(std::size_t(team), 0);
       colour_per_row_.assign(std::size_t(team), -1);
     }
@@ -401,7 +400,7 @@ bool GridPath::colourRows(bool follow, long long& y0, long long& y1) {
   y0 = colour_rows_[std::size_t(thread)];
   y1 = colour_rows_[std::size_t(thread) + 1];
   for (int t = 1; t < team; ++t)
-    if (colour_rows_[std::size_t(t)] != evenRow(t)) return false;
+    if (colour_rows_[std::size_t(t)] != evenShare(shape_.H, t, team)) return false;
   return true;
 }
 

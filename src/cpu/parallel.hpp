@@ -177,6 +177,13 @@ inline int teamSize() {
   return 1;
 }
 
+// Where share t of `count` even shares of [0, n) starts: share t is [evenShare(n, t, count), evenShare(n, t + 1,
+// count)). The one split of every pass that divides points or rows evenly (teamShare, CpuSolver::pointShare,
+// GridPath's colour rows), so that a thread's share of one is its share of the next.
+inline long long evenShare(long long n, long long t, long long count) {
+  return n * t / count;
+}
+
 // This thread's share [lo, hi) of [first, last) in a team (contiguous, by thread number: the same split
 // every time), or all of it outside one.
 inline void teamShare(long long first, long long last, long long& lo, long long& hi) {
@@ -184,8 +191,8 @@ inline void teamShare(long long first, long long last, long long& lo, long long&
   hi = last;
   if (!inTeam()) return;
   const long long n = last - first, t = teamThread(), count = teamSize();
-  lo = first + n * t / count;
-  hi = first + n * (t + 1) / count;
+  lo = first + evenShare(n, t, count);
+  hi = first + evenShare(n, t + 1, count);
 }
 
 // The team waits for all its threads (nothing outside a team): its TeamBarrier, or an OpenMP barrier in a region
