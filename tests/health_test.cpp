@@ -164,5 +164,57 @@ TEST(Health, TheQuickLookPassesOnlyWhatTheScanFindsHealthy) {
   EXPECT_GT(passed, 0) << "springs a few dozen float steps inside the limit must pass: the margin is 2^-20";
 }
 
+// The quick look's runs on a vertical cloth (its jitter spreads the rest lengths) with its shearing springs off:
+// every enabled spring in exactly one run, in order, each run's limit the least of its springs' and within
+// kRunSpread of every one; a grid's direction along a row is one run. Split into parts anywhere, the look agrees
+// with the whole, and one spring of a run just beyond its own limit, in any part, fails the part that holds it.
+TEST(Health, TheQuickLooksRunsHoldEveryEnabledSpringOnceUnderItsOwnLimit) {
+  ClothSpec cloth;
+  cloth.num_width_points = 12;
+  cloth.num_height_points = 9;
+  cloth.orientation = Orientation::Vertical;
+  cloth.enable_shearing = false;
+  const Topology topo = buildTopology(cloth);
+  const QuickHealth q = quickHealth(topo, cloth);
+  ASSERT_TRUE(q.usable);
+  std::size_t next = 0;  // the next enabled spring
+  const auto limit2 = [&](const Spring& s) { return float(11.0 * s.rest * 11.0 * s.rest * (1.0 - 0x1p-20)); };
+  for (const QuickHealth::Run& run : q.runs) {
+    while (next < topo.springs.size() && !cloth.springEnabled(topo.springs[next].type))
+      ++next;
+    ASSERT_EQ(run.first, next);
+    ASSERT_GE(run.count, 1u);
+    for (std::uint32_t k = 0; k < run.count; ++k) {
+      const Spring& s = topo.springs[run.first + k];
+      ASSERT_TRUE(cloth.springEnabled(s.type));
+      EXPECT_EQ(s.a, run.a + k);
+      EXPECT_EQ(std::int64_t(s.b), std::int64_t(s.a) + run.step);
+      EXPECT_LE(run.limit2, limit2(s));
+      EXPECT_LE(double(limit2(s)), double(run.limit2) * (1 + QuickHealth::kRunSpread));
+    }
+    next = run.first + run.count;
+  }
+  while (next < topo.springs.size() && !cloth.springEnabled(topo.springs[next].type))
+    ++next;
+  EXPECT_EQ(next, topo.springs.size());
+  // The horizontal structural and bending springs a run a row (the next row's first end is not the last's next
+  // point); the vertical ones go on from row to row: one run each
+  EXPECT_EQ(q.runs.size(), std::size_t(9 + 1 + 9 + 1));
+  std::vector<glm::vec3> x(topo.initial_positions.begin(), topo.initial_positions.end()), v(x.size(), glm::vec3(0));
+  const std::size_t n = x.size(), springs = topo.springs.size();
+  for (std::size_t cut = 0; cut <= springs; cut += 7)
+    EXPECT_TRUE(quickHealthy(q, x, v, 0, n, 0, cut) && quickHealthy(q, x, v, 0, n, cut, springs)) << cut;
+  // Spring 40's end b moved along it to 11 rest lengths from a: beyond its limit, which the run's holds too
+  const Spring& s = topo.springs[40];
+  ASSERT_TRUE(cloth.springEnabled(s.type));
+  x[s.b] = x[s.a] + (x[s.b] - x[s.a]) * 11.0f;
+  EXPECT_FALSE(quickHealthy(q, x, v, 0, n, 0, springs));
+  for (std::size_t cut = 0; cut <= springs; cut += 5) {
+    const bool low = quickHealthy(q, x, v, 0, n, 0, cut), high = quickHealthy(q, x, v, 0, n, cut, springs);
+    EXPECT_EQ(low, cut <= 40) << cut;
+    EXPECT_EQ(high, cut > 40) << cut;
+  }
+}
+
 }  // namespace
 }  // namespace drape

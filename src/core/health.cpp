@@ -73,16 +73,28 @@ QuickHealth quickHealth(const Topology& topo, const ClothSpec& cloth, const Heal
   if (double(q.bound) > limits.sane_bound) q.bound = std::nextafter(q.bound, 0.0f);
   q.usable = true;
   const double stretch = 1.0 + limits.max_strain;
+  float run_most = 0;  // the largest limit of the last run's springs
   for (std::size_t k = 0; k < topo.springs.size(); ++k) {
     const Spring& s = topo.springs[k];
     if (!cloth.springEnabled(s.type)) continue;
     const double most = stretch * s.rest;
     // Float squares of lengths this short lose their relative precision (subnormals): the scan decides there
     if (!(most * most >= 0x1p-60)) q.usable = false;
-    q.index.push_back(std::uint32_t(k));
-    q.a.push_back(s.a);
-    q.b.push_back(s.b);
-    q.limit2.push_back(float(most * most * (1.0 - 0x1p-20)));  // rounded either way: still within the margin
+    const float limit2 = float(most * most * (1.0 - 0x1p-20));  // rounded either way: still within the margin
+    const auto step = std::int32_t(std::int64_t(s.b) - std::int64_t(s.a));
+    if (!q.runs.empty()) {
+      QuickHealth::Run& run = q.runs.back();
+      const float least = std::min(run.limit2, limit2), largest = std::max(run_most, limit2);
+      if (run.first + run.count == k && run.a + run.count == s.a && run.step == step &&
+          double(largest) <= double(least) * (1 + QuickHealth::kRunSpread)) {
+        ++run.count;
+        run.limit2 = least;
+        run_most = largest;
+        continue;
+      }
+    }
+    q.runs.push_back({std::uint32_t(k), 1, s.a, step, limit2});
+    run_most = limit2;
   }
   return q;
 }
@@ -98,11 +110,20 @@ bool quickHealthy(const QuickHealth& q, const std::vector<glm::vec3>& x, const s
   const float* vs = v.empty() ? nullptr : &v.data()->x;
   for (std::size_t k = 3 * p0; vs && k < 3 * std::min(p1, v.size()); ++k)
     ok &= std::abs(vs[k]) <= std::numeric_limits<float>::max();
-  const std::size_t first = std::size_t(std::lower_bound(q.index.begin(), q.index.end(), s0) - q.index.begin());
-  const std::size_t last = std::size_t(std::lower_bound(q.index.begin(), q.index.end(), s1) - q.index.begin());
-  for (std::size_t k = first; k < last; ++k) {
-    const glm::vec3 d = x[q.a[k]] - x[q.b[k]];
-    ok &= d.x * d.x + d.y * d.y + d.z * d.z <= q.limit2[k];
+  // The runs that hold springs [s0, s1), each from the first of them
+  auto run = std::upper_bound(q.runs.begin(), q.runs.end(), s0,
+                              [](std::size_t k, const QuickHealth::Run& r) { return k < r.first; });
+  if (run != q.runs.begin()) --run;
+  for (; run != q.runs.end() && run->first < s1; ++run) {
+    const std::size_t from = std::max<std::size_t>(run->first, s0) - run->first;
+    const std::size_t to = std::min<std::size_t>(run->first + run->count, s1) - run->first;
+    const glm::vec3* ends_a = x.data() + run->a;
+    const glm::vec3* ends_b = ends_a + run->step;
+    const float limit2 = run->limit2;
+    for (std::size_t k = from; k < to; ++k) {
+      const glm::vec3 d = ends_a[k] - ends_b[k];
+      ok &= d.x * d.x + d.y * d.y + d.z * d.z <= limit2;
+    }
   }
   return ok;
 }

@@ -53,12 +53,21 @@ Health scanHealthPart(const Topology& topo, const ClothSpec& cloth, const std::v
 // springs finds nothing (where it does not, the scan decides). Each enabled spring's squared length is taken in
 // float against its squared limit less 2^-20 of it, which float rounding stays well inside: a cloth far from
 // blowing up is passed in float, without a conversion to double a coordinate.
+// The springs are kept as runs: consecutive springs whose ends step by one point, at one offset from a to b (a
+// grid's springs of one direction along a row), read without an index a spring (the three index arrays were most
+// of the look's memory traffic at 256 x 256). A run's limit is the least of its springs', which are within
+// kRunSpread of each other (a vertical cloth's jitter spreads its rest lengths by a fraction of a percent).
 struct QuickHealth {
-  std::vector<std::uint32_t> index;  // the enabled springs, ascending (a part's springs [s0, s1) are a range here)
-  std::vector<std::uint32_t> a, b;
-  std::vector<float> limit2;
-  float bound = 0;      // a float at most HealthLimits::sane_bound
-  bool usable = false;  // false where a spring's limit is too small for the margin (it would underflow)
+  struct Run {
+    std::uint32_t first, count;  // springs [first, first + count) of the topology, all enabled
+    std::uint32_t a;             // spring first's end a; spring first + k joins a + k and a + k + step
+    std::int32_t step;
+    float limit2;
+  };
+  static constexpr double kRunSpread = 0x1p-5;
+  std::vector<Run> runs;  // ascending by first
+  float bound = 0;        // a float at most HealthLimits::sane_bound
+  bool usable = false;    // false where a spring's limit is too small for the margin (it would underflow)
 };
 QuickHealth quickHealth(const Topology& topo, const ClothSpec& cloth, const HealthLimits& limits = {});
 bool quickHealthy(const QuickHealth& q, const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v,
