@@ -173,11 +173,12 @@ TEST(PairStencil, TheSquaresKeepTheBytes) {
 // build, the lists' of their points) and sum the terms of another (CpuSolver::fixPairShares): each end's term goes to
 // the thread that sums it, and the bytes are one thread's. Shares as uneven as the balance allows, either way round,
 // through the fold; between builds the finding threads split a row of squares (48 / 16 = 3 rows and 45 rows, squares
-// of 8), each with its own copy of the row's offsets to test.
+// of 8), each with its own copy of the row's offsets to test. With 21 and 27 rows, both over a square's edge, they
+// split it at builds too, the second recording its part of the row apart for the first to merge.
 TEST(PairStencil, ThreadsFindingOneShareAndSummingAnotherGiveOneThreadsBytes) {
   const Scene scene = crumplingCloth(48, 1.25);
   const long long n = 48 * 48;
-  for (const auto& [find, sum] : {std::pair{1LL, 15LL}, std::pair{15LL, 1LL}}) {
+  for (const auto& [find, sum] : {std::pair{1LL, 15LL}, std::pair{15LL, 1LL}, std::pair{7LL, 9LL}}) {
     SCOPED_TRACE(::testing::Message() << "finding " << find << "/16, summing " << sum << "/16");
     CpuSolver<float> one(scene, CpuSolverOptions{.threads = 1});
     CpuSolver<float> team(scene, CpuSolverOptions{.threads = 2, .team_min_points = 0});

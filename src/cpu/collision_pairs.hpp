@@ -187,6 +187,10 @@ class CollisionPairs {
   // and the pairs found are the same. False where they do not apply (no squares, no record since the build). Every
   // thread of a team calls it.
   bool stencilTiles(bool just_built, GridStencilTiles& out);
+  // After a record split between a team's threads, thread `from`'s first row of squares (its first row of points y0
+  // not a square's first) merged into the record, by the thread before it once the team has passed a barrier. Each
+  // thread's rows must then span a square's edge, so that only two threads meet in a row of squares.
+  void mergeSharedRecord(int from, long long y0);
   void setStencilSquares(bool on) { squares_ = on; }
   // From this many forward offsets the squares pay. A vector of points whose squares pass over some of its offsets
   // and not others runs a loop of as many tests as its mask has bits, and its end is mispredicted: on CS184's
@@ -308,8 +312,10 @@ class CollisionPairs {
   // stencilTiles': per square and forward offset the least squared distance at the build (recorded at the build of
   // count stencil_recorded_); per thread of the team and square the offsets to test, and the rows of squares
   // [first, second) the thread prepared them for last. A row of squares may be split between two threads (the
-  // stencil's shares are whole rows of points between builds): each prepares its own copy of it.
+  // stencil's shares are whole rows of points): each prepares its own copy of its offsets, and at a record the later
+  // one records it apart (shared_min2_).
   std::vector<float> stencil_min2_;
+  std::vector<float> shared_min2_;  // per thread of the team, a row of squares' record (GridStencilTiles::shared_min2)
   std::vector<std::uint64_t> stencil_active_;
   std::vector<std::pair<int, int>> active_rows_;
   long long stencil_recorded_ = -1;

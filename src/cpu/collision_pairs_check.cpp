@@ -282,20 +282,43 @@ bool CollisionPairs<T>::stencilTiles(bool just_built, GridStencilTiles& out) {
   out.active = stencil_active_.data() + thread * tile_count_;
   out.min2 = stencil_min2_.data();
   out.record = just_built;
+  out.shared_min2 =
+      shared_min2_.data() + std::ptrdiff_t(thread) * std::ptrdiff_t(tilesAcross()) * std::ptrdiff_t(offsets);
   // No thread reads these before the next substep's call, several barriers on
   if (teamThread() == 0) squares_used_ = !just_built;
   if (just_built) {
     if (teamThread() == 0) stencil_recorded_ = rebuilds_;
-    // Capturing `this` alone keeps the function in std::function's own storage: no allocation a build
-    out.prepare = [this](long long first, long long last) {
+    // Capturing `this` alone keeps the function in std::function's own storage: no allocation a build. A first row
+    // of squares shared with the thread before is recorded into this thread's own copy (GridPath::stencilPairs).
+    out.prepare = [this](long long y0, long long y1) {
+      constexpr float kInf = std::numeric_limits<float>::infinity();
       const auto per_row = std::ptrdiff_t(tilesAcross()) * std::ptrdiff_t(forwardOffsets());
-      std::fill(stencil_min2_.begin() + first * per_row, stencil_min2_.begin() + last * per_row,
-                std::numeric_limits<float>::infinity());
+      long long first = y0 / edge_;
+      if (y0 % edge_ != 0) {
+        float* const shared = shared_min2_.data() + std::ptrdiff_t(teamThread()) * per_row;
+        std::fill(shared, shared + per_row, kInf);
+        ++first;
+      }
+      const long long last = (y1 + edge_ - 1) / edge_;
+      if (first < last)
+        std::fill(stencil_min2_.begin() + first * per_row, stencil_min2_.begin() + last * per_row, kInf);
     };
   } else {
-    out.prepare = [this](long long first, long long last) { activeOffsets(first, last); };
+    out.prepare = [this](long long y0, long long y1) { activeOffsets(y0 / edge_, (y1 + edge_ - 1) / edge_); };
   }
   return true;
+}
+
+// The least distances thread `from` recorded for the row of squares it shares with the thread before it, whose first
+// row of points is y0, into the record; by the thread before, after the team's barrier.
+template <class T>
+void CollisionPairs<T>::mergeSharedRecord(int from, long long y0) {
+  if (edge_ <= 0 || y0 % edge_ == 0) return;
+  const auto per_row = std::ptrdiff_t(tilesAcross()) * std::ptrdiff_t(forwardOffsets());
+  const float* shared = shared_min2_.data() + std::ptrdiff_t(from) * per_row;
+  float* row = stencil_min2_.data() + std::ptrdiff_t(y0 / edge_) * per_row;
+  for (std::ptrdiff_t k = 0; k < per_row; ++k)
+    row[k] = shared[k] < row[k] ? shared[k] : row[k];
 }
 
 template <class T>
@@ -378,6 +401,7 @@ template void CollisionPairs<float>::makeTiles(std::size_t);
 template bool CollisionPairs<float>::stencilTiles(bool, GridStencilTiles&);
 template double CollisionPairs<float>::squaresRuledOut() const;
 template void CollisionPairs<float>::activeOffsets(long long, long long);
+template void CollisionPairs<float>::mergeSharedRecord(int, long long);
 template void CollisionPairs<double>::startCheck(const std::vector<vec3>&);
 template bool CollisionPairs<double>::finishCheck(const std::vector<vec3>&);
 template bool CollisionPairs<double>::splitCheck() const;
@@ -389,5 +413,6 @@ template void CollisionPairs<double>::makeTiles(std::size_t);
 template bool CollisionPairs<double>::stencilTiles(bool, GridStencilTiles&);
 template double CollisionPairs<double>::squaresRuledOut() const;
 template void CollisionPairs<double>::activeOffsets(long long, long long);
+template void CollisionPairs<double>::mergeSharedRecord(int, long long);
 
 }  // namespace drape

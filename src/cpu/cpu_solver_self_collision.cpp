@@ -116,22 +116,32 @@ void CpuSolver<T>::selfCollide() {
   const std::vector<long long>& find_bounds = built ? built_find_bounds_ : find_bounds_;
   long long lo = team ? find_bounds[std::size_t(thread)] : 0, hi = team ? find_bounds[std::size_t(thread) + 1] : n;
   mine.stencil_pairs = 0;
+  bool shared_record = false;
+  long long shared_from = -1;  // the next thread's first row of points, where a record is shared with it
   if (stencil > 0) {
     if constexpr (std::is_same_v<T, float>)
       if (padded) {
         // The stencil's pairs of this thread's rows, listed for the same thread to find their terms: no barrier
         // between, and no flag words a point to write, scan and clear (pinned2 at 256 x 256 on two threads: the
         // stencil and the search 0.71-0.74 s of each thread's run with them and their wait, 0.51 s without).
-        // Whole rows of squares: a square's record is one thread's.
+        // Whole rows of points. At a record two threads may share a row of squares, the later recording it apart for
+        // the earlier to merge, where every thread's rows span a square's edge (else whole rows of squares): at 256 x
+        // 256 rounding the shares to rows of 16 left one thread 0.15 ms a build waiting for the other.
         GridStencilTiles tiles;
         const bool ruled_out = pairs_.stencilTiles(built, tiles), record = ruled_out && tiles.record;
-        const long long w = pairs_.gridWidth(), unit = w * (record ? tiles.edge : 1);
+        const long long w = pairs_.gridWidth();
         // The last bound stays the last point: a grid's last row of squares may be short of rows
-        const auto whole = [&](long long bound) {
+        const auto whole = [&](long long bound, long long unit) {
           return bound >= n ? n : std::min(n, (bound + unit / 2) / unit * unit);
         };
-        lo = whole(lo);
-        hi = whole(hi);
+        shared_record = record && team;
+        for (std::size_t t = 0; shared_record && t + 1 < find_bounds.size(); ++t)
+          shared_record = whole(find_bounds[t + 1], w) - whole(find_bounds[t], w) >= w * tiles.edge;
+        const long long unit = w * (record && !shared_record ? tiles.edge : 1);
+        lo = whole(lo, unit);
+        hi = whole(hi, unit);
+        if (shared_record && std::size_t(thread) + 2 < find_bounds.size())
+          shared_from = whole(find_bounds[thread + 1], w) / w;
         mine.stencil_pairs = grid_->stencilPairs(pairs_.stencilDu(), pairs_.stencilDv(), pairs_.stencilMixed(),
                                                  int(stencil), range * range, int(lo / w), int(hi / w), mine.lower,
                                                  mine.upper, ruled_out ? &tiles : nullptr);
@@ -144,6 +154,7 @@ void CpuSolver<T>::selfCollide() {
   findPairHits(lo, hi, stencil > 0 && !padded, thickness, inv_range, pairs_.farNeeded(built), mine);
   const auto found = team ? Clock::now() : Clock::time_point();
   teamBarrier();
+  if (shared_from >= 0) pairs_.mergeSharedRecord(thread + 1, shared_from);
   // A thread's sums are its own points' corrections, computed from terms alone: it adds them at once, as no
   // thread reads another's points until the barrier.
   const auto summing = team ? Clock::now() : Clock::time_point();

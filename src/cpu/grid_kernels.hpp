@@ -153,15 +153,22 @@ struct GridStencilArgs {
   const std::uint64_t* active = nullptr;
   float* min2 = nullptr;
   bool record = false;
+  // Recording, the row of squares `shared_row` (its first square's index over `across`) records into shared_min2
+  // (across * count floats) instead: a row of squares this thread shares with the one before it, which merges it
+  // (CollisionPairs::mergeSharedRecord). -1: none.
+  int shared_row = -1;
+  float* shared_min2 = nullptr;
 };
 
 // GridStencilArgs' squares for GridPath::stencilPairs (CollisionPairs::stencilTiles makes them): each thread of a
-// team takes whole rows of squares and calls prepare(first, last) with them before its tests (the least distances
-// cleared for a record, or the squares' offsets to test worked out).
+// team calls prepare(y0, y1) with its rows of points before its tests (the least distances cleared for a record, or
+// the squares' offsets to test worked out). A thread whose first row is not a square's records that row of squares
+// into shared_min2, for the thread before it to merge (CollisionPairs::mergeSharedRecord).
 struct GridStencilTiles {
   int edge = 0, across = 0;
   const std::uint64_t* active = nullptr;
   float* min2 = nullptr;
+  float* shared_min2 = nullptr;
   bool record = false;
   std::function<void(long long, long long)> prepare;
 };

@@ -109,10 +109,12 @@ struct StencilKernels : Lanes<V> {
     // into the square's least at its last row (a horizontal minimum per test cost three times the test)
     static thread_local std::vector<float> acc;
     const auto flush = [&](int tile_row) {
+      float* const row =
+          tile_row == a.shared_row * a.across ? a.shared_min2 : a.min2 + std::ptrdiff_t(tile_row) * a.count;
       for (int c = 0; c < a.across; ++c)
         for (int k = 0; k < a.count; ++k) {
           float* lanes = acc.data() + (std::size_t(c) * std::size_t(a.count) + std::size_t(k)) * kW;
-          float* least = a.min2 + std::ptrdiff_t(tile_row + c) * a.count + k;
+          float* least = row + std::ptrdiff_t(c) * a.count + k;
           for (int l = 0; l < kW; ++l) {
             *least = lanes[l] < *least ? lanes[l] : *least;
             lanes[l] = __builtin_inff();
