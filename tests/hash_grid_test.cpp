@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <iterator>
 #include <random>
 #include <set>
 
@@ -103,6 +104,14 @@ TEST(HashGrid, ATeamBuildsTheGridOfOneThread) {
       EXPECT_EQ(team.bucketCount(), one.bucketCount()) << side << ", " << threads << " threads";
       EXPECT_EQ(team.sorted(), one.sorted()) << side << ", " << threads << " threads";
       EXPECT_EQ(candidates(team, p.size()), candidates(one, p.size())) << side << ", " << threads << " threads";
+      // Again on the same grid, for a cloud of fewer points in a smaller box: the counts of the larger one are gone
+      std::vector<glm::vec3> part;
+      std::copy_if(p.begin(), p.end(), std::back_inserter(part), [&](glm::vec3 q) { return q.x < 0.3f * side; });
+      HashGrid<float> one_part;
+      one_part.build(part, cell);
+      runOnTeam(threads, [&] { team.build(part, cell, failure); });
+      EXPECT_EQ(team.sorted(), one_part.sorted()) << side << ", " << threads << " threads, a second build";
+      EXPECT_EQ(candidates(team, part.size()), candidates(one_part, part.size())) << side << ", " << threads;
     }
   }
 }

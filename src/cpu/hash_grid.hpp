@@ -155,6 +155,7 @@ class HashGrid {
   std::vector<std::uint32_t> bucket_;          // build's scratch, kept to spare the allocations
   std::vector<std::uint32_t> fill_;            // per thread of the build: its count, then its next slot, a bucket
   std::vector<glm::ivec3> part_lo_, part_hi_;  // per thread of the build: its points' box of cells
+  std::vector<std::uint32_t> part_count_;      // per thread of the build: the points in its share of the buckets
   std::uint32_t mask_ = 0;
   bool dense_ = false;
   glm::ivec3 box_min_{}, box_size_{};
