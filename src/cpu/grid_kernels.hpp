@@ -153,9 +153,8 @@ struct GridStencilArgs {
   const std::uint64_t* active = nullptr;
   float* min2 = nullptr;
   bool record = false;
-  // Recording, the row of squares `shared_row` (its first square's index over `across`) records into shared_min2
-  // (across * count floats) instead: a row of squares this thread shares with the one before it, which merges it
-  // (CollisionPairs::mergeSharedRecord). -1: none.
+  // Recording, row of squares number `shared_row` records into shared_min2 (across * count floats) instead: a row of
+  // squares this thread shares with the one before it, which merges it (CollisionPairs::mergeSharedRecord). -1: none.
   int shared_row = -1;
   float* shared_min2 = nullptr;
 };
