@@ -342,7 +342,7 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
         part_near_.assign(std::size_t(teamSize()), 0);
         near_reach_ = range_ + T(0.5) * margin_;
         stencil_min2_.resize(tile_count_ * forwardOffsets());
-        if (edge_ > 0) shared_min2_.resize(std::size_t(tilesAcross()) * forwardOffsets() * std::size_t(teamSize()));
+        if (edge_ > 0) shared_min2_.resize(std::size_t(recordRow()) * std::size_t(teamSize()));
         stencil_active_.resize(tile_count_ * std::size_t(teamSize()));
         active_rows_.assign(std::size_t(teamSize()), {0, 0});
       }))

@@ -237,6 +237,11 @@ class CollisionPairs {
   int tilesDown() const { return (h_ + edge_ - 1) / edge_; }
   // The stencil's forward offsets (its second half), each pair's from its lower point
   std::size_t forwardOffsets() const { return stencil_.size() - stencil_.size() / 2; }
+  // A row of squares' record (stencilTiles): a least distance per square and forward offset
+  std::ptrdiff_t recordRow() const { return std::ptrdiff_t(tilesAcross()) * std::ptrdiff_t(forwardOffsets()); }
+  // The row of squares a thread whose rows start at y0 shares with the thread before it (y0 not a square's first
+  // row), or -1
+  int sharedRow(long long y0) const { return edge_ > 0 && y0 % edge_ != 0 ? int(y0 / edge_) : -1; }
   void makeStencil();
   struct ScanArgs {  // GridKernels' PairScanArgs in T
     const T *x, *y, *z, *u, *v;

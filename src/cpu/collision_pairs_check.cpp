@@ -282,8 +282,7 @@ bool CollisionPairs<T>::stencilTiles(bool just_built, GridStencilTiles& out) {
   out.active = stencil_active_.data() + thread * tile_count_;
   out.min2 = stencil_min2_.data();
   out.record = just_built;
-  out.shared_min2 =
-      shared_min2_.data() + std::ptrdiff_t(thread) * std::ptrdiff_t(tilesAcross()) * std::ptrdiff_t(offsets);
+  out.shared_min2 = shared_min2_.data() + std::ptrdiff_t(thread) * recordRow();
   // No thread reads these before the next substep's call, several barriers on
   if (teamThread() == 0) squares_used_ = !just_built;
   if (just_built) {
@@ -292,19 +291,24 @@ bool CollisionPairs<T>::stencilTiles(bool just_built, GridStencilTiles& out) {
     // of squares shared with the thread before is recorded into this thread's own copy (GridPath::stencilPairs).
     out.prepare = [this](long long y0, long long y1) {
       constexpr float kInf = std::numeric_limits<float>::infinity();
-      const auto per_row = std::ptrdiff_t(tilesAcross()) * std::ptrdiff_t(forwardOffsets());
+      const std::ptrdiff_t per_row = recordRow();
+      const int shared = sharedRow(y0);
       long long first = y0 / edge_;
-      if (y0 % edge_ != 0) {
-        float* const shared = shared_min2_.data() + std::ptrdiff_t(teamThread()) * per_row;
-        std::fill(shared, shared + per_row, kInf);
+      if (shared >= 0) {
+        float* const own = shared_min2_.data() + std::ptrdiff_t(teamThread()) * per_row;
+        std::fill(own, own + per_row, kInf);
         ++first;
       }
       const long long last = (y1 + edge_ - 1) / edge_;
       if (first < last)
         std::fill(stencil_min2_.begin() + first * per_row, stencil_min2_.begin() + last * per_row, kInf);
+      return shared;
     };
   } else {
-    out.prepare = [this](long long y0, long long y1) { activeOffsets(y0 / edge_, (y1 + edge_ - 1) / edge_); };
+    out.prepare = [this](long long y0, long long y1) {
+      activeOffsets(y0 / edge_, (y1 + edge_ - 1) / edge_);
+      return -1;
+    };
   }
   return true;
 }
@@ -313,12 +317,13 @@ bool CollisionPairs<T>::stencilTiles(bool just_built, GridStencilTiles& out) {
 // row of points is y0, into the record; by the thread before, after the team's barrier.
 template <class T>
 void CollisionPairs<T>::mergeSharedRecord(int from, long long y0) {
-  if (edge_ <= 0 || y0 % edge_ == 0) return;
-  const auto per_row = std::ptrdiff_t(tilesAcross()) * std::ptrdiff_t(forwardOffsets());
-  const float* shared = shared_min2_.data() + std::ptrdiff_t(from) * per_row;
-  float* row = stencil_min2_.data() + std::ptrdiff_t(y0 / edge_) * per_row;
+  const int shared = sharedRow(y0);
+  if (shared < 0) return;
+  const std::ptrdiff_t per_row = recordRow();
+  const float* own = shared_min2_.data() + std::ptrdiff_t(from) * per_row;
+  float* row = stencil_min2_.data() + std::ptrdiff_t(shared) * per_row;
   for (std::ptrdiff_t k = 0; k < per_row; ++k)
-    row[k] = shared[k] < row[k] ? shared[k] : row[k];
+    row[k] = own[k] < row[k] ? own[k] : row[k];
 }
 
 template <class T>

@@ -161,15 +161,16 @@ struct GridStencilArgs {
 
 // GridStencilArgs' squares for GridPath::stencilPairs (CollisionPairs::stencilTiles makes them): each thread of a
 // team calls prepare(y0, y1) with its rows of points before its tests (the least distances cleared for a record, or
-// the squares' offsets to test worked out). A thread whose first row is not a square's records that row of squares
-// into shared_min2, for the thread before it to merge (CollisionPairs::mergeSharedRecord).
+// the squares' offsets to test worked out). At a record, a thread whose first row is not a square's records that row
+// of squares into shared_min2, for the thread before it to merge (CollisionPairs::mergeSharedRecord): prepare
+// returns that row's number, else -1.
 struct GridStencilTiles {
   int edge = 0, across = 0;
   const std::uint64_t* active = nullptr;
   float* min2 = nullptr;
   float* shared_min2 = nullptr;
   bool record = false;
-  std::function<void(long long, long long)> prepare;
+  std::function<int(long long, long long)> prepare;
 };
 
 // The spheres and planes of a scene and the points they act on (collideObjects).

@@ -142,11 +142,8 @@ std::size_t GridPath::stencilPairs(const int* du, const int* dv, const std::uint
     args.active = tiles->active;
     args.min2 = tiles->min2;
     args.record = tiles->record;
-    if (tiles->record && y0 % tiles->edge != 0) {
-      args.shared_row = y0 / tiles->edge;
-      args.shared_min2 = tiles->shared_min2;
-    }
-    tiles->prepare(y0, y1);
+    args.shared_row = tiles->prepare(y0, y1);
+    if (args.shared_row >= 0) args.shared_min2 = tiles->shared_min2;
   }
   // A few rows a call, with room for each of their points' every offset: the vectors stay the size of the pairs in
   // range and one call's room, not of the tests (20 offsets of 256 points a row at 256 x 256)
