@@ -151,6 +151,50 @@ TEST(PairStencil, ASquarePassesOverAnOffsetOnlyWhileNoPairThereCanBeInRange) {
     }
 }
 
+// The squares' bound takes in only the squares an offset's partners lie in: the square, and beside it and below it
+// on the offset's side. One point of the square below and left of square (1, 1) moves by 0.3 spacings: (1, 1) then
+// tests the offsets down and to the left whose pairs stood within the range and that move at rest (a box of all
+// nine squares around it would test every such offset), and none of the others, whose squares did not move.
+TEST(PairStencil, ASquareTestsOnlyTheOffsetsWhosePartnersMoved) {
+  Scene scene = crumplingCloth(24, 1.1);
+  scene.cloth.orientation = Orientation::Horizontal;
+  scene.sim.gravity = glm::dvec3(0);
+  scene.cloth.damping = 0;
+  scene.planes.clear();
+  const int w = scene.cloth.num_width_points;
+  CpuSolver<float> solver(scene, CpuSolverOptions{.threads = 1});
+  const std::vector<glm::dvec3> rest = solver.topology().initial_positions;
+  const double spacing = scene.cloth.width / double(w - 1);
+  std::vector<glm::dvec3> v(rest.size(), glm::dvec3(0));
+  v[std::size_t(20 * w + 4)] = glm::dvec3(0.3 * spacing, 0, 0);  // in square (0, 2)
+  solver.setState(rest, v);
+  solver.selfCollide();  // built at rest, the least distances recorded
+  solver.accumulateForces();
+  solver.integrate();
+  solver.selfCollide();
+  const CollisionPairs<float>& pairs = solver.collisionPairs();
+  ASSERT_EQ(pairs.rebuilds(), 1);
+  ASSERT_TRUE(pairs.squaresUsed());
+  const auto& stencil = pairs.stencil();
+  const std::size_t half = stencil.size() / 2, across = std::size_t((w + 7) / 8);
+  ASSERT_EQ(across, 3u) << "squares of 8 points";
+  const std::uint64_t tested = pairs.squareOffsetsTested(1 * across + 1);
+  int down_left = 0;
+  for (std::size_t k = 0; half + k < stencil.size(); ++k) {
+    const auto& o = stencil[half + k];
+    const bool bit = (tested >> k) & 1;
+    const double nominal = spacing * std::hypot(double(o.du), double(o.dv));
+    SCOPED_TRACE(::testing::Message() << "offset (" << o.du << ", " << o.dv << ")");
+    if (o.dv > 0 && o.du < 0 && nominal < 2 * scene.cloth.thickness + 0.29 * spacing) {
+      EXPECT_TRUE(bit);
+      ++down_left;
+    } else if (o.dv == 0 || o.du >= 0) {
+      EXPECT_FALSE(bit);
+    }
+  }
+  EXPECT_GT(down_left, 0);
+}
+
 // The squares pass over tests, never a pair in range: a cloth folding onto itself with a contact distance of 2.5
 // spacings (a ring of 24 offsets), the squares on and off, one thread, a team of two (which splits the squares'
 // rows), SSE2.

@@ -201,6 +201,9 @@ class CollisionPairs {
   // it passed over (0 where it did not)
   bool squaresUsed() const { return squares_used_; }
   double squaresRuledOut() const;
+  // The forward offsets (bit k: the stencil's offset half + k) square t's points tested at the last substep that did
+  // not build, by the first thread of a team (all of them on one thread)
+  std::uint64_t squareOffsetsTested(std::size_t t) const { return t < stencil_active_.size() ? stencil_active_[t] : 0; }
   long long rebuilds() const { return rebuilds_; }
   // The checks whose tiles' boxes called for a build that a closer look (tilesHold) spared
   long long closerLooksKept() const { return kept_ + (looked_.set && !moved_.set ? 1 : 0); }
