@@ -31,6 +31,26 @@ Scene crumplingCloth(int n, double spacings = 1.0) {
   return scene;
 }
 
+// A flat cloth at rest with nothing to move it (every pair at an offset as far apart as the next), of 24 x 24 points
+// in squares of 8 and a contact distance of 2.2 spacings
+Scene stillFlatCloth() {
+  Scene scene = crumplingCloth(24, 1.1);
+  scene.cloth.orientation = Orientation::Horizontal;
+  scene.sim.gravity = glm::dvec3(0);
+  scene.cloth.damping = 0;
+  scene.planes.clear();
+  return scene;
+}
+
+// The lists built and the squares recorded at rest, then one substep in which only the points given a v move by it
+void moveOnce(CpuSolver<float>& solver, const std::vector<glm::dvec3>& v) {
+  solver.setState(solver.topology().initial_positions, v);
+  solver.selfCollide();
+  solver.accumulateForces();
+  solver.integrate();
+  solver.selfCollide();
+}
+
 bool onStencil(const CollisionPairs<float>& pairs, std::size_t i, std::size_t j) {
   const int w = pairs.gridWidth();
   const int du = int(j % std::size_t(w)) - int(i % std::size_t(w)),
@@ -114,11 +134,7 @@ TEST(PairStencil, TheBytesAreTheListsAlone) {
 // points, then across its edges: the partner in the square beside it, below it, or both, on either side, whose
 // displacements the bound must take in (a bound of the square's own box alone passes over the pairs in range).
 TEST(PairStencil, ASquarePassesOverAnOffsetOnlyWhileNoPairThereCanBeInRange) {
-  Scene scene = crumplingCloth(24, 1.1);
-  scene.cloth.orientation = Orientation::Horizontal;  // flat: every pair at an offset is as far apart as the next
-  scene.sim.gravity = glm::dvec3(0);
-  scene.cloth.damping = 0;
-  scene.planes.clear();
+  const Scene scene = stillFlatCloth();
   const int w = scene.cloth.num_width_points;
   struct Case {
     int u, v, du, dv;  // the pair's lower end and the offset to the other
@@ -138,11 +154,7 @@ TEST(PairStencil, ASquarePassesOverAnOffsetOnlyWhileNoPairThereCanBeInRange) {
       ASSERT_GT(beyond, 0);
       std::vector<glm::dvec3> v(rest.size(), glm::dvec3(0));
       v[mover] = glm::normalize(towards) * beyond * share;
-      solver.setState(rest, v);
-      solver.selfCollide();  // the lists built, the squares' least distances recorded, at rest
-      solver.accumulateForces();
-      solver.integrate();  // the one point moves by its v, no other point moves
-      solver.selfCollide();
+      moveOnce(solver, v);
       const CollisionPairs<float>& pairs = solver.collisionPairs();
       ASSERT_EQ(pairs.rebuilds(), 1) << "the move is within the lists' travel";
       EXPECT_GT(pairs.squaresRuledOut(), 0.5);
@@ -153,25 +165,16 @@ TEST(PairStencil, ASquarePassesOverAnOffsetOnlyWhileNoPairThereCanBeInRange) {
 
 // The squares' bound takes in only the squares an offset's partners lie in: the square, and beside it and below it
 // on the offset's side. One point of the square below and left of square (1, 1) moves by 0.3 spacings: (1, 1) then
-// tests the offsets down and to the left whose pairs stood within the range and that move at rest (a box of all
-// nine squares around it would test every such offset), and none of the others, whose squares did not move.
+// tests its down-left offsets whose pairs stood at most the range and the move apart at rest (a box of all nine
+// squares around it would test every offset within that distance), and none of the others, whose squares did not move.
 TEST(PairStencil, ASquareTestsOnlyTheOffsetsWhosePartnersMoved) {
-  Scene scene = crumplingCloth(24, 1.1);
-  scene.cloth.orientation = Orientation::Horizontal;
-  scene.sim.gravity = glm::dvec3(0);
-  scene.cloth.damping = 0;
-  scene.planes.clear();
+  const Scene scene = stillFlatCloth();
   const int w = scene.cloth.num_width_points;
   CpuSolver<float> solver(scene, CpuSolverOptions{.threads = 1});
-  const std::vector<glm::dvec3> rest = solver.topology().initial_positions;
   const double spacing = scene.cloth.width / double(w - 1);
-  std::vector<glm::dvec3> v(rest.size(), glm::dvec3(0));
+  std::vector<glm::dvec3> v(solver.topology().initial_positions.size(), glm::dvec3(0));
   v[std::size_t(20 * w + 4)] = glm::dvec3(0.3 * spacing, 0, 0);  // in square (0, 2)
-  solver.setState(rest, v);
-  solver.selfCollide();  // built at rest, the least distances recorded
-  solver.accumulateForces();
-  solver.integrate();
-  solver.selfCollide();
+  moveOnce(solver, v);
   const CollisionPairs<float>& pairs = solver.collisionPairs();
   ASSERT_EQ(pairs.rebuilds(), 1);
   ASSERT_TRUE(pairs.squaresUsed());
