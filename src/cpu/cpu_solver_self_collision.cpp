@@ -350,35 +350,57 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
     const std::uint32_t* const touched = mine.touched.data();
     const std::size_t points = mine.points;
     std::vector<std::int32_t>& chain = mine.chain;
+    // A term's place in the sum: (cell order, partner) as one number; and a compare-exchange of two slots by it,
+    // with selects
+    constexpr std::uint64_t kNoTerm = ~std::uint64_t(0);
+    const auto termKey = [](int order, std::uint32_t j) { return std::uint64_t(std::uint32_t(order)) << 32 | j; };
+    const auto order = [](std::uint64_t& ka, int& a, std::uint64_t& kb, int& b) {
+      const bool swap = kb < ka;
+      const std::uint64_t lo = swap ? kb : ka, hi = swap ? ka : kb;
+      const int first = swap ? b : a, second = swap ? a : b;
+      ka = lo, kb = hi, a = first, b = second;
+    };
     for (const std::uint32_t i : std::span(touched, points)) {
       const std::int32_t head = first_term_[i];
       first_term_[i] = -1;
       vec3 sum(0);
-      int count = 1;
-      const PairTerm& a = terms[head];
-      if (a.next < 0) {  // one term: no order to find
-        sum += a.c;
-      } else if (const PairTerm& b = terms[a.next]; b.next < 0) {  // two, as most points in contact have
-        const bool b_first = b.order < a.order || (b.order == a.order && b.j < a.j);
-        sum += b_first ? b.c : a.c;
-        sum += b_first ? a.c : b.c;
-        count = 2;
+      // Up to four terms side by side, each slot without one keyed past every term and holding +0: the slots sorted
+      // by key with selects (no branch on how many there are, or on which came first) and summed whole give the
+      // bits of the point's own terms summed in order, as a sum of terms is never -0 and x + 0 = x for every other x.
+      // The branches they replace were mispredicted at most points (pinned2 at 256^2: 29% of the points with terms
+      // have one, 43% two, 12% three, 10% four).
+      std::uint64_t key[4] = {kNoTerm, kNoTerm, kNoTerm, kNoTerm};
+      vec3 term[4] = {};
+      int count = 0;
+      std::int32_t t = head;
+      for (; t >= 0 && count < 4; t = terms[t].next, ++count) {
+        key[count] = termKey(terms[t].order, terms[t].j);
+        term[count] = terms[t].c;
+      }
+      if (t < 0) {
+        int s0 = 0, s1 = 1, s2 = 2, s3 = 3;
+        order(key[0], s0, key[1], s1);
+        order(key[2], s2, key[3], s3);
+        order(key[0], s0, key[2], s2);
+        order(key[1], s1, key[3], s3);
+        order(key[1], s1, key[2], s2);
+        sum += term[s0];
+        sum += term[s1];
+        sum += term[s2];
+        sum += term[s3];
       } else {
         chain.clear();
-        for (std::int32_t t = head; t >= 0; t = terms[t].next) {
-          // Insertion by (order, partner): a point has a few terms.
-          const PairTerm& term = terms[t];
+        for (t = head; t >= 0; t = terms[t].next) {
+          // Insertion by (order, partner): a deep fold, a point has a few terms.
+          const std::uint64_t k_t = termKey(terms[t].order, terms[t].j);
           std::size_t k = chain.size();
           chain.push_back(t);
-          for (; k > 0; --k) {
-            const PairTerm& before = terms[chain[k - 1]];
-            if (before.order < term.order || (before.order == term.order && before.j < term.j)) break;
+          for (; k > 0 && k_t < termKey(terms[chain[k - 1]].order, terms[chain[k - 1]].j); --k)
             chain[k] = chain[k - 1];
-          }
           chain[k] = t;
         }
-        for (const std::int32_t t : chain)
-          sum += terms[t].c;
+        for (const std::int32_t slot : chain)
+          sum += terms[slot].c;
         count = int(chain.size());
       }
       const vec3 c = sum / (T(count) * steps);
