@@ -251,11 +251,11 @@ class CpuSolver final : public Solver {
     vec3 c;
   };
   struct PairTerm {
-    std::uint32_t j;
-    int order;
+    std::uint64_t key;  // its place in the point's sum: termKey(cell order, partner)
     std::int32_t next;  // the point's next term in the same scratch, or -1
     vec3 c;
   };
+  static std::uint64_t termKey(int order, std::uint32_t j) { return std::uint64_t(std::uint32_t(order)) << 32 | j; }
   struct alignas(64) PairScratch {            // one per thread of the team, on cache lines of their own
     std::vector<std::vector<FoundTerm>> to;   // per thread of the team: the terms found here for its points,
     std::vector<std::size_t> sent;            // this substep's the first sent[t] of to[t] (only grown)
@@ -294,7 +294,7 @@ class CpuSolver final : public Solver {
     std::int32_t& first = first_term_[i];
     to.touched[to.points] = i;
     to.points += first < 0;
-    to.terms[to.linked] = {j, order, first, c};
+    to.terms[to.linked] = {termKey(order, j), first, c};
     first = std::int32_t(to.linked++);
   }
   void unlinkTerms(PairScratch& scratch) {  // first_term_ back to -1 at its points, as a failed substep leaves it

@@ -350,10 +350,8 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
     const std::uint32_t* const touched = mine.touched.data();
     const std::size_t points = mine.points;
     std::vector<std::int32_t>& chain = mine.chain;
-    // A term's place in the sum: (cell order, partner) as one number; and a compare-exchange of two slots by it,
-    // with selects
+    // A compare-exchange of two slots by their terms' keys (termKey), with selects
     constexpr std::uint64_t kNoTerm = ~std::uint64_t(0);
-    const auto termKey = [](int order, std::uint32_t j) { return std::uint64_t(std::uint32_t(order)) << 32 | j; };
     const auto order = [](std::uint64_t& ka, int& a, std::uint64_t& kb, int& b) {
       const bool swap = kb < ka;
       const std::uint64_t lo = swap ? kb : ka, hi = swap ? ka : kb;
@@ -374,7 +372,7 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
       int count = 0;
       std::int32_t t = head;
       for (; t >= 0 && count < 4; t = terms[t].next, ++count) {
-        key[count] = termKey(terms[t].order, terms[t].j);
+        key[count] = terms[t].key;
         term[count] = terms[t].c;
       }
       if (t < 0) {
@@ -392,10 +390,10 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
         chain.clear();
         for (t = head; t >= 0; t = terms[t].next) {
           // Insertion by (order, partner): a deep fold, a point has a few terms.
-          const std::uint64_t k_t = termKey(terms[t].order, terms[t].j);
+          const std::uint64_t k_t = terms[t].key;
           std::size_t k = chain.size();
           chain.push_back(t);
-          for (; k > 0 && k_t < termKey(terms[chain[k - 1]].order, terms[chain[k - 1]].j); --k)
+          for (; k > 0 && k_t < terms[chain[k - 1]].key; --k)
             chain[k] = chain[k - 1];
           chain[k] = t;
         }
