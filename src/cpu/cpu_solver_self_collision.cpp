@@ -352,6 +352,21 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
     std::vector<std::int32_t>& chain = mine.chain;
     // A compare-exchange of two slots by their terms' keys (termKey), with selects
     constexpr std::uint64_t kNoTerm = ~std::uint64_t(0);
+    // A term in a slot: for float the three coordinates in one vector, added lane by lane (the same bits as three
+    // additions); the first slot added to +0 as the sum starts, which leaves it as it is but for a -0, made +0
+    using Slot = std::conditional_t<std::is_same_v<T, float>, float __attribute__((vector_size(16))), vec3>;
+    const auto slot = [](vec3 c) {
+      if constexpr (std::is_same_v<T, float>)
+        return Slot{c.x, c.y, c.z, 0.0f} + Slot{};
+      else
+        return vec3(0) + c;
+    };
+    const auto unslot = [](Slot s) {
+      if constexpr (std::is_same_v<T, float>)
+        return vec3(s[0], s[1], s[2]);
+      else
+        return s;
+    };
     const auto order = [](std::uint64_t& ka, int& a, std::uint64_t& kb, int& b) {
       const bool swap = kb < ka;
       const std::uint64_t lo = swap ? kb : ka, hi = swap ? ka : kb;
@@ -368,12 +383,12 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
       // The branches they replace were mispredicted at most points (pinned2 at 256^2: 29% of the points with terms
       // have one, 43% two, 12% three, 10% four).
       std::uint64_t key[4] = {kNoTerm, kNoTerm, kNoTerm, kNoTerm};
-      vec3 term[4] = {};
+      Slot term[4] = {};
       int count = 0;
       std::int32_t t = head;
       for (; t >= 0 && count < 4; t = terms[t].next, ++count) {
         key[count] = terms[t].key;
-        term[count] = terms[t].c;
+        term[count] = slot(terms[t].c);
       }
       if (t < 0) {
         int s0 = 0, s1 = 1, s2 = 2, s3 = 3;
@@ -382,10 +397,7 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
         order(key[0], s0, key[2], s2);
         order(key[1], s1, key[3], s3);
         order(key[1], s1, key[2], s2);
-        sum += term[s0];
-        sum += term[s1];
-        sum += term[s2];
-        sum += term[s3];
+        sum = unslot(((term[s0] + term[s1]) + term[s2]) + term[s3]);
       } else {
         chain.clear();
         for (t = head; t >= 0; t = terms[t].next) {
