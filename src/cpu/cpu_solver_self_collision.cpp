@@ -376,7 +376,7 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
     for (const std::uint32_t i : std::span(touched, points)) {
       const std::int32_t head = first_term_[i];
       first_term_[i] = -1;
-      vec3 sum(0);
+      Slot sum{};
       // Up to four terms side by side, each slot without one keyed past every term and holding +0: the slots sorted
       // by key with selects (no branch on how many there are, or on which came first) and summed whole give the
       // bits of the point's own terms summed in order, as a sum of terms is never -0 and x + 0 = x for every other x.
@@ -397,7 +397,7 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
         order(key[0], s0, key[2], s2);
         order(key[1], s1, key[3], s3);
         order(key[1], s1, key[2], s2);
-        sum = unslot(((term[s0] + term[s1]) + term[s2]) + term[s3]);
+        sum = ((term[s0] + term[s1]) + term[s2]) + term[s3];
       } else {
         chain.clear();
         for (t = head; t >= 0; t = terms[t].next) {
@@ -409,11 +409,11 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
             chain[k] = chain[k - 1];
           chain[k] = t;
         }
-        for (const std::int32_t slot : chain)
-          sum += terms[slot].c;
+        for (const std::int32_t k : chain)
+          sum += slot(terms[k].c);
         count = int(chain.size());
       }
-      const vec3 c = sum / (T(count) * steps);
+      const vec3 c = unslot(sum / (T(count) * steps));
       if (!self_correction_.empty()) self_correction_[i] = c;
       displace(i, c);
       summed += count;
