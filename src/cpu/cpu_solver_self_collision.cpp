@@ -350,10 +350,10 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
     const std::uint32_t* const touched = mine.touched.data();
     const std::size_t points = mine.points;
     std::vector<std::int32_t>& chain = mine.chain;
-    // A compare-exchange of two slots by their terms' keys (termKey), with selects
     constexpr std::uint64_t kNoTerm = ~std::uint64_t(0);
     // A term in a slot: for float the three coordinates in one vector, added lane by lane (the same bits as three
-    // additions); the first slot added to +0 as the sum starts, which leaves it as it is but for a -0, made +0
+    // additions). Each term is added to +0 first, as the sum starts from +0: a -0 becomes +0, so that four terms of
+    // -0 sum to +0 as they do from +0 (x + 0 and x + -0 are x for every other x, so nothing else changes).
     using Slot = std::conditional_t<std::is_same_v<T, float>, float __attribute__((vector_size(16))), vec3>;
     const auto slot = [](vec3 c) {
       if constexpr (std::is_same_v<T, float>)
@@ -367,6 +367,7 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
       else
         return s;
     };
+    // A compare-exchange of two slots by their terms' keys (termKey), with selects
     const auto order = [](std::uint64_t& ka, int& a, std::uint64_t& kb, int& b) {
       const bool swap = kb < ka;
       const std::uint64_t lo = swap ? kb : ka, hi = swap ? ka : kb;
