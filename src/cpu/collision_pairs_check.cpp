@@ -366,6 +366,8 @@ void CollisionPairs<T>::activeOffsets(long long first, long long last) {
   const auto thread = std::size_t(teamThread());
   std::uint64_t* const mine = stencil_active_.data() + thread * tile_count_;
   active_rows_[thread] = {int(first), int(last)};
+  // The squared distance a square's offset must not exceed at the build to be tested, for the box of the
+  // displacements of the squares its pairs lie in
   const auto needed = [&](vec3 lo, vec3 hi) {
     const vec3 box = hi - lo;
     const T diagonal2 = glm::dot(box, box);
@@ -433,10 +435,7 @@ void CollisionPairs<T>::activeOffsets(long long first, long long last) {
         lo = glm::min(lo, column_lo[std::size_t(x)]);
         hi = glm::max(hi, column_hi[std::size_t(x)]);
       }
-      const vec3 box = hi - lo;
-      const T diagonal2 = glm::dot(box, box);
-      const T need = (range_ + std::sqrt(diagonal2) + room) * (T(1) + T(1.0 / 65536));
-      const float need2 = diagonal2 <= std::numeric_limits<T>::max() ? float(need * need) : __builtin_inff();
+      const float need2 = needed(lo, hi);
       const std::size_t t = std::size_t(ty) * std::size_t(across) + std::size_t(tx);
       const float* least = stencil_min2_.data() + t * offsets;
       std::uint64_t active = 0;
