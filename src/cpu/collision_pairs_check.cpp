@@ -359,9 +359,6 @@ void CollisionPairs<T>::activeOffsets(long long first, long long last) {
   const int reach = (box_ + edge_ - 1) / edge_;  // squares away a partner can lie
   const std::size_t offsets = forwardOffsets();
   constexpr T kInf = std::numeric_limits<T>::infinity();
-  static thread_local std::vector<vec3> column_lo, column_hi;
-  column_lo.resize(std::size_t(across));
-  column_hi.resize(std::size_t(across));
   const T room = T(64) * std::numeric_limits<T>::epsilon() * extent_;
   const auto thread = std::size_t(teamThread());
   std::uint64_t* const mine = stencil_active_.data() + thread * tile_count_;
@@ -374,6 +371,13 @@ void CollisionPairs<T>::activeOffsets(long long first, long long last) {
     const T need = (range_ + std::sqrt(diagonal2) + room) * (T(1) + T(1.0 / 65536));
     return diagonal2 <= std::numeric_limits<T>::max() ? float(need * need) : __builtin_inff();
   };
+  // Square (tx, ty)'s box of the displacements into [lo, hi], where the square is on the grid
+  const auto box = [&](int tx, int ty, vec3& lo, vec3& hi) {
+    if (tx < 0 || tx >= across || ty < 0 || ty >= down) return;
+    const TileBox& b = boxes_[std::size_t(ty) * std::size_t(across) + std::size_t(tx)];
+    lo = glm::min(lo, b.dlo);
+    hi = glm::max(hi, b.dhi);
+  };
   if (reach == 1) {
     // An offset's partners lie in the square or the ones beside and below it on the offset's side: four squares at
     // most (a partner is at most box_ <= edge_ columns and rows away), not the nine around it. Each forward offset's
@@ -384,12 +388,6 @@ void CollisionPairs<T>::activeOffsets(long long first, long long last) {
       const int du = du_[std::size_t(half) + k], dv = dv_[std::size_t(half) + k];
       kind[k] = dv == 0 ? 0 : du > 0 ? 1 : du == 0 ? 2 : 3;
     }
-    const auto box = [&](int tx, int ty, vec3& lo, vec3& hi) {
-      if (tx < 0 || tx >= across || ty >= down) return;
-      const TileBox& b = boxes_[std::size_t(ty) * std::size_t(across) + std::size_t(tx)];
-      lo = glm::min(lo, b.dlo);
-      hi = glm::max(hi, b.dhi);
-    };
     for (auto ty = int(first); ty < int(last); ++ty)
       for (int tx = 0; tx < across; ++tx) {
         float need2[4];
@@ -417,15 +415,15 @@ void CollisionPairs<T>::activeOffsets(long long first, long long last) {
       }
     return;
   }
+  static thread_local std::vector<vec3> column_lo, column_hi;
+  column_lo.resize(std::size_t(across));
+  column_hi.resize(std::size_t(across));
   for (auto ty = int(first); ty < int(last); ++ty) {
     // Each column's displacements over the rows of squares a partner of this row can lie in
     for (int tx = 0; tx < across; ++tx) {
       vec3 lo(kInf), hi(-kInf);
-      for (int y = std::max(ty - reach, 0); y <= std::min(ty + reach, down - 1); ++y) {
-        const TileBox& b = boxes_[std::size_t(y) * std::size_t(across) + std::size_t(tx)];
-        lo = glm::min(lo, b.dlo);
-        hi = glm::max(hi, b.dhi);
-      }
+      for (int y = ty - reach; y <= ty + reach; ++y)
+        box(tx, y, lo, hi);
       column_lo[std::size_t(tx)] = lo;
       column_hi[std::size_t(tx)] = hi;
     }
