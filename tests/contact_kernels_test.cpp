@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -22,6 +23,7 @@ using vec3 = glm::vec3;
 std::vector<const GridKernels*> kernelSets() {
   std::vector<const GridKernels*> out = {&gridKernels(GridIsa::Sse2)};
   if (cpuHasAvx2()) out.push_back(&gridKernels(GridIsa::Avx2));
+  if (cpuHasAvx512()) out.push_back(&gridKernels(GridIsa::Avx512));
   return out;
 }
 
@@ -98,45 +100,119 @@ TEST(ContactKernels, PairTermsAreTheScalarTermsAndOrders) {
   }
 }
 
-// CollisionPairs on a grid cloth with the kernels and without (the scalar tiles' comparison) gives the same
-// answer at every step of a motion that tears regions apart now and then.
-TEST(ContactKernels, TheTileComparisonAnswersAsTheScalarOne) {
-  constexpr int n = 37;  // tiles of 8 points with 5 left over: partial vectors, and the last row's tail
-  const float spacing = 0.02f, range = 0.019f, margin = 0.0095f;
-  std::vector<vec3> rest;
-  for (int v = 0; v < n; ++v)
-    for (int u = 0; u < n; ++u)
-      rest.push_back(vec3(float(u) * spacing, 0.0f, float(v) * spacing));
-  for (const GridKernels* kern : kernelSets()) {
-    SCOPED_TRACE(kern->name);
-    CollisionPairs<float> with, without;
-    for (CollisionPairs<float>* p : {&with, &without}) {
-      p->configure(range, margin);
-      p->setRest(rest);
-      p->setGrid(n, n);
-    }
-    with.setKernels(kern);
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<float> jitter(-0.0004f, 0.0004f);
-    std::vector<vec3> x = rest;
-    int builds = 0;
-    for (int s = 0; s < 400; ++s) {
-      // A fold that sweeps across: the rows past a moving line lift and slide against the rest
-      const int line = (s / 10) % n;
-      for (int v = 0; v < n; ++v)
-        for (int u = 0; u < n; ++u) {
-          vec3& p = x[std::size_t(v * n + u)];
-          p += vec3(jitter(rng), jitter(rng), jitter(rng));
-          if (u > line) p.y += 0.0006f;
+// tileBoxes' twelve numbers a tile (the least and greatest displacement and position in x, y and z) are the minima and
+// maxima over the tile's points, from vec3 arrays and from a grid path's padded ones, for squares as wide as a vector,
+// narrower (a partial one), one lane wider and wider still; and a NaN displacement answers false.
+TEST(ContactKernels, TileBoxesAreEachTilesLeastAndGreatest) {
+  const int w = 53, h = 41;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> coordinate(-2.0f, 2.0f);
+  std::vector<vec3> x(std::size_t(w * h)), anchor(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    x[i] = vec3(coordinate(rng), coordinate(rng), coordinate(rng));
+    anchor[i] = x[i] + vec3(coordinate(rng), coordinate(rng), coordinate(rng)) * 0.01f;
+  }
+  const GridShape shape = GridShape::of(w, h);
+  std::vector<float> padded[6];
+  for (std::vector<float>& a : padded)
+    a.assign(shape.size, 0.0f);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u)
+      for (int c = 0; c < 3; ++c) {
+        padded[c][std::size_t(shape.at(u, v))] = x[std::size_t(v * w + u)][c];
+        padded[3 + c][std::size_t(shape.at(u, v))] = anchor[std::size_t(v * w + u)][c];
+      }
+  for (const GridKernels* kern : kernelSets())
+    for (const int edge : {8, 9, 13, 16, 17, 24})
+      for (const bool in_padded : {false, true}) {
+        SCOPED_TRACE(::testing::Message() << kern->name << ", squares of " << edge << (in_padded ? ", padded" : ""));
+        const int across = (w + edge - 1) / edge, down = (h + edge - 1) / edge;
+        std::vector<float> out(std::size_t(12 * across * down), 0.0f);
+        TileBoxArgs args{&x.data()->x, &anchor.data()->x, w, h, edge, across, out.data(), 0, down};
+        if (in_padded) {
+          args.shape = shape;
+          args.px = padded[0].data();
+          args.py = padded[1].data();
+          args.pz = padded[2].data();
+          args.ax = padded[3].data();
+          args.ay = padded[4].data();
+          args.az = padded[5].data();
         }
-      const bool a = with.update(x, 1), b = without.update(x, 1);
-      ASSERT_EQ(a, b) << "step " << s;
-      builds += a;
+        ASSERT_TRUE(kern->tileBoxes(args));
+        for (int t = 0; t < across * down; ++t) {
+          const int u0 = t % across * edge, v0 = t / across * edge;
+          float expect[12];
+          for (int c = 0; c < 3; ++c) {
+            expect[c] = expect[6 + c] = std::numeric_limits<float>::infinity();
+            expect[3 + c] = expect[9 + c] = -std::numeric_limits<float>::infinity();
+          }
+          for (int v = v0; v < std::min(v0 + edge, h); ++v)
+            for (int u = u0; u < std::min(u0 + edge, w); ++u) {
+              const std::size_t i = std::size_t(v * w + u);
+              for (int c = 0; c < 3; ++c) {
+                const float d = x[i][c] - anchor[i][c];
+                expect[c] = std::min(expect[c], d);
+                expect[3 + c] = std::max(expect[3 + c], d);
+                expect[6 + c] = std::min(expect[6 + c], x[i][c]);
+                expect[9 + c] = std::max(expect[9 + c], x[i][c]);
+              }
+            }
+          for (int k = 0; k < 12; ++k)
+            ASSERT_EQ(out[std::size_t(12 * t + k)], expect[k]) << "tile " << t << ", number " << k;
+        }
+        // A displacement that is not finite, in the last tile's last point
+        const std::size_t last = x.size() - 1;
+        const float kept = anchor[last].y;
+        anchor[last].y = std::numeric_limits<float>::quiet_NaN();
+        padded[4][std::size_t(shape.at(w - 1, h - 1))] = anchor[last].y;
+        EXPECT_FALSE(kern->tileBoxes(args));
+        anchor[last].y = kept;
+        padded[4][std::size_t(shape.at(w - 1, h - 1))] = kept;
+      }
+}
+
+// CollisionPairs on a grid cloth with the kernels and without (the scalar tiles' comparison) gives the same
+// answer at every step of a motion that tears regions apart now and then. Three grids: 37 x 37 (tiles of 8 points with
+// 5 left over: partial vectors, and the last row's tail), 37 x 200 (tiles of 13: a partial vector of sixteen) and
+// 40 x 272 (tiles of 17: a whole vector of sixteen and one lane more).
+TEST(ContactKernels, TheTileComparisonAnswersAsTheScalarOne) {
+  const float spacing = 0.02f, range = 0.019f, margin = 0.0095f;
+  for (const auto& [n, h] : {std::pair{37, 37}, std::pair{37, 200}, std::pair{40, 272}}) {
+    std::vector<vec3> rest;
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < n; ++u)
+        rest.push_back(vec3(float(u) * spacing, 0.0f, float(v) * spacing));
+    for (const GridKernels* kern : kernelSets()) {
+      SCOPED_TRACE(::testing::Message() << kern->name << ", " << n << " x " << h);
+      CollisionPairs<float> with, without;
+      for (CollisionPairs<float>* p : {&with, &without}) {
+        p->configure(range, margin);
+        p->setRest(rest);
+        p->setGrid(n, h);
+      }
+      with.setKernels(kern);
+      std::mt19937 rng(5);
+      std::uniform_real_distribution<float> jitter(-0.0004f, 0.0004f);
+      std::vector<vec3> x = rest;
+      int builds = 0;
+      for (int s = 0; s < 400; ++s) {
+        // A fold that sweeps across: the rows past a moving line lift and slide against the rest
+        const int line = (s / 10) % n;
+        for (int v = 0; v < h; ++v)
+          for (int u = 0; u < n; ++u) {
+            vec3& p = x[std::size_t(v * n + u)];
+            p += vec3(jitter(rng), jitter(rng), jitter(rng));
+            if (u > line) p.y += 0.0006f;
+          }
+        const bool a = with.update(x, 1), b = without.update(x, 1);
+        ASSERT_EQ(a, b) << "step " << s;
+        builds += a;
+      }
+      EXPECT_EQ(with.closerLooksKept(), without.closerLooksKept());
+      EXPECT_GT(builds, 20);   // the motion wore the lists out many times
+      EXPECT_LT(builds, 400);  // and not at every step
+      EXPECT_TRUE(x87Usable()) << "the tile comparison left the x87 registers to MMX";
     }
-    EXPECT_EQ(with.closerLooksKept(), without.closerLooksKept());
-    EXPECT_GT(builds, 20);   // the motion wore the lists out many times
-    EXPECT_LT(builds, 400);  // and not at every step
-    EXPECT_TRUE(x87Usable()) << "the tile comparison left the x87 registers to MMX";
   }
 }
 

@@ -61,11 +61,16 @@ Scene sceneFor(const GridCase& c) {
 
 using test::sameBytes;
 
-// The instruction sets this CPU runs: SSE2 always, AVX2 where it has it.
+// The instruction sets this CPU runs: SSE2 always, AVX2 and AVX-512 where it has them.
 std::vector<GridIsa> isas() {
   std::vector<GridIsa> out = {GridIsa::Sse2};
   if (cpuHasAvx2()) out.push_back(GridIsa::Avx2);
+  if (cpuHasAvx512()) out.push_back(GridIsa::Avx512);
   return out;
+}
+
+const char* isaName(GridIsa isa) {
+  return isa == GridIsa::Avx512 ? "avx512" : isa == GridIsa::Avx2 ? "avx2" : "sse2";
 }
 
 class GridPathEquality : public ::testing::TestWithParam<GridCase> {};
@@ -91,7 +96,7 @@ TEST_P(GridPathEquality, EachPassGivesTheGeneralPathsBytes) {
     CpuSolver<float> general(scene, CpuSolverOptions{.form = GetParam().form, .threads = 1, .grid_path = false});
     CpuSolver<float> grid(scene, CpuSolverOptions{.form = GetParam().form, .threads = 1, .grid_isa = isa});
     ASSERT_EQ(general.gridKernels(), "");
-    ASSERT_EQ(grid.gridKernels(), isa == GridIsa::Avx2 ? "avx2" : "sse2");
+    ASSERT_EQ(grid.gridKernels(), isaName(isa));
     disturb(general, 7);
     disturb(grid, 7);
     general.accumulateForces();

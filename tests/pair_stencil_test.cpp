@@ -163,6 +163,40 @@ TEST(PairStencil, ASquarePassesOverAnOffsetOnlyWhileNoPairThereCanBeInRange) {
     }
 }
 
+// Sixteen lanes cross three squares where a square is 9 to 15 points wide: a grid of 40 x 144 points has squares of 9
+// (144 / 16), and the vector of columns 16 to 31 lies in squares 1, 2 and 3 of its row. A point of the middle square
+// moves straight down towards a point three rows below it in the same square (3 spacings against a range of 2.98):
+// only that square, and the one above it, test that offset, so the vector must take the middle square's offsets (and
+// at the build record its least distances) as well as those of the squares at its ends. Every instruction set here.
+TEST(PairStencil, AVectorAcrossThreeSquaresTestsTheMiddleOnesOffsets) {
+  Scene scene = stillFlatCloth();
+  const int w = 40, h = 144;
+  scene.cloth.num_width_points = w;
+  scene.cloth.num_height_points = h;
+  scene.cloth.height = scene.cloth.width * double(h - 1) / double(w - 1);  // square spacings
+  scene.cloth.thickness = 1.49 * scene.cloth.width / double(w - 1);        // a range of 2.98 spacings
+  std::vector<GridIsa> isas = {GridIsa::Sse2};
+  if (cpuHasAvx2()) isas.push_back(GridIsa::Avx2);
+  if (cpuHasAvx512()) isas.push_back(GridIsa::Avx512);
+  for (const GridIsa isa : isas) {
+    CpuSolver<float> solver(scene, CpuSolverOptions{.threads = 1, .grid_isa = isa, .keep_self_corrections = true});
+    SCOPED_TRACE(solver.gridKernels());
+    const std::vector<glm::dvec3> rest = solver.topology().initial_positions;
+    const std::size_t i = std::size_t(50 * w + 22), j = std::size_t(53 * w + 22);  // both in square (2, 5)
+    const glm::dvec3 towards = rest[j] - rest[i];
+    const double beyond = glm::length(towards) - 2 * scene.cloth.thickness;
+    ASSERT_GT(beyond, 0);
+    std::vector<glm::dvec3> v(rest.size(), glm::dvec3(0));
+    v[i] = glm::normalize(towards) * beyond * 1.5;
+    moveOnce(solver, v);
+    const CollisionPairs<float>& pairs = solver.collisionPairs();
+    ASSERT_EQ(pairs.rebuilds(), 1) << "the move is within the lists' travel";
+    EXPECT_GT(pairs.squaresRuledOut(), 0.5);
+    EXPECT_NE(solver.selfCorrections()[i], vec3(0));
+    EXPECT_NE(solver.selfCorrections()[j], vec3(0));
+  }
+}
+
 // The squares' bound takes in only the squares an offset's partners lie in: the square, and beside it and below it
 // on the offset's side. One point of the square below and left of square (1, 1) moves by 0.3 spacings: (1, 1) then
 // tests its down-left offsets whose pairs stood at most the range and the move apart at rest (a box of all nine
@@ -214,6 +248,8 @@ TEST(PairStencil, TheSquaresKeepTheBytes) {
   expectSameRun<float>(scene, every_test, CpuSolverOptions{.threads = 1}, 40, "float");
   expectSameRun<float>(scene, every_test, CpuSolverOptions{.threads = 2, .team_min_points = 0}, 40, "2 threads");
   expectSameRun<float>(scene, every_test, CpuSolverOptions{.threads = 1, .grid_isa = GridIsa::Sse2}, 40, "SSE2");
+  if (cpuHasAvx2() && cpuHasAvx512())  // the default is AVX-512: AVX2 too
+    expectSameRun<float>(scene, every_test, CpuSolverOptions{.threads = 1, .grid_isa = GridIsa::Avx2}, 40, "AVX2");
 }
 
 // A team's threads find the pairs of one share of the points (the stencil's of their rows, whole rows of squares at a

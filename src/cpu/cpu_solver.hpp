@@ -60,7 +60,7 @@ struct CpuSolverOptions {
   // Float grid cloths: forces and the Gauss-Seidel stretch limit by the SIMD grid kernels (cpu/grid_path.hpp),
   // the same bytes as the general gathers; false runs the general path (the tests compare the two).
   bool grid_path = true;
-  GridIsa grid_isa = GridIsa::Auto;  // the grid kernels' instruction set; Auto: AVX2 where the CPU has it
+  GridIsa grid_isa = GridIsa::Auto;  // the grid kernels' instruction set; Auto: the widest the CPU has
   // The fewest points for which step() always runs its passes on a team of `threads` (one OpenMP region a
   // substep, a barrier between passes). Tests set 0 to run a small cloth on a team. Measured:
   // docs/results/cpu_speed.md.
@@ -127,7 +127,7 @@ class CpuSolver final : public Solver {
   const Tethers& tethers() const { return tethers_; }
   const PointColouring& pointColouring() const { return point_colouring_; }
   const FaceAdjacency& faceAdjacency() const { return faces_; }
-  // The grid kernels' instruction set ("sse2", "avx2"), or "" where the general path runs.
+  // The grid kernels' instruction set ("sse2", "avx2", "avx512"), or "" where the general path runs.
   std::string gridKernels() const { return grid_ ? grid_->kernels().name : ""; }
   int teamThreads() const { return team_; }                  // threads step() runs its passes on when on a team
   long long teamSubsteps() const { return team_substeps_; }  // substeps run on the team since reset()

@@ -19,6 +19,7 @@ namespace drape {
 // or write of a row ever reaches another row's points (threads work on whole rows).
 struct GridShape {
   static constexpr int kLeft = 4, kTop = 2;
+  static constexpr int kMaxWidth = 16;  // the widest instruction set's lanes (AVX-512)
   int W = 0, H = 0, stride = 0;
   std::size_t size = 0;  // floats per array
 
@@ -225,7 +226,7 @@ struct TileCompareArgs {
 // One instruction set's kernels. Each works on the rows [y0, y1) of the grid (for a stretch colour, the
 // rows where its springs start), so a team of threads can split a pass by rows.
 struct GridKernels {
-  const char* name;  // "sse2", "avx2"
+  const char* name;  // "sse2", "avx2", "avx512"
   int width;         // lanes
   // vec3 array <-> three padded arrays
   // signed_rows (or nullptr): set to 1 for each row with a coordinate that is -0, left as it is for the rest.
@@ -240,7 +241,7 @@ struct GridKernels {
   // lambda is not kept), each spring's ends moved by -w_a p and +w_b p.
   void (*xpbdColour)(const GridStretchArgs&, int direction, int parity, int y0, int y1);
   // VBD's Newton steps (physics::vbdAddSpring over the adjacency's order, vbdStep) of points [first, last) of
-  // args.points, 8 at a time by gathers: no two of them share a spring.
+  // args.points, a vector at a time by gathers: no two of them share a spring.
   void (*vbdPoints)(const GridVbdArgs&, long long first, long long last);
   // Verlet in displacement form (physics::integrateVerlet, then x += v) over vec3 arrays seen as floats,
   // [first, last) in floats: per float its point's inverse mass and pin mask (all bits set: pinned, which
@@ -290,14 +291,16 @@ struct GridKernels {
   void (*probeTriad)(float* a, const float* b, const float* c, long long n, float s);
 };
 
-enum class GridIsa { Auto, Sse2, Avx2 };
+enum class GridIsa { Auto, Sse2, Avx2, Avx512 };
 
-// The kernels for `isa`; Auto picks AVX2 where the CPU has it (checked at run time: the binary runs on any
-// x86-64), else SSE2. Throws std::runtime_error for Avx2 on a CPU without it.
+// The kernels for `isa`; Auto picks the widest the CPU has (checked at run time: the binary runs on any x86-64):
+// AVX-512, else AVX2, else SSE2. Throws std::runtime_error for a set the CPU does not have.
 const GridKernels& gridKernels(GridIsa isa = GridIsa::Auto);
 bool cpuHasAvx2();
+bool cpuHasAvx512();  // F, DQ and VL, the parts the kernels use
 
 const GridKernels& gridKernelsSse2();
 const GridKernels& gridKernelsAvx2();
+const GridKernels& gridKernelsAvx512();
 
 }  // namespace drape

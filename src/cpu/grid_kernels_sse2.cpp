@@ -9,9 +9,9 @@ GridShape GridShape::of(int w, int h) {
   GridShape g;
   g.W = w;
   g.H = h;
-  // Room on the right for the widest overrun (two AVX2 vectors from the last spring of a row), so that no
-  // lane of a row reaches the next row's padding, which another thread may be reading.
-  g.stride = (w + kLeft + 16 + 7) / 8 * 8;
+  // Room on the right for the widest overrun (two vectors of the widest set from the last spring of a row), so
+  // that no lane of a row reaches the next row's padding, which another thread may be reading.
+  g.stride = (w + kLeft + 2 * kMaxWidth + 7) / 8 * 8;
   g.size = std::size_t(h + kTop + 3) * std::size_t(g.stride);
   return g;
 }
@@ -30,6 +30,11 @@ bool cpuHasAvx2() {
   return __builtin_cpu_supports("avx2");
 }
 
+bool cpuHasAvx512() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl");
+}
+
 const GridKernels& gridKernels(GridIsa isa) {
   switch (isa) {
     case GridIsa::Sse2:
@@ -37,9 +42,14 @@ const GridKernels& gridKernels(GridIsa isa) {
     case GridIsa::Avx2:
       if (!cpuHasAvx2()) throw std::runtime_error("this CPU has no AVX2: the grid kernels run with SSE2");
       return gridKernelsAvx2();
+    case GridIsa::Avx512:
+      if (!cpuHasAvx512())
+        throw std::runtime_error("this CPU has no AVX-512 (F, DQ, VL): the grid kernels run without");
+      return gridKernelsAvx512();
     case GridIsa::Auto:
       break;
   }
+  if (cpuHasAvx512()) return gridKernelsAvx512();
   return cpuHasAvx2() ? gridKernelsAvx2() : gridKernelsSse2();
 }
 

@@ -23,13 +23,21 @@ struct StencilKernels : Lanes<V> {
   // Whether the squares rule tests out (GridStencilArgs::active), or record their least distances
   enum StencilTiles { kAllTested, kTilesRuleOut, kTilesRecord };
 
+  // The squares a vector's lanes lie in: from `first`, `count` of them (two at most where a square is as wide as a
+  // vector, three where sixteen lanes cross a square of 9 to 15 points), each square's accumulators `stride` floats
+  // after the one before
+  struct Squares {
+    int first, count;
+    std::ptrdiff_t stride;
+  };
+
   // One offset's test of the vector of points at (u0, v), the first point `first`: its pairs in range appended to
   // a.lower and a.upper at `found`, and where kRecord each lane's least distance into the accumulators of the squares
-  // the lanes lie in (least0, least1; a NaN distance is -inf there, so that nothing is ruled out until the next
-  // build)
+  // the lanes lie in (from least, as `squares` says; a NaN distance is -inf there, so that nothing is ruled out until
+  // the next build)
   template <bool kInterior, bool kRecord>
   static void stencilTest(const GridStencilArgs& a, const StencilTerm& t, std::ptrdiff_t q, F X, F Y, F Z, F us, F own,
-                          F r2, std::uint32_t first, int& found, float* least0, float* least1) {
+                          F r2, std::uint32_t first, int& found, float* least, const Squares& squares) {
     const GridShape& g = a.shape;
     const F all = V::eq(V::set1(0.0f), V::set1(0.0f));
     // The padding keeps every partner load inside the arrays (|du| <= kMaxStencilBox < 2 rows)
@@ -40,8 +48,8 @@ struct StencilKernels : Lanes<V> {
     if constexpr (kRecord) {
       const F inf = V::set1(__builtin_inff());
       const F value = V::select(lanes, V::select(V::ge(d2, V::set1(0.0f)), d2, V::neg(inf)), inf);
-      V::store(least0, V::min(V::load(least0), value));
-      if (least1 != least0) V::store(least1, V::min(V::load(least1), value));
+      for (int s = 0; s < squares.count; ++s, least += squares.stride)
+        V::store(least, V::min(V::load(least), value));
     }
     // not d2 >= range^2: a NaN distance is a pair, for the scalar sum to see
     F pair = V::andNot(V::ge(d2, r2), lanes);
@@ -60,12 +68,11 @@ struct StencilKernels : Lanes<V> {
   }
 
   // The vector of points at (u0, v) against the row's offsets: all of them (terms, count of them), or, by the
-  // squares its lanes lie in (one or two, t0 and t1), the offsets they do not rule out (by offset number: terms[k]
-  // on the row where row has bit k); where recording, into the accumulators of those squares (acc0, acc1: kW lanes
-  // an offset)
+  // squares its lanes lie in, the offsets they do not rule out (by offset number: terms[k] on the row where row has
+  // bit k); where recording, into the accumulators of those squares (from acc: kW lanes an offset)
   template <bool kInterior, int kTiles>
   static void stencilVector(const GridStencilArgs& a, const StencilTerm* terms, int count, std::uint64_t row, int u0,
-                            int v, F r2, int t0, int t1, float* acc0, float* acc1, int& found) {
+                            int v, F r2, const Squares& squares, float* acc, int& found) {
     const GridShape& g = a.shape;
     const std::ptrdiff_t q = at(g, u0, v);
     const F X = V::load(a.x + q), Y = V::load(a.y + q), Z = V::load(a.z + q);
@@ -74,15 +81,18 @@ struct StencilKernels : Lanes<V> {
     const auto first = std::uint32_t(std::ptrdiff_t(v) * g.W + u0);
     if constexpr (kTiles == kAllTested) {
       for (int k = 0; k < count; ++k)
-        stencilTest<kInterior, false>(a, terms[k], q, X, Y, Z, us, own, r2, first, found, nullptr, nullptr);
+        stencilTest<kInterior, false>(a, terms[k], q, X, Y, Z, us, own, r2, first, found, nullptr, squares);
     } else if constexpr (kTiles == kTilesRuleOut) {
-      for (std::uint64_t m = (a.active[t0] | a.active[t1]) & row; m != 0; m &= m - 1)
+      std::uint64_t active = 0;
+      for (int s = 0; s < squares.count; ++s)
+        active |= a.active[squares.first + s];
+      for (std::uint64_t m = active & row; m != 0; m &= m - 1)
         stencilTest<kInterior, false>(a, terms[std::countr_zero(m)], q, X, Y, Z, us, own, r2, first, found, nullptr,
-                                      nullptr);
+                                      squares);
     } else {
       for (std::uint64_t m = row; m != 0; m &= m - 1) {
         const int k = std::countr_zero(m);
-        stencilTest<kInterior, true>(a, terms[k], q, X, Y, Z, us, own, r2, first, found, acc0 + k * kW, acc1 + k * kW);
+        stencilTest<kInterior, true>(a, terms[k], q, X, Y, Z, us, own, r2, first, found, acc + k * kW, squares);
       }
     }
   }
@@ -135,20 +145,19 @@ struct StencilKernels : Lanes<V> {
       const int tile_row = kTiles == kAllTested ? 0 : v / a.edge * a.across;
       // Vectors whose every lane's partners are on the grid need no lane masks
       for (int u0 = 0; u0 < g.W; u0 += kW) {
-        int t0 = 0, t1 = 0;
+        Squares squares{0, 0, std::ptrdiff_t(a.count) * kW};
         if (kTiles != kAllTested) {
-          t0 = tile_row + columns[std::size_t(u0 / kW)].first;
-          t1 = tile_row + columns[std::size_t(u0 / kW)].second;
+          const auto& [c0, c1] = columns[std::size_t(u0 / kW)];
+          squares.first = tile_row + c0;
+          squares.count = c1 - c0 + 1;
         }
-        float *acc0 = nullptr, *acc1 = nullptr;
-        if (kTiles == kTilesRecord) {
-          acc0 = acc.data() + std::size_t(t0 - tile_row) * std::size_t(a.count) * kW;
-          acc1 = acc.data() + std::size_t(t1 - tile_row) * std::size_t(a.count) * kW;
-        }
+        float* const at_square = kTiles == kTilesRecord
+                                     ? acc.data() + std::size_t(squares.first - tile_row) * std::size_t(a.count) * kW
+                                     : nullptr;
         if (u0 >= side && u0 + kW + side <= g.W)
-          stencilVector<true, kTiles>(a, terms.data(), count, row, u0, v, r2, t0, t1, acc0, acc1, found);
+          stencilVector<true, kTiles>(a, terms.data(), count, row, u0, v, r2, squares, at_square, found);
         else
-          stencilVector<false, kTiles>(a, terms.data(), count, row, u0, v, r2, t0, t1, acc0, acc1, found);
+          stencilVector<false, kTiles>(a, terms.data(), count, row, u0, v, r2, squares, at_square, found);
       }
       if (kTiles == kTilesRecord && ((v + 1) % a.edge == 0 || v + 1 == y1)) flush(tile_row);
     }

@@ -61,9 +61,10 @@ MachinePeak measurePeak(int threads) {
   MachinePeak peak;
   peak.isa = k.name;
   peak.threads = threads;
-  peak.dram_gbs = triadGbs(k, threads, (16LL << 20) / threads / 8 * 8, 4);  // 64 MiB an array in all
-  peak.l3_gbs = triadGbs(k, threads, 1LL << 20, 30);                        // 4 MiB an array and thread
-  peak.cache_gbs = triadGbs(k, threads, 16LL << 10, 2000);                  // 64 KiB an array, in L2
+  peak.dram_gbs = triadGbs(k, threads, (16LL << 20) / threads / GridShape::kMaxWidth * GridShape::kMaxWidth,
+                           4);                              // 64 MiB an array in all
+  peak.l3_gbs = triadGbs(k, threads, 1LL << 20, 30);        // 4 MiB an array and thread
+  peak.cache_gbs = triadGbs(k, threads, 16LL << 10, 2000);  // 64 KiB an array, in L2
   peak.l2_bytes = std::max(0L, sysconf(_SC_LEVEL2_CACHE_SIZE));
   peak.l3_bytes = std::max(0L, sysconf(_SC_LEVEL3_CACHE_SIZE));
   const long long reps = 4'000'000;

@@ -1,7 +1,8 @@
 // Vectors of floats for the grid kernels (cpu/grid_kernels.inl): one struct per instruction set, the same
 // operations under the same names, so a kernel is written once and compiled for each. Only the kernels'
 // translation units include this, each compiled for its own target (grid_kernels_sse2.cpp at the x86-64
-// baseline, grid_kernels_avx2.cpp with -mavx2), and everything here is inline in an unnamed namespace:
+// baseline, grid_kernels_avx2.cpp with -mavx2, grid_kernels_avx512.cpp with AVX-512 F, DQ and VL), and
+// everything here is inline in an unnamed namespace:
 // an AVX2 copy of a shared inline function must never be what the linker picks for the baseline code.
 //
 // Every operation is one IEEE-754 operation per lane, rounded to nearest (add, sub, mul, div, sqrt, and
@@ -226,6 +227,91 @@ struct Avx2 {
     _mm_storeu_ps(p + 12, _mm256_extractf128_ps(m0, 1));
     _mm_storeu_ps(p + 16, _mm256_extractf128_ps(m1, 1));
     _mm_storeu_ps(p + 20, _mm256_extractf128_ps(m2, 1));
+  }
+};
+#endif
+
+#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__)
+// Sixteen lanes. A mask is a vector with all bits set or clear in a lane, as in the narrower sets, so the kernels'
+// bit operations on masks stay as they are: a compare goes through a mask register and back (movm, DQ), a select
+// the other way. Shuffles work within each 128-bit quarter, as AVX2's within each half. A vec3 load or store, a
+// gather, a reduction: two of AVX2's, one a half.
+struct Avx512 {
+  static constexpr int kWidth = 16;
+  using F = __m512;
+  using Half = __m256;
+  static F fromMask(__mmask16 k) { return _mm512_castsi512_ps(_mm512_movm_epi32(k)); }
+  static __mmask16 toMask(F m) { return _mm512_movepi32_mask(_mm512_castps_si512(m)); }
+  static F halves(Half lo, Half hi) { return _mm512_insertf32x8(_mm512_castps256_ps512(lo), hi, 1); }
+  static Half low(F a) { return _mm512_castps512_ps256(a); }
+  static Half high(F a) { return _mm512_extractf32x8_ps(a, 1); }
+  static F load(const float* p) { return _mm512_loadu_ps(p); }
+  static void store(float* p, F v) { _mm512_storeu_ps(p, v); }
+  static F set1(float v) { return _mm512_set1_ps(v); }
+  static F iota() { return _mm512_setr_ps(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15); }
+  static F add(F a, F b) { return _mm512_add_ps(a, b); }
+  static F sub(F a, F b) { return _mm512_sub_ps(a, b); }
+  static F mul(F a, F b) { return _mm512_mul_ps(a, b); }
+  static F div(F a, F b) { return _mm512_div_ps(a, b); }
+  static F sqrt(F a) { return _mm512_sqrt_ps(a); }
+  static F neg(F a) { return _mm512_xor_ps(a, _mm512_set1_ps(-0.0f)); }
+  static F le(F a, F b) { return fromMask(_mm512_cmp_ps_mask(a, b, _CMP_LE_OQ)); }
+  static F lt(F a, F b) { return fromMask(_mm512_cmp_ps_mask(a, b, _CMP_LT_OQ)); }
+  static F eq(F a, F b) { return fromMask(_mm512_cmp_ps_mask(a, b, _CMP_EQ_OQ)); }
+  static F ge(F a, F b) { return fromMask(_mm512_cmp_ps_mask(a, b, _CMP_GE_OQ)); }
+  static F andNot(F m, F a) { return _mm512_andnot_ps(m, a); }
+  static F bitAnd(F a, F b) { return _mm512_and_ps(a, b); }
+  static F bitOr(F a, F b) { return _mm512_or_ps(a, b); }
+  static bool any(F m) { return toMask(m) != 0; }
+  static int bits(F m) { return int(toMask(m)); }
+  static F min(F a, F b) { return _mm512_min_ps(a, b); }
+  static F max(F a, F b) { return _mm512_max_ps(a, b); }
+  static F select(F m, F a, F b) { return _mm512_mask_blend_ps(toMask(m), b, a); }
+  static F floor(F a) { return _mm512_roundscale_ps(a, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
+  static float hmin(F a) { return Avx2::hmin(_mm256_min_ps(low(a), high(a))); }
+  static float hmax(F a) { return Avx2::hmax(_mm256_max_ps(low(a), high(a))); }
+  static F negZero(F a) {
+    return fromMask(_mm512_cmpeq_epi32_mask(_mm512_castps_si512(a), _mm512_set1_epi32(INT32_MIN)));
+  }
+  static void gatherVec3(const float* x, const std::uint32_t* idx, int count, F& gx, F& gy, F& gz, F& live) {
+    Half ax, ay, az, al, bx, by, bz, bl;
+    Avx2::gatherVec3(x, idx, count < 8 ? count : 8, ax, ay, az, al);
+    if (count > 8) {
+      Avx2::gatherVec3(x, idx + 8, count - 8, bx, by, bz, bl);
+    } else {
+      bx = by = bz = bl = _mm256_setzero_ps();
+    }
+    gx = halves(ax, bx);
+    gy = halves(ay, by);
+    gz = halves(az, bz);
+    live = halves(al, bl);
+  }
+  static F gather(const float* base, const std::int32_t* idx) {
+    return halves(Avx2::gather(base, idx), Avx2::gather(base, idx + 8));
+  }
+  static F evens(F lo, F hi) { return _mm512_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)); }
+  static F odds(F lo, F hi) { return _mm512_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1)); }
+  static void interleave(F e, F o, F& lo, F& hi) {
+    lo = _mm512_unpacklo_ps(e, o);
+    hi = _mm512_unpackhi_ps(e, o);
+  }
+  static F pairsA(F lo, F hi) { return _mm512_shuffle_ps(lo, hi, _MM_SHUFFLE(1, 0, 1, 0)); }
+  static F pairsB(F lo, F hi) { return _mm512_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 2, 3, 2)); }
+  static void interleavePairs(F a, F b, F& lo, F& hi) {
+    lo = _mm512_shuffle_ps(a, b, _MM_SHUFFLE(1, 0, 1, 0));
+    hi = _mm512_shuffle_ps(a, b, _MM_SHUFFLE(3, 2, 3, 2));
+  }
+  static void loadVec3(const float* p, F& x, F& y, F& z) {
+    Half ax, ay, az, bx, by, bz;
+    Avx2::loadVec3(p, ax, ay, az);
+    Avx2::loadVec3(p + 24, bx, by, bz);
+    x = halves(ax, bx);
+    y = halves(ay, by);
+    z = halves(az, bz);
+  }
+  static void storeVec3(float* p, F x, F y, F z) {
+    Avx2::storeVec3(p, low(x), low(y), low(z));
+    Avx2::storeVec3(p + 24, high(x), high(y), high(z));
   }
 };
 #endif
