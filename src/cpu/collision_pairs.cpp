@@ -327,7 +327,7 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
   const std::size_t n = x.size(), entries = forward_.size(), size = padded_.x ? padded_.shape.size : 0;
   if (!teamSerial(failure_, [&] {
         anchor_.resize(n);
-        for (std::vector<float>& a : padded_anchor_)
+        for (PaddedFloats& a : padded_anchor_)
           a.resize(size);
         if (tiled_ != n) makeTiles(n);
         for (EntryPart* part : {&near_, &far_}) {

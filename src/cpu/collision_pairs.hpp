@@ -19,6 +19,7 @@
 // solver finds each pair once and sorts each point's terms into that order (CpuSolver::sumPairTerms).
 #pragma once
 
+#include "cpu/aligned.hpp"
 #include "cpu/grid_kernels.hpp"
 #include "cpu/hash_grid.hpp"
 
@@ -278,7 +279,7 @@ class CollisionPairs {
     const float *x = nullptr, *y = nullptr, *z = nullptr;
   };
   Padded padded_;                          // setPaddedPositions
-  std::vector<float> padded_anchor_[3];    // anchor_ in padded_'s layout, where the last build had it (else empty)
+  PaddedFloats padded_anchor_[3];          // anchor_ in padded_'s layout, where the last build had it (else empty)
   std::vector<T> part_extent_;             // finishBuild's largest coordinate, per thread of the team
   std::vector<std::uint32_t> part_near_;   // finishBuild's near entries, per thread of the team
   std::vector<std::uint32_t> part_pairs_;  // assembleLists' pairs, per thread of the team

@@ -10,8 +10,8 @@ GridShape GridShape::of(int w, int h) {
   g.W = w;
   g.H = h;
   // Room on the right for the widest overrun (two vectors of the widest set from the last spring of a row), so
-  // that no lane of a row reaches the next row's padding, which another thread may be reading.
-  g.stride = (w + kLeft + 2 * kMaxWidth + 7) / 8 * 8;
+  // that no lane of a row reaches the next row's padding, which another thread may be reading; whole cache lines.
+  g.stride = (w + kLeft + 2 * kMaxWidth + kMaxWidth - 1) / kMaxWidth * kMaxWidth;
   g.size = std::size_t(h + kTop + 3) * std::size_t(g.stride);
   return g;
 }

@@ -20,9 +20,9 @@ constexpr SpringType kDirectionType[6] = {SpringType::Structural, SpringType::St
 
 GridPath::GridPath(const Topology& topo, const std::vector<float>& rest, GridIsa isa)
     : shape_(GridShape::of(topo.W, topo.H)), kernels_(&gridKernels(isa)) {
-  for (std::vector<float>* a : {&x_, &y_, &z_, &vx_, &vy_, &vz_, &pinned_, &mass_, &inv_mass_, &rx_, &ry_, &rz_})
+  for (PaddedFloats* a : {&x_, &y_, &z_, &vx_, &vy_, &vz_, &pinned_, &mass_, &inv_mass_, &rx_, &ry_, &rz_})
     a->assign(shape_.size, 0.0f);
-  for (std::vector<float>& r : rest_)
+  for (PaddedFloats& r : rest_)
     r.assign(shape_.size, 0.0f);
   signed_rows_.assign(std::size_t(shape_.H), 1);
   padded_.resize(topo.initial_positions.size());
@@ -219,7 +219,7 @@ void GridPath::vbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const f
   copyIn(x, v);
   if (sweeps > 1)
     teamSingle([&] {
-      for (std::vector<float>* t : {&tx_, &ty_, &tz_})
+      for (PaddedFloats* t : {&tx_, &ty_, &tz_})
         t->resize(shape_.size);
     });
   GridVbdArgs args{shape_,

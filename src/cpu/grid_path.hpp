@@ -6,6 +6,7 @@
 #pragma once
 
 #include "core/topology.hpp"
+#include "cpu/aligned.hpp"
 #include "cpu/grid_kernels.hpp"
 #include "cpu/parallel.hpp"
 
@@ -129,14 +130,14 @@ class GridPath {
 
   GridShape shape_;
   const GridKernels* kernels_;
-  std::vector<float> x_, y_, z_, vx_, vy_, vz_, pinned_, mass_, inv_mass_;
-  std::vector<float> rx_, ry_, rz_;  // rest positions, as the float solver rounds them
-  std::vector<float> rest_[6];       // per direction, at each spring's start a
-  std::vector<float> tx_, ty_, tz_;  // VBD of several sweeps: each point's prediction
+  PaddedFloats x_, y_, z_, vx_, vy_, vz_, pinned_, mass_, inv_mass_;
+  PaddedFloats rx_, ry_, rz_;  // rest positions, as the float solver rounds them
+  PaddedFloats rest_[6];       // per direction, at each spring's start a
+  PaddedFloats tx_, ty_, tz_;  // VBD of several sweeps: each point's prediction
   // VBD: the colours' points' padded indices, columns and rows (setVbdPoints)
   std::vector<std::int32_t> vbd_padded_;
   std::vector<float> vbd_column_, vbd_row_;
-  std::vector<float> lambda_[6];           // XPBD of several sweeps: per direction, each spring's multiplier
+  PaddedFloats lambda_[6];                 // XPBD of several sweeps: per direction, each spring's multiplier
   std::vector<std::uint8_t> signed_rows_;  // per row, whether copyIn saw a -0 (GridStretchArgs::signed_rows)
   std::vector<std::uint32_t> padded_;      // per point, its index in the padded arrays (displace)
   // The colours' rows of each thread of a team (sweepColours), its seconds for them at the last sweep and its
