@@ -18,8 +18,42 @@
 namespace drape::simd {
 namespace {
 
+// Splitting consecutive points into even and odd ones, or into pairs, and back: the same shuffles in every set,
+// made from its own (S::shuffle and S::unpack, which work within each 128-bit part of a vector). lo = p0..p(w-1) and
+// hi = pw..p(2w-1) become the even and odd points in an order of their own (within each 128-bit part), which
+// interleave undoes, or the pairs (p0 p1, p4 p5, ...) and (p2 p3, p6 p7, ...), which interleavePairs undoes.
+template <class S>
+struct LaneShuffles {
+  template <class F>
+  static F evens(F lo, F hi) {
+    return S::template shuffle<_MM_SHUFFLE(2, 0, 2, 0)>(lo, hi);
+  }
+  template <class F>
+  static F odds(F lo, F hi) {
+    return S::template shuffle<_MM_SHUFFLE(3, 1, 3, 1)>(lo, hi);
+  }
+  template <class F>
+  static void interleave(F e, F o, F& lo, F& hi) {
+    lo = S::unpackLo(e, o);
+    hi = S::unpackHi(e, o);
+  }
+  template <class F>
+  static F pairsA(F lo, F hi) {
+    return S::template shuffle<_MM_SHUFFLE(1, 0, 1, 0)>(lo, hi);
+  }
+  template <class F>
+  static F pairsB(F lo, F hi) {
+    return S::template shuffle<_MM_SHUFFLE(3, 2, 3, 2)>(lo, hi);
+  }
+  template <class F>
+  static void interleavePairs(F a, F b, F& lo, F& hi) {
+    lo = pairsA(a, b);
+    hi = pairsB(a, b);
+  }
+};
+
 // Four lanes, the x86-64 baseline (SSE2 is part of it).
-struct Sse2 {
+struct Sse2 : LaneShuffles<Sse2> {
   static constexpr int kWidth = 4;
   using F = __m128;
   static F load(const float* p) { return _mm_loadu_ps(p); }
@@ -81,20 +115,6 @@ struct Sse2 {
   static F gather(const float* base, const std::int32_t* idx) {
     return _mm_set_ps(base[idx[3]], base[idx[2]], base[idx[1]], base[idx[0]]);
   }
-  // Two vectors of consecutive points, lo = p0..p3 and hi = p4..p7, split into even and odd points (in an
-  // order of their own, undone by interleave), or into pairs (p0 p1, p4 p5) and (p2 p3, p6 p7).
-  static F evens(F lo, F hi) { return _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)); }
-  static F odds(F lo, F hi) { return _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1)); }
-  static void interleave(F e, F o, F& lo, F& hi) {
-    lo = _mm_unpacklo_ps(e, o);
-    hi = _mm_unpackhi_ps(e, o);
-  }
-  static F pairsA(F lo, F hi) { return _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(1, 0, 1, 0)); }
-  static F pairsB(F lo, F hi) { return _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 2, 3, 2)); }
-  static void interleavePairs(F a, F b, F& lo, F& hi) {
-    lo = _mm_shuffle_ps(a, b, _MM_SHUFFLE(1, 0, 1, 0));
-    hi = _mm_shuffle_ps(a, b, _MM_SHUFFLE(3, 2, 3, 2));
-  }
   // kWidth vec3s, x y z x y z ..., to and from a vector per coordinate (Intel's 3-way shuffle).
   static void loadVec3(const float* p, F& x, F& y, F& z) { split(load(p), load(p + 4), load(p + 8), x, y, z); }
   static void storeVec3(float* p, F x, F y, F z) {
@@ -126,6 +146,8 @@ struct Sse2 {
   static __m128 shuffle(__m128 a, __m128 b) {
     return _mm_shuffle_ps(a, b, kImm);
   }
+  static __m128 unpackLo(__m128 a, __m128 b) { return _mm_unpacklo_ps(a, b); }
+  static __m128 unpackHi(__m128 a, __m128 b) { return _mm_unpackhi_ps(a, b); }
 #ifdef __AVX__
   template <int kImm>
   static __m256 shuffle(__m256 a, __m256 b) {
@@ -137,7 +159,7 @@ struct Sse2 {
 #ifdef __AVX2__
 // Eight lanes. The shuffles work within each 128-bit half, so evens/odds and the pairs come out in an order
 // of their own; interleave puts every point back where it was, which is all the kernels need.
-struct Avx2 {
+struct Avx2 : LaneShuffles<Avx2> {
   static constexpr int kWidth = 8;
   using F = __m256;
   static F load(const float* p) { return _mm256_loadu_ps(p); }
@@ -199,18 +221,12 @@ struct Avx2 {
     return _mm256_setr_ps(base[idx[0]], base[idx[1]], base[idx[2]], base[idx[3]], base[idx[4]], base[idx[5]],
                           base[idx[6]], base[idx[7]]);
   }
-  static F evens(F lo, F hi) { return _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)); }
-  static F odds(F lo, F hi) { return _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1)); }
-  static void interleave(F e, F o, F& lo, F& hi) {
-    lo = _mm256_unpacklo_ps(e, o);
-    hi = _mm256_unpackhi_ps(e, o);
+  template <int kImm>
+  static F shuffle(F a, F b) {
+    return _mm256_shuffle_ps(a, b, kImm);
   }
-  static F pairsA(F lo, F hi) { return _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(1, 0, 1, 0)); }
-  static F pairsB(F lo, F hi) { return _mm256_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 2, 3, 2)); }
-  static void interleavePairs(F a, F b, F& lo, F& hi) {
-    lo = _mm256_shuffle_ps(a, b, _MM_SHUFFLE(1, 0, 1, 0));
-    hi = _mm256_shuffle_ps(a, b, _MM_SHUFFLE(3, 2, 3, 2));
-  }
+  static F unpackLo(F a, F b) { return _mm256_unpacklo_ps(a, b); }
+  static F unpackHi(F a, F b) { return _mm256_unpackhi_ps(a, b); }
   // Points 0-3 in the low halves, 4-7 in the high ones, then the 128-bit shuffles of Sse2 on both at once.
   static void loadVec3(const float* p, F& x, F& y, F& z) {
     const F m0 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p)), _mm_loadu_ps(p + 12), 1);
@@ -236,7 +252,7 @@ struct Avx2 {
 // bit operations on masks stay as they are: a compare goes through a mask register and back (movm, DQ), a select
 // the other way. Shuffles work within each 128-bit quarter, as AVX2's within each half. A vec3 load or store, a
 // gather, a reduction: two of AVX2's, one a half.
-struct Avx512 {
+struct Avx512 : LaneShuffles<Avx512> {
   static constexpr int kWidth = 16;
   using F = __m512;
   using Half = __m256;
@@ -289,18 +305,12 @@ struct Avx512 {
   static F gather(const float* base, const std::int32_t* idx) {
     return halves(Avx2::gather(base, idx), Avx2::gather(base, idx + 8));
   }
-  static F evens(F lo, F hi) { return _mm512_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0)); }
-  static F odds(F lo, F hi) { return _mm512_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1)); }
-  static void interleave(F e, F o, F& lo, F& hi) {
-    lo = _mm512_unpacklo_ps(e, o);
-    hi = _mm512_unpackhi_ps(e, o);
+  template <int kImm>
+  static F shuffle(F a, F b) {
+    return _mm512_shuffle_ps(a, b, kImm);
   }
-  static F pairsA(F lo, F hi) { return _mm512_shuffle_ps(lo, hi, _MM_SHUFFLE(1, 0, 1, 0)); }
-  static F pairsB(F lo, F hi) { return _mm512_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 2, 3, 2)); }
-  static void interleavePairs(F a, F b, F& lo, F& hi) {
-    lo = _mm512_shuffle_ps(a, b, _MM_SHUFFLE(1, 0, 1, 0));
-    hi = _mm512_shuffle_ps(a, b, _MM_SHUFFLE(3, 2, 3, 2));
-  }
+  static F unpackLo(F a, F b) { return _mm512_unpacklo_ps(a, b); }
+  static F unpackHi(F a, F b) { return _mm512_unpackhi_ps(a, b); }
   static void loadVec3(const float* p, F& x, F& y, F& z) {
     Half ax, ay, az, bx, by, bz;
     Avx2::loadVec3(p, ax, ay, az);
