@@ -6,7 +6,7 @@ namespace drape {
 namespace {
 
 // A tile's row of 8 points (CS184's 50 x 50 files) fills half a vector of sixteen and a whole one of eight, and the
-// reductions at a tile's end are wider: there AVX2's kernel (1.35 times faster on pinned2's check, perf samples).
+// reductions at a tile's end are wider: there AVX2's kernel (pinned2's check: 401 perf samples against 599).
 bool tileBoxes(const TileBoxArgs& a) {
   return a.edge <= simd::Avx2::kWidth ? ContactKernels<simd::Avx2>::tileBoxes(a)
                                       : ContactKernels<simd::Avx512>::tileBoxes(a);

@@ -50,6 +50,25 @@ struct LaneShuffles {
     lo = pairsA(a, b);
     hi = pairsB(a, b);
   }
+  // Four vec3s a 128-bit part, x y z x y z ..., to and from a vector per coordinate (Intel's 3-way shuffle):
+  // m0 = x0 y0 z0 x1, m1 = y1 z1 x2 y2, m2 = z2 x3 y3 z3 in each 128-bit lane.
+  template <class V>
+  static void split(V m0, V m1, V m2, V& x, V& y, V& z) {
+    const V xy = S::template shuffle<_MM_SHUFFLE(2, 1, 3, 2)>(m1, m2);  // x2 y2 x3 y3
+    const V yz = S::template shuffle<_MM_SHUFFLE(1, 0, 2, 1)>(m0, m1);  // y0 z0 y1 z1
+    x = S::template shuffle<_MM_SHUFFLE(2, 0, 3, 0)>(m0, xy);
+    y = S::template shuffle<_MM_SHUFFLE(3, 1, 2, 0)>(yz, xy);
+    z = S::template shuffle<_MM_SHUFFLE(3, 0, 3, 1)>(yz, m2);
+  }
+  template <class V>
+  static void join(V x, V y, V z, V& m0, V& m1, V& m2) {
+    const V xy = S::template shuffle<_MM_SHUFFLE(2, 0, 2, 0)>(x, y);  // x0 x2 y0 y2
+    const V yz = S::template shuffle<_MM_SHUFFLE(3, 1, 3, 1)>(y, z);  // y1 y3 z1 z3
+    const V zx = S::template shuffle<_MM_SHUFFLE(3, 1, 2, 0)>(z, x);  // z0 z2 x1 x3
+    m0 = S::template shuffle<_MM_SHUFFLE(2, 0, 2, 0)>(xy, zx);
+    m1 = S::template shuffle<_MM_SHUFFLE(3, 1, 2, 0)>(yz, xy);
+    m2 = S::template shuffle<_MM_SHUFFLE(3, 1, 3, 1)>(zx, yz);
+  }
 };
 
 // Four lanes, the x86-64 baseline (SSE2 is part of it).
@@ -124,36 +143,12 @@ struct Sse2 : LaneShuffles<Sse2> {
     store(p + 4, m1);
     store(p + 8, m2);
   }
-  // m0 = x0 y0 z0 x1, m1 = y1 z1 x2 y2, m2 = z2 x3 y3 z3 in each 128-bit lane.
-  template <class V>
-  static void split(V m0, V m1, V m2, V& x, V& y, V& z) {
-    const V xy = shuffle<_MM_SHUFFLE(2, 1, 3, 2)>(m1, m2);  // x2 y2 x3 y3
-    const V yz = shuffle<_MM_SHUFFLE(1, 0, 2, 1)>(m0, m1);  // y0 z0 y1 z1
-    x = shuffle<_MM_SHUFFLE(2, 0, 3, 0)>(m0, xy);
-    y = shuffle<_MM_SHUFFLE(3, 1, 2, 0)>(yz, xy);
-    z = shuffle<_MM_SHUFFLE(3, 0, 3, 1)>(yz, m2);
-  }
-  template <class V>
-  static void join(V x, V y, V z, V& m0, V& m1, V& m2) {
-    const V xy = shuffle<_MM_SHUFFLE(2, 0, 2, 0)>(x, y);  // x0 x2 y0 y2
-    const V yz = shuffle<_MM_SHUFFLE(3, 1, 3, 1)>(y, z);  // y1 y3 z1 z3
-    const V zx = shuffle<_MM_SHUFFLE(3, 1, 2, 0)>(z, x);  // z0 z2 x1 x3
-    m0 = shuffle<_MM_SHUFFLE(2, 0, 2, 0)>(xy, zx);
-    m1 = shuffle<_MM_SHUFFLE(3, 1, 2, 0)>(yz, xy);
-    m2 = shuffle<_MM_SHUFFLE(3, 1, 3, 1)>(zx, yz);
-  }
   template <int kImm>
   static __m128 shuffle(__m128 a, __m128 b) {
     return _mm_shuffle_ps(a, b, kImm);
   }
   static __m128 unpackLo(__m128 a, __m128 b) { return _mm_unpacklo_ps(a, b); }
   static __m128 unpackHi(__m128 a, __m128 b) { return _mm_unpackhi_ps(a, b); }
-#ifdef __AVX__
-  template <int kImm>
-  static __m256 shuffle(__m256 a, __m256 b) {
-    return _mm256_shuffle_ps(a, b, kImm);
-  }
-#endif
 };
 
 #ifdef __AVX2__
@@ -227,16 +222,16 @@ struct Avx2 : LaneShuffles<Avx2> {
   }
   static F unpackLo(F a, F b) { return _mm256_unpacklo_ps(a, b); }
   static F unpackHi(F a, F b) { return _mm256_unpackhi_ps(a, b); }
-  // Points 0-3 in the low halves, 4-7 in the high ones, then the 128-bit shuffles of Sse2 on both at once.
+  // Points 0-3 in the low halves, 4-7 in the high ones, then the 128-bit split and join on both at once.
   static void loadVec3(const float* p, F& x, F& y, F& z) {
     const F m0 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p)), _mm_loadu_ps(p + 12), 1);
     const F m1 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p + 4)), _mm_loadu_ps(p + 16), 1);
     const F m2 = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p + 8)), _mm_loadu_ps(p + 20), 1);
-    Sse2::split(m0, m1, m2, x, y, z);
+    split(m0, m1, m2, x, y, z);
   }
   static void storeVec3(float* p, F x, F y, F z) {
     F m0, m1, m2;
-    Sse2::join(x, y, z, m0, m1, m2);
+    join(x, y, z, m0, m1, m2);
     _mm_storeu_ps(p, _mm256_castps256_ps128(m0));
     _mm_storeu_ps(p + 4, _mm256_castps256_ps128(m1));
     _mm_storeu_ps(p + 8, _mm256_castps256_ps128(m2));
