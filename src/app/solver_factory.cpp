@@ -107,6 +107,18 @@ std::unique_ptr<Solver> SolverFactory::makeGpu(const Scene& scene, const std::st
 
 namespace {
 
+// How the lists' checks kept them: the box of every displacement alone, or a closer look at the tiles
+template <class T>
+std::string describeChecks(const CollisionPairs<T>& p) {
+  std::string kept;
+  if (p.checksClearedWhole() > 0)
+    kept = fmt::format("{} checks cleared by the box of every displacement alone", p.checksClearedWhole());
+  if (p.closerLooksKept() > 0)
+    kept += fmt::format("{}kept {} times by a closer look at tiles their boxes did not clear", kept.empty() ? "" : "; ",
+                        p.closerLooksKept());
+  return kept.empty() ? kept : " (" + kept + ")";
+}
+
 template <class T>
 std::string describePairs(const CpuSolver<T>& cpu) {
   const CollisionPairs<T>& p = cpu.collisionPairs();
@@ -116,11 +128,8 @@ std::string describePairs(const CpuSolver<T>& cpu) {
       "self-collision: lists built {} times in {} substeps{}, {:.2f} entries a point (mean over the builds; {:.2f} "
       "at the last); stencil: {} grid offsets{}; {:.3f} pairs in range a point and substep; skin {} at the end, {} "
       "switches\n",
-      p.rebuilds(), cpu.substeps(),
-      p.closerLooksKept() > 0
-          ? fmt::format(" (kept {} times by a closer look at tiles their boxes did not clear)", p.closerLooksKept())
-          : std::string(),
-      double(p.entriesBuilt()) / double(p.rebuilds()) / n, double(p.pairCount()) / n, p.stencil().size(),
+      p.rebuilds(), cpu.substeps(), describeChecks(p), double(p.entriesBuilt()) / double(p.rebuilds()) / n,
+      double(p.pairCount()) / n, p.stencil().size(),
       p.squaresUsed()
           ? fmt::format(", {:.0f}% of its squares' offsets passed over at the last substep", 100 * p.squaresRuledOut())
           : std::string(" tested every substep"),

@@ -413,12 +413,17 @@ bool CollisionPairs<T>::farNeeded(bool just_built) const {
   if (far_.start.empty() || far_.start.back() == 0) return false;
   T diagonal2 = 0;  // just built: no displacement
   if (!just_built) {
-    if (boxes_.size() != tile_count_ || boxes_.empty()) return true;
-    constexpr T kInf = std::numeric_limits<T>::infinity();
-    vec3 lo(kInf), hi(-kInf);
-    for (const TileBox& b : boxes_) {
-      lo = glm::min(lo, b.dlo);
-      hi = glm::max(hi, b.dhi);
+    // The box of every displacement, as this substep's check made it: whole, or from its tiles (the same bounds)
+    vec3 lo, hi;
+    if (!displacementBox(split_ ? teamSize() : 1, lo, hi)) {
+      if (boxes_.size() != tile_count_ || boxes_.empty()) return true;
+      constexpr T kInf = std::numeric_limits<T>::infinity();
+      lo = vec3(kInf);
+      hi = vec3(-kInf);
+      for (const TileBox& b : boxes_) {
+        lo = glm::min(lo, b.dlo);
+        hi = glm::max(hi, b.dhi);
+      }
     }
     const vec3 box = hi - lo;
     diagonal2 = glm::dot(box, box);

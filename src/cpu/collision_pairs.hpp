@@ -79,8 +79,17 @@ class CollisionPairs {
   bool needsBuild(const std::vector<vec3>& x);
   // needsBuild in two steps, for a team that has a serial step of its own to share: startCheck on one thread
   // (it allocates, and may throw), then finishCheck on every thread, which returns needsBuild's answer.
-  void startCheck(const std::vector<vec3>& x);
+  // stamp: the substep's number, where the check may first test the box of every displacement (the GPU's test, one
+  // reduction), whose diagonal within the margin rules out every two tiles' (CS184's 50 x 50 files: 68-100% of the
+  // checks): in a team whose check is split, from the parts each thread boxed (boxDisplacements) before it.
+  void startCheck(const std::vector<vec3>& x, long long stamp = -1);
   bool finishCheck(const std::vector<vec3>& x);
+  // Part `part` of that box: the displacements of rows [y0, y1) of a float grid's padded positions, for the check of
+  // substep `stamp`; in a team, each thread its own rows before the barrier after startCheck. Nothing where the last
+  // build kept no padded anchors.
+  void boxDisplacements(int part, long long stamp, const GridShape& shape, const float* x, const float* y,
+                        const float* z, int y0, int y1);
+  static constexpr int kDisplacementParts = 64;  // a larger team skips the box
   void build(const std::vector<vec3>& x, int threads);
   // What a build in a team failed with (out of memory), once the team is done with it; cleared by taking it.
   std::exception_ptr takeFailure() { return std::exchange(failure_, nullptr); }
@@ -193,6 +202,9 @@ class CollisionPairs {
   // thread's rows must then span a square's edge, so that only two threads meet in a row of squares.
   void mergeSharedRecord(int from, long long y0);
   void setStencilSquares(bool on) { squares_ = on; }
+  // Whether the stencil's pairs may be passed over by its squares (stencilTiles), which read this substep's tile
+  // boxes
+  bool stencilReadsCheck() const { return squares_ && forwardOffsets() >= kSquaresMinOffsets; }
   // From this many forward offsets the squares pay. A vector of points whose squares pass over some of its offsets
   // and not others runs a loop of as many tests as its mask has bits, and its end is mispredicted: on CS184's
   // 50 x 50 files (2 to 4 forward offsets, half of them passed over) that cost more than the tests passed over
@@ -208,6 +220,8 @@ class CollisionPairs {
   long long rebuilds() const { return rebuilds_; }
   // The checks whose tiles' boxes called for a build that a closer look (tilesHold) spared
   long long closerLooksKept() const { return kept_ + (looked_.set && !moved_.set ? 1 : 0); }
+  // The checks the box of every displacement cleared alone (startCheck), its tiles not boxed
+  long long checksClearedWhole() const { return cleared_whole_; }
   long long entriesBuilt() const { return entries_built_; }  // pairCount summed over the builds
   T range() const { return range_; }
   T margin() const { return margin_; }
@@ -317,6 +331,18 @@ class CollisionPairs {
     }
   };
   std::vector<TileBox> boxes_;
+  // boxDisplacements' parts, on lines of their own, and the check's stamp
+  struct alignas(64) DisplacementPart {
+    float box[6] = {};  // min x, y, z, max x, y, z
+    bool finite = false;
+    long long stamp = -1;
+  };
+  std::array<DisplacementPart, kDisplacementParts> displacement_parts_{};
+  long long check_stamp_ = -1;
+  long long cleared_whole_ = 0;  // checksClearedWhole, counted by one thread
+  // The union of parts [0, parts) made for this check, into lo and hi; false where one is missing or not finite
+  bool displacementBox(int parts, vec3& lo, vec3& hi) const;
+  bool displacementsHold(int parts) const;        // that box's diagonal within the check's limit
   static constexpr std::size_t kSplitTiles = 32;  // from this many tiles a team splits needsBuild's work
   // stencilTiles': per square and forward offset the least squared distance at the build (recorded at the build of
   // count stencil_recorded_); per thread of the team and square the offsets to test, and the rows of squares

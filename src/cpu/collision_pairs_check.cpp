@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <bit>
 #include <limits>
 #include <type_traits>
 
@@ -24,16 +23,25 @@ namespace drape {
 // test on smaller squares of them, then on their points (tilesHold), may still clear them.
 // The serial part of the check; on a cloth too small to split it, all of it (one barrier a substep in a team).
 template <class T>
-void CollisionPairs<T>::startCheck(const std::vector<vec3>& x) {
+void CollisionPairs<T>::startCheck(const std::vector<vec3>& x, long long stamp) {
   if (range_ != stencil_range_ || margin_ != stencil_margin_) makeStencil();
   kept_ = closerLooksKept();
   looked_.set = false;
   looked_at_.resize(std::size_t(std::max(teamSize(), 1)));
   moved_.set = !built_ || anchor_.size() != x.size() || travel_ <= T(0);
   split_ = !moved_.set && splitCheck();
+  check_stamp_ = stamp;
   if (moved_.set) return;
   boxes_.resize(tile_count_);
   if (split_) return;
+  // The box of every displacement first, all of it boxed by this thread (another's part may not be made yet)
+  if (stamp >= 0 && padded_.x) {
+    boxDisplacements(0, stamp, padded_.shape, padded_.x, padded_.y, padded_.z, 0, h_);
+    if (displacementsHold(1)) {
+      ++cleared_whole_;
+      return;
+    }
+  }
   boxTiles(x, false);
   if (!moved_.set) compareTiles(x, false);
 }
@@ -41,13 +49,66 @@ void CollisionPairs<T>::startCheck(const std::vector<vec3>& x) {
 // Every thread of a team gets the same answer. A large grid's tiles are boxed and compared by all of the
 // team's threads; a small cloth's by one, in startCheck, where splitting costs more barriers than it saves.
 // A thread of the team may set moved_ while another has yet to read it, so which barriers a thread passes
-// must not depend on moved_: it follows split_, which only startCheck writes.
+// must not depend on moved_: it follows split_, which only startCheck writes, and the box of every displacement,
+// which every thread makes alike from the same parts (a team's threads box their rows before startCheck's barrier).
 template <class T>
 bool CollisionPairs<T>::finishCheck(const std::vector<vec3>& x) {
   if (!split_) return moved_.set;
+  if (displacementsHold(teamSize())) {
+    if (teamThread() == 0) ++cleared_whole_;
+    return false;
+  }
   boxTiles(x, true);
   compareTiles(x, true);  // stops at once where a tile's displacements were not finite
   return moved_.set;
+}
+
+template <class T>
+void CollisionPairs<T>::boxDisplacements(int part, long long stamp, const GridShape& shape, const float* x,
+                                         const float* y, const float* z, int y0, int y1) {
+  if (part < 0 || part >= kDisplacementParts) return;
+  DisplacementPart& mine = displacement_parts_[std::size_t(part)];
+  mine.stamp = -1;  // made for no check, unless made below
+  if constexpr (std::is_same_v<T, float>) {
+    if (!kernels_ || shape.W != w_ || shape.H != h_ || padded_anchor_[0].size() != shape.size) return;
+    TileBoxArgs args{};
+    args.shape = shape;
+    args.px = x;
+    args.py = y;
+    args.pz = z;
+    args.ax = padded_anchor_[0].data();
+    args.ay = padded_anchor_[1].data();
+    args.az = padded_anchor_[2].data();
+    mine.finite = kernels_->displacementBox(args, y0, y1, mine.box);
+    mine.stamp = stamp;
+  }
+}
+
+template <class T>
+bool CollisionPairs<T>::displacementBox(int parts, vec3& lo, vec3& hi) const {
+  if (check_stamp_ < 0 || parts < 1 || parts > kDisplacementParts) return false;
+  constexpr T kInf = std::numeric_limits<T>::infinity();
+  lo = vec3(kInf);
+  hi = vec3(-kInf);
+  for (int k = 0; k < parts; ++k) {
+    const DisplacementPart& p = displacement_parts_[std::size_t(k)];
+    if (p.stamp != check_stamp_ || !p.finite) return false;
+    lo = glm::min(lo, vec3(T(p.box[0]), T(p.box[1]), T(p.box[2])));
+    hi = glm::max(hi, vec3(T(p.box[3]), T(p.box[4]), T(p.box[5])));
+  }
+  return true;
+}
+
+// The box of every displacement holds the two of any two tiles, so its diagonal within the limit clears every
+// pair compareTiles would test, by the same arithmetic (max - min, then the squares summed x, y, z). Not where the
+// stencil's squares read this substep's tile boxes (stencilReadsCheck).
+template <class T>
+bool CollisionPairs<T>::displacementsHold(int parts) const {
+  vec3 lo, hi;
+  if (stencilReadsCheck() || !displacementBox(parts, lo, hi)) return false;
+  const vec3 box = hi - lo;
+  const T limit = T(2) * travel_;
+  return box.x * box.x + box.y * box.y + box.z * box.z <= limit * limit;
 }
 
 template <class T>
@@ -266,196 +327,22 @@ void CollisionPairs<T>::makeTiles(std::size_t n) {
   }
 }
 
-template <class T>
-bool CollisionPairs<T>::stencilTiles(bool just_built, GridStencilTiles& out) {
-  const std::size_t offsets = forwardOffsets();
-  if (!std::is_same_v<T, float> || !squares_ || !kernels_ || edge_ <= 0 || offsets < kSquaresMinOffsets ||
-      offsets > 64 || box_ < 0 || !built_)
-    return false;
-  const auto thread = std::size_t(teamThread());
-  if (stencil_min2_.size() != tile_count_ * offsets || stencil_active_.size() < tile_count_ * (thread + 1) ||
-      active_rows_.size() <= thread)
-    return false;
-  if (!just_built && (stencil_recorded_ != rebuilds_ || boxes_.size() != tile_count_)) return false;
-  out.edge = edge_;
-  out.across = tilesAcross();
-  out.active = stencil_active_.data() + thread * tile_count_;
-  out.min2 = stencil_min2_.data();
-  out.record = just_built;
-  out.shared_min2 = shared_min2_.data() + std::ptrdiff_t(thread) * recordRow();
-  // No thread reads these before the next substep's call, several barriers on
-  if (teamThread() == 0) squares_used_ = !just_built;
-  if (just_built) {
-    if (teamThread() == 0) stencil_recorded_ = rebuilds_;
-    // Capturing `this` alone keeps the function in std::function's own storage: no allocation a build. A first row
-    // of squares shared with the thread before is recorded into this thread's own copy (GridPath::stencilPairs).
-    out.prepare = [this](long long y0, long long y1) {
-      constexpr float kInf = std::numeric_limits<float>::infinity();
-      const std::ptrdiff_t per_row = recordRow();
-      const int shared = sharedRow(y0);
-      long long first = y0 / edge_;
-      if (shared >= 0) {
-        float* const own = shared_min2_.data() + std::ptrdiff_t(teamThread()) * per_row;
-        std::fill(own, own + per_row, kInf);
-        ++first;
-      }
-      const long long last = (y1 + edge_ - 1) / edge_;
-      if (first < last)
-        std::fill(stencil_min2_.begin() + first * per_row, stencil_min2_.begin() + last * per_row, kInf);
-      return shared;
-    };
-  } else {
-    out.prepare = [this](long long y0, long long y1) {
-      activeOffsets(y0 / edge_, (y1 + edge_ - 1) / edge_);
-      return -1;
-    };
-  }
-  return true;
-}
-
-// The least distances thread `from` recorded for the row of squares it shares with the thread before it, whose first
-// row of points is y0, into the record; by the thread before, after the team's barrier.
-template <class T>
-void CollisionPairs<T>::mergeSharedRecord(int from, long long y0) {
-  const int shared = sharedRow(y0);
-  if (shared < 0) return;
-  const std::ptrdiff_t per_row = recordRow();
-  const float* own = shared_min2_.data() + std::ptrdiff_t(from) * per_row;
-  float* row = stencil_min2_.data() + std::ptrdiff_t(shared) * per_row;
-  for (std::ptrdiff_t k = 0; k < per_row; ++k)
-    row[k] = own[k] < row[k] ? own[k] : row[k];
-}
-
-template <class T>
-double CollisionPairs<T>::squaresRuledOut() const {
-  const std::size_t offsets = forwardOffsets();
-  if (!squares_used_ || stencil_active_.empty() || offsets == 0) return 0;
-  // Each row of squares from the first thread that prepared it
-  std::size_t tested = 0, squares = 0;
-  const auto across = std::size_t(tilesAcross());
-  for (int ty = 0; ty < tilesDown(); ++ty)
-    for (std::size_t t = 0; t < active_rows_.size(); ++t)
-      if (active_rows_[t].first <= ty && ty < active_rows_[t].second) {
-        const std::uint64_t* row = stencil_active_.data() + t * tile_count_ + std::size_t(ty) * across;
-        for (std::size_t tx = 0; tx < across; ++tx)
-          tested += std::size_t(std::popcount(row[tx]));
-        squares += across;
-        break;
-      }
-  return squares == 0 ? 0 : 1.0 - double(tested) / double(squares * offsets);
-}
-
-// Each square's offsets to test in rows of squares [first, last): those whose least distance at the build does not
-// exceed the range plus the most |d_i - d_j| of a pair from the square (the diagonal of the box of the displacements
-// of every square a partner can lie in) plus the round-off farNeeded allows for. A NaN at the build, or a box that
-// is not finite, tests them all. Where a partner is at most a square away (box_ <= edge_), those are the square and
-// at most three beside and below it on the offset's side: pinned2 at 256^2 with CS184's thickness passed over 46% of
-// the squares' offsets at its last substep, 33% with the nine around it (0.984 of the time). Else the boxes around a
-// square are united by columns of squares first, then along the row (a sliding window each way instead of every
-// square around every square: this ran a fifth of the stencil's instructions on a 50 x 50 cloth).
-template <class T>
-void CollisionPairs<T>::activeOffsets(long long first, long long last) {
-  const int across = tilesAcross(), down = tilesDown();
-  const int reach = (box_ + edge_ - 1) / edge_;  // squares away a partner can lie
-  const std::size_t offsets = forwardOffsets();
-  constexpr T kInf = std::numeric_limits<T>::infinity();
-  const T room = T(64) * std::numeric_limits<T>::epsilon() * extent_;
-  const auto thread = std::size_t(teamThread());
-  std::uint64_t* const mine = stencil_active_.data() + thread * tile_count_;
-  active_rows_[thread] = {int(first), int(last)};
-  // The squared distance a square's offset must not exceed at the build to be tested, for the box of the
-  // displacements of the squares its pairs lie in
-  const auto needed = [&](vec3 lo, vec3 hi) {
-    const vec3 box = hi - lo;
-    const T diagonal2 = glm::dot(box, box);
-    const T need = (range_ + std::sqrt(diagonal2) + room) * (T(1) + T(1.0 / 65536));
-    return diagonal2 <= std::numeric_limits<T>::max() ? float(need * need) : __builtin_inff();
-  };
-  // Square (tx, ty)'s box of the displacements into [lo, hi], where the square is on the grid
-  const auto box = [&](int tx, int ty, vec3& lo, vec3& hi) {
-    if (tx < 0 || tx >= across || ty < 0 || ty >= down) return;
-    const TileBox& b = boxes_[std::size_t(ty) * std::size_t(across) + std::size_t(tx)];
-    lo = glm::min(lo, b.dlo);
-    hi = glm::max(hi, b.dhi);
-  };
-  if (reach == 1) {
-    // An offset's partners lie in the square or the ones beside and below it on the offset's side: four squares at
-    // most (a partner is at most box_ <= edge_ columns and rows away), not the nine around it. Each forward offset's
-    // squares by its kind: along the row (dv = 0, du > 0), down and right, straight down, down and left.
-    const int half = int(stencil_.size() / 2);
-    std::array<int, 64> kind{};
-    for (std::size_t k = 0; k < offsets; ++k) {
-      const int du = du_[std::size_t(half) + k], dv = dv_[std::size_t(half) + k];
-      kind[k] = dv == 0 ? 0 : du > 0 ? 1 : du == 0 ? 2 : 3;
-    }
-    for (auto ty = int(first); ty < int(last); ++ty)
-      for (int tx = 0; tx < across; ++tx) {
-        float need2[4];
-        vec3 lo(kInf), hi(-kInf);
-        box(tx, ty, lo, hi);
-        box(tx, ty + 1, lo, hi);
-        need2[2] = needed(lo, hi);  // straight down
-        vec3 right_lo = lo, right_hi = hi, left_lo = lo, left_hi = hi;
-        box(tx + 1, ty + 1, right_lo, right_hi);
-        box(tx - 1, ty + 1, left_lo, left_hi);
-        lo = vec3(kInf), hi = vec3(-kInf);
-        box(tx, ty, lo, hi);
-        box(tx + 1, ty, lo, hi);
-        need2[0] = needed(lo, hi);  // along the row
-        box(tx + 1, ty, right_lo, right_hi);
-        need2[1] = needed(right_lo, right_hi);
-        box(tx - 1, ty, left_lo, left_hi);
-        need2[3] = needed(left_lo, left_hi);
-        const std::size_t t = std::size_t(ty) * std::size_t(across) + std::size_t(tx);
-        const float* least = stencil_min2_.data() + t * offsets;
-        std::uint64_t active = 0;
-        for (std::size_t k = 0; k < offsets; ++k)
-          active |= std::uint64_t(!(least[k] > need2[kind[k]])) << k;
-        mine[t] = active;
-      }
-    return;
-  }
-  static thread_local std::vector<vec3> column_lo, column_hi;
-  column_lo.resize(std::size_t(across));
-  column_hi.resize(std::size_t(across));
-  for (auto ty = int(first); ty < int(last); ++ty) {
-    // Each column's displacements over the rows of squares a partner of this row can lie in
-    for (int tx = 0; tx < across; ++tx) {
-      vec3 lo(kInf), hi(-kInf);
-      for (int y = ty - reach; y <= ty + reach; ++y)
-        box(tx, y, lo, hi);
-      column_lo[std::size_t(tx)] = lo;
-      column_hi[std::size_t(tx)] = hi;
-    }
-    for (int tx = 0; tx < across; ++tx) {
-      vec3 lo(kInf), hi(-kInf);
-      for (int x = std::max(tx - reach, 0); x <= std::min(tx + reach, across - 1); ++x) {
-        lo = glm::min(lo, column_lo[std::size_t(x)]);
-        hi = glm::max(hi, column_hi[std::size_t(x)]);
-      }
-      const float need2 = needed(lo, hi);
-      const std::size_t t = std::size_t(ty) * std::size_t(across) + std::size_t(tx);
-      const float* least = stencil_min2_.data() + t * offsets;
-      std::uint64_t active = 0;
-      for (std::size_t k = 0; k < offsets; ++k)
-        active |= std::uint64_t(!(least[k] > need2)) << k;
-      mine[t] = active;
-    }
-  }
-}
-
-template void CollisionPairs<float>::startCheck(const std::vector<vec3>&);
+template void CollisionPairs<float>::startCheck(const std::vector<vec3>&, long long);
+template void CollisionPairs<float>::boxDisplacements(int, long long, const GridShape&, const float*, const float*,
+                                                      const float*, int, int);
+template bool CollisionPairs<float>::displacementBox(int, vec3&, vec3&) const;
+template bool CollisionPairs<float>::displacementsHold(int) const;
 template bool CollisionPairs<float>::finishCheck(const std::vector<vec3>&);
 template bool CollisionPairs<float>::splitCheck() const;
 template void CollisionPairs<float>::boxTiles(const std::vector<vec3>&, bool);
 template void CollisionPairs<float>::compareTiles(const std::vector<vec3>&, bool);
 template bool CollisionPairs<float>::tilesHold(const std::vector<vec3>&, const std::uint32_t*, int, float, float) const;
 template void CollisionPairs<float>::makeTiles(std::size_t);
-template bool CollisionPairs<float>::stencilTiles(bool, GridStencilTiles&);
-template double CollisionPairs<float>::squaresRuledOut() const;
-template void CollisionPairs<float>::activeOffsets(long long, long long);
-template void CollisionPairs<float>::mergeSharedRecord(int, long long);
-template void CollisionPairs<double>::startCheck(const std::vector<vec3>&);
+template void CollisionPairs<double>::startCheck(const std::vector<vec3>&, long long);
+template void CollisionPairs<double>::boxDisplacements(int, long long, const GridShape&, const float*, const float*,
+                                                       const float*, int, int);
+template bool CollisionPairs<double>::displacementBox(int, vec3&, vec3&) const;
+template bool CollisionPairs<double>::displacementsHold(int) const;
 template bool CollisionPairs<double>::finishCheck(const std::vector<vec3>&);
 template bool CollisionPairs<double>::splitCheck() const;
 template void CollisionPairs<double>::boxTiles(const std::vector<vec3>&, bool);
@@ -463,9 +350,5 @@ template void CollisionPairs<double>::compareTiles(const std::vector<vec3>&, boo
 template bool CollisionPairs<double>::tilesHold(const std::vector<vec3>&, const std::uint32_t*, int, double,
                                                 double) const;
 template void CollisionPairs<double>::makeTiles(std::size_t);
-template bool CollisionPairs<double>::stencilTiles(bool, GridStencilTiles&);
-template double CollisionPairs<double>::squaresRuledOut() const;
-template void CollisionPairs<double>::activeOffsets(long long, long long);
-template void CollisionPairs<double>::mergeSharedRecord(int, long long);
 
 }  // namespace drape

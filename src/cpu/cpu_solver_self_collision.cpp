@@ -31,6 +31,15 @@ void CpuSolver<T>::selfCollide() {
       if (!grid_integrate_) grid_->loadPositions(x_);  // else integrate left them there
       padded = true;
     }
+  // In a team whose check is split, each thread boxes the displacements of its rows first (the check's first
+  // test, CollisionPairs::startCheck): rows it wrote itself, and no barrier more.
+  if constexpr (std::is_same_v<T, float>)
+    if (padded && inTeam()) {
+      long long y0, y1;
+      teamShare(0, topo_.H, y0, y1);
+      pairs_.boxDisplacements(teamThread(), substeps_, grid_->shape(), grid_->positions(0), grid_->positions(1),
+                              grid_->positions(2), int(y0), int(y1));
+    }
   teamSingle([&] {
     try {
       // A switch of skin is a build (configure): narrow once a list has lasted kSettledSubsteps, wide again when
@@ -75,7 +84,7 @@ void CpuSolver<T>::selfCollide() {
       if constexpr (std::is_same_v<T, float>)
         if (padded)
           pairs_.setPaddedPositions(&grid_->shape(), grid_->positions(0), grid_->positions(1), grid_->positions(2));
-      pairs_.startCheck(x_);
+      pairs_.startCheck(x_, padded ? substeps_ : -1);
     } catch (...) {
       failure_ = std::current_exception();
     }

@@ -282,6 +282,9 @@ struct GridKernels {
   void (*collideRows)(const CollideRowsArgs&, int y0, int y1);
   // TileBoxArgs' boxes of the tiles in its rows; false if a displacement is not finite (the lists must be rebuilt).
   bool (*tileBoxes)(const TileBoxArgs&);
+  // The box of the displacements of every point of rows [y0, y1), from TileBoxArgs' padded positions and anchors
+  // (which it needs), into out: min x, y, z, max x, y, z; false if a displacement is not finite.
+  bool (*displacementBox)(const TileBoxArgs&, int y0, int y1, float* out);
   // Whether two tiles lie within apart of each other while the box of their displacements together has a
   // diagonal over limit (or not finite): compareTiles' test, several tiles c side by side.
   bool (*tilesMovedApart)(const TileCompareArgs&);

@@ -358,6 +358,7 @@ struct Kernels : Lanes<V> {
             &Contact::collideObjects,
             &Contact::collideRows,
             &Contact::tileBoxes,
+            &Contact::displacementBox,
             &Contact::tilesMovedApart,
             &Probes::probeAddMul,
             &Probes::probeDivSqrt,

@@ -252,6 +252,34 @@ struct ContactKernels : Lanes<V> {
     return finite_tail && V::bits(V::eq(finite, zero)) == (1 << kW) - 1;
   }
 
+  static bool displacementBox(const TileBoxArgs& a, int y0, int y1, float* out) {
+    const float inf = __builtin_inff();
+    const F zero = V::set1(0.0f);
+    F lo[3] = {V::set1(inf), V::set1(inf), V::set1(inf)}, hi[3] = {V::set1(-inf), V::set1(-inf), V::set1(-inf)};
+    F finite = zero;  // d * 0 summed: 0 where every d was finite
+    const float* const p[3] = {a.px, a.py, a.pz};
+    const float* const anchor[3] = {a.ax, a.ay, a.az};
+    for (int v = y0; v < y1; ++v)
+      for (int u = 0; u < a.shape.W; u += kW) {
+        const std::ptrdiff_t q = at(a.shape, u, v);
+        // The lanes past the row's end read its padding: they take each box's neutral value
+        const bool whole = a.shape.W - u >= kW;
+        const F live = whole ? F{} : V::lt(V::iota(), V::set1(float(a.shape.W - u)));
+        for (int c = 0; c < 3; ++c) {
+          F d = V::sub(V::load(p[c] + q), V::load(anchor[c] + q));
+          if (!whole) d = V::select(live, d, zero);
+          finite = V::add(finite, V::mul(d, zero));
+          lo[c] = V::min(lo[c], whole ? d : V::select(live, d, V::set1(inf)));
+          hi[c] = V::max(hi[c], whole ? d : V::select(live, d, V::set1(-inf)));
+        }
+      }
+    for (int c = 0; c < 3; ++c) {
+      out[c] = V::hmin(lo[c]);
+      out[3 + c] = V::hmax(hi[c]);
+    }
+    return V::bits(V::eq(finite, zero)) == (1 << kW) - 1;
+  }
+
   static bool tilesMovedApart(const TileCompareArgs& a) {
     // The boxes as 12 rows of tiles, padded with empty tiles (minima +inf, maxima -inf), which are never near
     alignas(64) float rows[12][kMaxCompareTiles + kW];
@@ -308,7 +336,7 @@ struct ContactKernels : Lanes<V> {
       const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
       const F du = V::sub(V::load(a.u + s), pu), dv = V::sub(V::load(a.v + s), pv);
       const F nominal = V::add(V::mul(V::mul(du, du), a2), V::mul(V::mul(dv, dv), b2));
-      int bits = V::bits(V::andNot(V::lt(nominal, near_below), V::lt(d2, reach2)));
+      int bits = V::ltBits(d2, reach2) & ~V::ltBits(nominal, near_below);
       if (last - s < std::uint32_t(kW)) bits &= (1 << (last - s)) - 1;
       while (bits != 0) {
         const int l = __builtin_ctz(unsigned(bits));
@@ -349,7 +377,8 @@ struct ContactKernels : Lanes<V> {
         const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
         const F du = V::sub(U, V::set1(a.u[p])), dv = V::sub(W, V::set1(a.v[p]));
         const F nominal = V::add(V::mul(V::mul(du, du), test.a2), V::mul(V::mul(dv, dv), test.b2));
-        for (int bits = V::bits(V::andNot(V::lt(nominal, test.near_below), V::lt(d2, test.reach2))) & lanes; bits != 0;
+        // Within reach and not nominally near: the two compares' bits (on AVX-512 mask registers) combined
+        for (int bits = V::ltBits(d2, test.reach2) & ~V::ltBits(nominal, test.near_below) & lanes; bits != 0;
              bits &= bits - 1) {
           out[2 * count] = p;
           out[2 * count + 1] = s + std::uint32_t(__builtin_ctz(unsigned(bits)));

@@ -93,8 +93,9 @@ struct Sse2 : LaneShuffles<Sse2> {
   static F bitOr(F a, F b) { return _mm_or_ps(a, b); }
   static F ge(F a, F b) { return _mm_cmpge_ps(a, b); }  // false where either is NaN
   static bool any(F m) { return _mm_movemask_ps(m) != 0; }
-  static int bits(F m) { return _mm_movemask_ps(m); }  // lane l's mask in bit l
-  static F min(F a, F b) { return _mm_min_ps(a, b); }  // b where either is NaN
+  static int bits(F m) { return _mm_movemask_ps(m); }     // lane l's mask in bit l
+  static int ltBits(F a, F b) { return bits(lt(a, b)); }  // bits(lt(a, b)), where AVX-512 needs no vector of it
+  static F min(F a, F b) { return _mm_min_ps(a, b); }     // b where either is NaN
   static F max(F a, F b) { return _mm_max_ps(a, b); }
   static F select(F m, F a, F b) { return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b)); }  // m ? a : b
   // floor, for |a| < 2^31 (no SSE4.1 round here): truncate, then one less where that rounded up
@@ -176,6 +177,7 @@ struct Avx2 : LaneShuffles<Avx2> {
   static F ge(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
   static bool any(F m) { return _mm256_movemask_ps(m) != 0; }
   static int bits(F m) { return _mm256_movemask_ps(m); }
+  static int ltBits(F a, F b) { return bits(lt(a, b)); }
   static F min(F a, F b) { return _mm256_min_ps(a, b); }
   static F max(F a, F b) { return _mm256_max_ps(a, b); }
   static F select(F m, F a, F b) { return _mm256_blendv_ps(b, a, m); }
@@ -275,6 +277,7 @@ struct Avx512 : LaneShuffles<Avx512> {
   static F bitOr(F a, F b) { return _mm512_or_ps(a, b); }
   static bool any(F m) { return toMask(m) != 0; }
   static int bits(F m) { return int(toMask(m)); }
+  static int ltBits(F a, F b) { return int(_mm512_cmp_ps_mask(a, b, _CMP_LT_OQ)); }
   static F min(F a, F b) { return _mm512_min_ps(a, b); }
   static F max(F a, F b) { return _mm512_max_ps(a, b); }
   static F select(F m, F a, F b) { return _mm512_mask_blend_ps(toMask(m), b, a); }
