@@ -4,6 +4,7 @@
 #include "cpu/collision_pairs.hpp"
 #include "cpu/grid_kernels.hpp"
 #include "cpu/physics.hpp"
+#include "kernel_sets.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,12 +21,7 @@ namespace {
 
 using vec3 = glm::vec3;
 
-std::vector<const GridKernels*> kernelSets() {
-  std::vector<const GridKernels*> out = {&gridKernels(GridIsa::Sse2)};
-  if (cpuHasAvx2()) out.push_back(&gridKernels(GridIsa::Avx2));
-  if (cpuHasAvx512()) out.push_back(&gridKernels(GridIsa::Avx512));
-  return out;
-}
+using test::kernelSets;
 
 // GCC 12 once put a zeroed pair of floats through an MMX register in the baseline pairTerms and left it
 // there (no emms): every x87 register is then in MMX use, and long double arithmetic after it, strtold

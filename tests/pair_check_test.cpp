@@ -6,6 +6,7 @@
 #include "cpu/collision_pairs.hpp"
 #include "cpu/grid_kernels.hpp"
 #include "cpu/parallel.hpp"
+#include "kernel_sets.hpp"
 
 #include <gtest/gtest.h>
 
@@ -19,12 +20,7 @@ namespace {
 
 using vec3 = glm::vec3;
 
-std::vector<const GridKernels*> kernelSets() {
-  std::vector<const GridKernels*> out = {&gridKernels(GridIsa::Sse2)};
-  if (cpuHasAvx2()) out.push_back(&gridKernels(GridIsa::Avx2));
-  if (cpuHasAvx512()) out.push_back(&gridKernels(GridIsa::Avx512));
-  return out;
-}
+using test::kernelSets;
 
 // A grid's points in a GridPath's padded layout (cpu/grid_kernels.hpp), one array a coordinate
 struct Padded {
