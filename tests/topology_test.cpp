@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <set>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace drape {
@@ -107,6 +109,32 @@ TEST(Topology, Pins) {
   Topology t = buildTopology(c);
   EXPECT_EQ(std::count(t.pinned.begin(), t.pinned.end(), 1), 3);
   EXPECT_EQ(t.pinned[7 * 50 + 3], 1);
+}
+
+// A ClothSpec changed in code after its scene was read (a test resizing a bundled cloth, say) is not validated again:
+// a pin off the grid, or a vertex pin past the points, once wrote past the pin array. Each is one clear error now.
+TEST(Topology, APinOffTheGridIsAnErrorNotAWritePastTheArray) {
+  for (const glm::ivec2 pin : {glm::ivec2(50, 0), glm::ivec2(0, 50), glm::ivec2(-1, 3), glm::ivec2(3, -1)}) {
+    ClothSpec c = grid(50, 50);
+    c.pinned = {{0, 0}, pin};
+    try {
+      (void)buildTopology(c);
+      ADD_FAILURE() << "no error for the pin [" << pin.x << ", " << pin.y << "]";
+    } catch (const std::invalid_argument& e) {
+      const std::string text = e.what();
+      EXPECT_NE(text.find("[" + std::to_string(pin.x) + ", " + std::to_string(pin.y) + "]"), std::string::npos) << text;
+      EXPECT_NE(text.find("50 x 50"), std::string::npos) << text;
+    }
+  }
+  ClothSpec c = grid(10, 10);
+  c.pinned_vertices = {99};
+  const Topology last = buildTopology(c);  // the last point, pinned by index
+  EXPECT_EQ(std::count(last.pinned.begin(), last.pinned.end(), 1), 1);
+  EXPECT_EQ(last.pinned[99], 1);
+  c.pinned_vertices = {100};
+  EXPECT_THROW((void)buildTopology(c), std::invalid_argument);
+  EXPECT_THROW((void)buildTopology(grid(1, 5)), std::invalid_argument);
+  EXPECT_THROW((void)buildTopology(grid(5, 1)), std::invalid_argument);
 }
 
 TEST(Topology, SpringsAreReservedExactlyNotGrownByDoubling) {

@@ -4,6 +4,8 @@
 #include "core/hash.hpp"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 namespace drape {
 
@@ -51,8 +53,12 @@ void buildAdjacency(Topology& topo) {
 
 // Pins by index and by box, for either generator.
 void addPins(Topology& topo, const ClothSpec& cloth) {
-  for (std::uint32_t i : cloth.pinned_vertices)
+  for (std::uint32_t i : cloth.pinned_vertices) {
+    if (i >= topo.pinned.size())
+      throw std::invalid_argument("cloth pin: vertex " + std::to_string(i) + " of a cloth of " +
+                                  std::to_string(topo.pinned.size()) + " points");
     topo.pinned[i] = 1;
+  }
   if (!cloth.has_pin_box) return;
   for (std::size_t i = 0; i < topo.initial_positions.size(); ++i) {
     const glm::dvec3& x = topo.initial_positions[i];
@@ -81,8 +87,18 @@ Topology buildMeshTopology(const ClothSpec& cloth) {
 
 }  // namespace
 
+// A scene file's cloth is validated when it is read (core/scene.cpp); a ClothSpec made or changed in code is checked
+// here for what would index past the arrays (a pin off the grid) or divide by zero (a grid under 2 x 2).
 Topology buildTopology(const ClothSpec& cloth) {
   if (cloth.mesh) return buildMeshTopology(cloth);
+  if (cloth.num_width_points < 2 || cloth.num_height_points < 2)
+    throw std::invalid_argument("cloth: a grid of " + std::to_string(cloth.num_width_points) + " x " +
+                                std::to_string(cloth.num_height_points) + " points (at least 2 x 2)");
+  for (glm::ivec2 p : cloth.pinned)
+    if (p.x < 0 || p.y < 0 || p.x >= cloth.num_width_points || p.y >= cloth.num_height_points)
+      throw std::invalid_argument("cloth pin: [" + std::to_string(p.x) + ", " + std::to_string(p.y) +
+                                  "] is off the grid of " + std::to_string(cloth.num_width_points) + " x " +
+                                  std::to_string(cloth.num_height_points) + " points");
   Topology topo;
   topo.W = cloth.num_width_points;
   topo.H = cloth.num_height_points;
