@@ -7,6 +7,7 @@
 #include "cpu/cpu_solver.hpp"
 #include "cpu/grid_kernels.hpp"
 #include "cpu/parallel.hpp"
+#include "kernel_sets.hpp"
 #include "test_paths.hpp"
 
 #include <gtest/gtest.h>
@@ -151,7 +152,7 @@ INSTANTIATE_TEST_SUITE_P(Cloths, CollisionPairsCase,
 
 // A build by cell (the grid's order, a cell's candidates copied into one run) lists the pairs a build by point
 // does: the folding selfCollision cloth and pinned2 refined to 100 x 100 with CS184's thickness (many points a
-// cell), float with the kernels and double without, at several substeps.
+// cell), without the kernels and with each instruction set's, at several substeps.
 TEST(CollisionPairs, ABuildByCellListsWhatABuildByPointDoes) {
   Scene folding = cs184Scene("selfCollision.json");
   Scene fine = cs184Scene("pinned2.json");
@@ -167,11 +168,11 @@ TEST(CollisionPairs, ABuildByCellListsWhatABuildByPointDoes) {
       solver.stepFrame();
       if (f % 8 != 7) continue;
       const std::vector<vec3>& x = solver.positions();
-      const auto lists = [&](CollisionPairs<float>::BuildOrder order, bool kernels) {
+      const auto lists = [&](CollisionPairs<float>::BuildOrder order, const GridKernels* kernels) {
         CollisionPairs<float> pairs;
         pairs.setRest(rest);
         pairs.setGrid(solver.topology().W, solver.topology().H);
-        if (kernels) pairs.setKernels(&gridKernels(GridIsa::Auto));
+        pairs.setKernels(kernels);
         pairs.setBuildOrder(order);
         pairs.configure(range, 0.75f * range);
         EXPECT_TRUE(pairs.update(x, 1));
@@ -183,11 +184,13 @@ TEST(CollisionPairs, ABuildByCellListsWhatABuildByPointDoes) {
         std::sort(out.begin(), out.end());
         return out;
       };
-      for (bool kernels : {true, false}) {
-        const auto by_point = lists(CollisionPairs<float>::BuildOrder::ByPoint, kernels);
-        EXPECT_EQ(lists(CollisionPairs<float>::BuildOrder::ByCell, kernels), by_point) << "frame " << f;
-        compared += by_point.empty() ? 0 : 1;
-      }
+      // Against the build point by point without the kernels: by cell without them, and both ways with each set
+      const auto by_point = lists(CollisionPairs<float>::BuildOrder::ByPoint, nullptr);
+      EXPECT_EQ(lists(CollisionPairs<float>::BuildOrder::ByCell, nullptr), by_point) << "frame " << f;
+      for (const GridKernels* kernels : test::kernelSets())
+        for (const auto order : {CollisionPairs<float>::BuildOrder::ByPoint, CollisionPairs<float>::BuildOrder::ByCell})
+          EXPECT_EQ(lists(order, kernels), by_point) << kernels->name << ", frame " << f;
+      compared += by_point.empty() ? 0 : 1;
     }
     EXPECT_GT(compared, 0) << "no build listed a pair: the case compares nothing";
   }

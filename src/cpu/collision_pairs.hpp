@@ -365,7 +365,7 @@ class CollisionPairs {
   void findPairs(const std::vector<vec3>& x, int thread, long long first, long long last);
   void findPairsByCell(int thread, long long first, long long last);
   int scanCellSlots(const ScanArgs& a, std::uint32_t p0, std::uint32_t p1, const CellRange* ranges, int count,
-                    std::uint32_t* out) const;
+                    std::uint32_t* points, std::uint32_t* slots) const;
   BuildOrder build_order_ = BuildOrder::ByCell;
   void setPoint(ScanArgs& scan, const std::vector<vec3>& x, std::size_t i) const;
   void consider(std::uint32_t i, std::uint32_t j, std::vector<Pair>& mine) const;

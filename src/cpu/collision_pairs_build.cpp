@@ -94,11 +94,11 @@ void CollisionPairs<T>::setPoint(ScanArgs& scan, const std::vector<vec3>& x, std
 // range.
 template <class T>
 int CollisionPairs<T>::scanCellSlots(const ScanArgs& a, std::uint32_t p0, std::uint32_t p1, const CellRange* ranges,
-                                     int count_of, std::uint32_t* out) const {
+                                     int count_of, std::uint32_t* points, std::uint32_t* slots) const {
   if constexpr (std::is_same_v<T, float>)
     if (kernels_) {
       const PairScanArgs k{a.x, a.y, a.z, a.u, a.v, 0, 0, 0, 0, 0, a.reach2, a.a2, a.b2, a.near_below};
-      return kernels_->scanCell(k, p0, p1, ranges, count_of, out);
+      return kernels_->scanCell(k, p0, p1, ranges, count_of, points, slots);
     }
   int count = 0;
   for (const CellRange& range : std::span(ranges, std::size_t(count_of)))
@@ -111,12 +111,8 @@ int CollisionPairs<T>::scanCellSlots(const ScanArgs& a, std::uint32_t p0, std::u
       at.pv = a.v[p];
       const std::uint32_t from = range.own ? std::max(range.first, p + 1) : range.first;
       if (from >= range.last) continue;
-      const int found = scanSlots(at, from, range.last, out + 2 * count);
-      // scanSlots wrote the candidates' slots; spread them out to (point, slot) pairs, from the last
-      for (int k = found - 1; k >= 0; --k) {
-        out[2 * (count + k) + 1] = out[2 * count + k];
-        out[2 * (count + k)] = p;
-      }
+      const int found = scanSlots(at, from, range.last, slots + count);
+      std::fill(points + count, points + count + found, p);
       count += found;
     }
   return count;
@@ -148,10 +144,13 @@ void CollisionPairs<T>::findPairsByCell(int t, long long lo, long long hi) {
         ranges[count_of++] = {first, last, own};
         most += std::size_t(p1 - p0) * (last - first);
       });
-      if (found.size() < 2 * most) found.resize(2 * most);
-      const int pairs = count_of > 0 ? scanCellSlots(scan_, p0, p1, ranges, count_of, found.data()) : 0;
+      // The points' slots, then the candidates', each with room for the vectors stored past the last pair
+      const std::size_t room = most + kPairScanPad;
+      if (found.size() < 2 * room) found.resize(2 * room);
+      std::uint32_t *const points = found.data(), *const slots = found.data() + room;
+      const int pairs = count_of > 0 ? scanCellSlots(scan_, p0, p1, ranges, count_of, points, slots) : 0;
       for (int k = 0; k < pairs; ++k)
-        consider(sorted[found[2 * std::size_t(k)]], sorted[found[2 * std::size_t(k) + 1]], mine);
+        consider(sorted[points[k]], sorted[slots[k]], mine);
       s = e;
     }
   } catch (const std::bad_alloc&) {
@@ -165,13 +164,13 @@ template void CollisionPairs<float>::findPairs(const std::vector<vec3>&, int, lo
 template void CollisionPairs<float>::setPoint(ScanArgs&, const std::vector<vec3>&, std::size_t) const;
 template void CollisionPairs<float>::findPairsByCell(int, long long, long long);
 template int CollisionPairs<float>::scanCellSlots(const ScanArgs&, std::uint32_t, std::uint32_t, const CellRange*, int,
-                                                  std::uint32_t*) const;
+                                                  std::uint32_t*, std::uint32_t*) const;
 template int CollisionPairs<double>::scanSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t*) const;
 template void CollisionPairs<double>::consider(std::uint32_t, std::uint32_t, std::vector<Pair>&) const;
 template void CollisionPairs<double>::findPairs(const std::vector<vec3>&, int, long long, long long);
 template void CollisionPairs<double>::setPoint(ScanArgs&, const std::vector<vec3>&, std::size_t) const;
 template void CollisionPairs<double>::findPairsByCell(int, long long, long long);
 template int CollisionPairs<double>::scanCellSlots(const ScanArgs&, std::uint32_t, std::uint32_t, const CellRange*, int,
-                                                   std::uint32_t*) const;
+                                                   std::uint32_t*, std::uint32_t*) const;
 
 }  // namespace drape

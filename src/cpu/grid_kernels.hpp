@@ -269,11 +269,12 @@ struct GridKernels {
   // What the build must look at pair by pair; a flat cloth's buckets hold almost none.
   int (*scanPairs)(const PairScanArgs&, std::uint32_t first, std::uint32_t last, std::uint32_t* out);
   // scanPairs for the points at slots [p0, p1) of the same arrays (PairScanArgs' px ... pv unused) against each of
-  // `count` ranges of slots, each vector of candidates loaded once for all of them. Writes each pair found as
-  // (point slot, candidate slot) to out, range by range, returns how many. One call a cell: a cell holds a few
-  // points (2.7 on CS184's selfCollision) and a range a few candidates, and a call a range cost 47 ns.
+  // `count` ranges of slots, each vector of candidates loaded once for all of them. Writes each pair found as its
+  // point's slot to points and its candidate's to slots, range by range, returns how many; whole vectors are stored,
+  // so each array needs kPairScanPad words past the pairs. One call a cell: a cell holds a few points (2.7 on CS184's
+  // selfCollision) and a range a few candidates, and a call a range cost 47 ns.
   int (*scanCell)(const PairScanArgs&, std::uint32_t p0, std::uint32_t p1, const CellRange* ranges, int count,
-                  std::uint32_t* out);
+                  std::uint32_t* points, std::uint32_t* slots);
   // CpuSolver::collide on the points [first, last) without meshes: each sphere, then each plane, as
   // physics::collideSphere and collidePlane compute them, lane by lane. Returns where it stopped: the last
   // points, fewer than a vector, are the caller's.

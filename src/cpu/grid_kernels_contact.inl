@@ -353,15 +353,15 @@ struct ContactKernels : Lanes<V> {
     F reach2, a2, b2, near_below;
   };
   static int scanCell(const PairScanArgs& a, std::uint32_t p0, std::uint32_t p1, const CellRange* ranges, int count_of,
-                      std::uint32_t* out) {
+                      std::uint32_t* points, std::uint32_t* slots) {
     const ScanTest test{V::set1(a.reach2), V::set1(a.a2), V::set1(a.b2), V::set1(a.near_below)};
     int count = 0;
     for (int r = 0; r < count_of; ++r)
-      count += scanRange(a, test, p0, p1, ranges[r], out + 2 * count);
+      count += scanRange(a, test, p0, p1, ranges[r], points + count, slots + count);
     return count;
   }
   static int scanRange(const PairScanArgs& a, const ScanTest& test, std::uint32_t p0, std::uint32_t p1,
-                       const CellRange& range, std::uint32_t* out) {
+                       const CellRange& range, std::uint32_t* points, std::uint32_t* slots) {
     int count = 0;
     for (std::uint32_t s = range.first; s < range.last; s += kW) {
       const F X = V::load(a.x + s), Y = V::load(a.y + s), Z = V::load(a.z + s), U = V::load(a.u + s),
@@ -377,13 +377,13 @@ struct ContactKernels : Lanes<V> {
         const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
         const F du = V::sub(U, V::set1(a.u[p])), dv = V::sub(W, V::set1(a.v[p]));
         const F nominal = V::add(V::mul(V::mul(du, du), test.a2), V::mul(V::mul(dv, dv), test.b2));
-        // Within reach and not nominally near: the two compares' bits (on AVX-512 mask registers) combined
-        for (int bits = V::ltBits(d2, test.reach2) & ~V::ltBits(nominal, test.near_below) & lanes; bits != 0;
-             bits &= bits - 1) {
-          out[2 * count] = p;
-          out[2 * count + 1] = s + std::uint32_t(__builtin_ctz(unsigned(bits)));
-          ++count;
-        }
+        // Within reach and not nominally near: the two compares' bits (on AVX-512 mask registers) combined, and the
+        // pairs written whole vectors at a time (on AVX-512 without a branch: whether a vector holds one was
+        // mispredicted at about half of them)
+        const int bits = V::ltBits(d2, test.reach2) & ~V::ltBits(nominal, test.near_below) & lanes;
+        V::fill(points + count, p);
+        V::storeLanes(slots + count, bits, s);
+        count += __builtin_popcount(unsigned(bits));
       }
     }
     return count;

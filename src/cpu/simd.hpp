@@ -95,7 +95,15 @@ struct Sse2 : LaneShuffles<Sse2> {
   static bool any(F m) { return _mm_movemask_ps(m) != 0; }
   static int bits(F m) { return _mm_movemask_ps(m); }     // lane l's mask in bit l
   static int ltBits(F a, F b) { return bits(lt(a, b)); }  // bits(lt(a, b)), where AVX-512 needs no vector of it
-  static F min(F a, F b) { return _mm_min_ps(a, b); }     // b where either is NaN
+  // base + l for each bit l of `lanes`, ascending, to out[0 ...]; every lane's word may be written
+  static void storeLanes(std::uint32_t* out, int lanes, std::uint32_t base) {
+    for (int k = 0; lanes != 0; lanes &= lanes - 1, ++k)
+      out[k] = base + std::uint32_t(__builtin_ctz(unsigned(lanes)));
+  }
+  static void fill(std::uint32_t* out, std::uint32_t v) {  // v to out[0 ... kWidth - 1]
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_set1_epi32(int(v)));
+  }
+  static F min(F a, F b) { return _mm_min_ps(a, b); }  // b where either is NaN
   static F max(F a, F b) { return _mm_max_ps(a, b); }
   static F select(F m, F a, F b) { return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b)); }  // m ? a : b
   // floor, for |a| < 2^31 (no SSE4.1 round here): truncate, then one less where that rounded up
@@ -178,6 +186,10 @@ struct Avx2 : LaneShuffles<Avx2> {
   static bool any(F m) { return _mm256_movemask_ps(m) != 0; }
   static int bits(F m) { return _mm256_movemask_ps(m); }
   static int ltBits(F a, F b) { return bits(lt(a, b)); }
+  static void storeLanes(std::uint32_t* out, int lanes, std::uint32_t base) { Sse2::storeLanes(out, lanes, base); }
+  static void fill(std::uint32_t* out, std::uint32_t v) {
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_set1_epi32(int(v)));
+  }
   static F min(F a, F b) { return _mm256_min_ps(a, b); }
   static F max(F a, F b) { return _mm256_max_ps(a, b); }
   static F select(F m, F a, F b) { return _mm256_blendv_ps(b, a, m); }
@@ -278,6 +290,14 @@ struct Avx512 : LaneShuffles<Avx512> {
   static bool any(F m) { return toMask(m) != 0; }
   static int bits(F m) { return int(toMask(m)); }
   static int ltBits(F a, F b) { return int(_mm512_cmp_ps_mask(a, b, _CMP_LT_OQ)); }
+  // The lanes' numbers compressed in a register and stored whole: no branch a lane (the memory form of compress is
+  // microcoded on Intel)
+  static void storeLanes(std::uint32_t* out, int lanes, std::uint32_t base) {
+    const __m512i numbers = _mm512_add_epi32(_mm512_set1_epi32(int(base)),
+                                             _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
+    _mm512_storeu_si512(out, _mm512_maskz_compress_epi32(__mmask16(lanes), numbers));
+  }
+  static void fill(std::uint32_t* out, std::uint32_t v) { _mm512_storeu_si512(out, _mm512_set1_epi32(int(v))); }
   static F min(F a, F b) { return _mm512_min_ps(a, b); }
   static F max(F a, F b) { return _mm512_max_ps(a, b); }
   static F select(F m, F a, F b) { return _mm512_mask_blend_ps(toMask(m), b, a); }
