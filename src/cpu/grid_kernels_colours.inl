@@ -27,13 +27,15 @@ struct ColourKernels : Lanes<V> {
   // a product that underflows fails the test and takes the full path. Adding +0 changes only a -0 and adding
   // -0 nothing, so such a vector is usually left as it is: returns whether anything is to be stored.
   // Whether every valid lane's spring is within the limit by the test above (the fast path's).
-  static bool allClear(F ax, F ay, F az, F bx, F by, F bz, F rest, F limit, F valid) {
+  // valid: the valid lanes as bits. The compare stays a bit mask (on AVX-512 a mask register): a vector of it made
+  // and turned back into bits was two fifths of rowColour's time, on the path to the branch.
+  static bool allClear(F ax, F ay, F az, F bx, F by, F bz, F rest, F limit, int valid) {
     const F dx = V::sub(bx, ax), dy = V::sub(by, ay), dz = V::sub(bz, az);
     const F len2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
     const F max_len = V::mul(limit, rest);
-    const F clear = V::lt(len2, V::mul(V::mul(max_len, max_len), V::set1(1.0f - 0x1p-20f)));
+    const int clear = V::ltBits(len2, V::mul(V::mul(max_len, max_len), V::set1(1.0f - 0x1p-20f)));
     constexpr int kAll = (1 << kW) - 1;
-    return ((V::bits(clear) | ~V::bits(valid)) & kAll) == kAll;
+    return ((clear | ~valid) & kAll) == kAll;
   }
 
   static bool limitSprings(End& a, End& b, F rest, F limit, F valid, bool displacements) {
@@ -45,7 +47,7 @@ struct ColourKernels : Lanes<V> {
     const F same = V::eq(share_a, share_b);
     const F move_a = V::andNot(a.pinned, valid), move_b = V::andNot(b.pinned, valid);
     F cax, cay, caz, cbx, cby, cbz;
-    if (allClear(a.x, a.y, a.z, b.x, b.y, b.z, rest, limit, valid)) {
+    if (allClear(a.x, a.y, a.z, b.x, b.y, b.z, rest, limit, V::bits(valid))) {
       const auto neg_zero = [](F p, F q, F r) {
         return V::bitOr(V::bitOr(V::negZero(p), V::negZero(q)), V::negZero(r));
       };
@@ -137,7 +139,7 @@ struct ColourKernels : Lanes<V> {
     bool operator()(End& ea, End& eb, F rest, F&, F valid, bool displacements, int) const {
       return limitSprings(ea, eb, rest, limit, valid, displacements);
     }
-    bool skipsClear(F ax, F ay, F az, F bx, F by, F bz, F rest, F valid) const {
+    bool skipsClear(F ax, F ay, F az, F bx, F by, F bz, F rest, int valid) const {
       return allClear(ax, ay, az, bx, by, bz, rest, limit, valid);
     }
   };
@@ -148,7 +150,7 @@ struct ColourKernels : Lanes<V> {
     bool operator()(End& ea, End& eb, F rest, F& lambda, F valid, bool displacements, int d) const {
       return xpbdSprings(ea, eb, rest, V::set1(args->springs.k[d]), lambda, valid, displacements);
     }
-    bool skipsClear(F, F, F, F, F, F, F, F) const { return false; }
+    bool skipsClear(F, F, F, F, F, F, F, int) const { return false; }
   };
 
   // Whether the rows row and row + dy, where a colour's springs from row end, hold no -0 (GridStretchArgs).
@@ -187,11 +189,12 @@ struct ColourKernels : Lanes<V> {
     const bool skips = Rule::kSkipsClear && unsignedRows(a, row, kDy[d]);
     for (int x0 = x_first; x0 < x_end; x0 += kW) {
       const std::ptrdiff_t q = at(g, x0, row);
-      const F valid = V::lt(V::add(V::set1(float(x0)), V::iota()), V::set1(float(x_end)));
-      if (skips &&
-          rule.skipsClear(V::load(a.x + q), V::load(a.y + q), V::load(a.z + q), V::load(a.x + q + offset),
-                          V::load(a.y + q + offset), V::load(a.z + q + offset), V::load(a.springs.rest[d] + q), valid))
+      const F lanes = V::add(V::set1(float(x0)), V::iota()), end = V::set1(float(x_end));
+      if (skips && rule.skipsClear(V::load(a.x + q), V::load(a.y + q), V::load(a.z + q), V::load(a.x + q + offset),
+                                   V::load(a.y + q + offset), V::load(a.z + q + offset), V::load(a.springs.rest[d] + q),
+                                   V::ltBits(lanes, end)))
         continue;
+      const F valid = V::lt(lanes, end);
       End ea = loadEnd<Rule>(a, q, displacements), eb = loadEnd<Rule>(a, q + offset, displacements);
       F lambda = a.lambda[d] ? V::load(a.lambda[d] + q) : V::set1(0.0f);
       if (!rule(ea, eb, V::load(a.springs.rest[d] + q), lambda, valid, displacements, d)) continue;
@@ -234,14 +237,15 @@ struct ColourKernels : Lanes<V> {
     const bool skips = Rule::kSkipsClear && unsignedRows(a, row, 0);
     for (int x0 = dx * parity; x0 + dx < g.W; x0 += 2 * kW) {
       const std::ptrdiff_t q = at(g, x0, row);
-      const F valid = V::lt(V::add(V::set1(float(x0)), lane_a), V::set1(float(g.W - dx)));
+      const F lanes = V::add(V::set1(float(x0)), lane_a), end = V::set1(float(g.W - dx));
       End ea{}, eb{};  // vx, vy, vz only where displacements are corrected
       F rest, unused;
       splitArray<kPairs>(a.x + q, ea.x, eb.x);
       splitArray<kPairs>(a.y + q, ea.y, eb.y);
       splitArray<kPairs>(a.z + q, ea.z, eb.z);
       splitArray<kPairs>(a.springs.rest[d] + q, rest, unused);
-      if (skips && rule.skipsClear(ea.x, ea.y, ea.z, eb.x, eb.y, eb.z, rest, valid)) continue;
+      if (skips && rule.skipsClear(ea.x, ea.y, ea.z, eb.x, eb.y, eb.z, rest, V::ltBits(lanes, end))) continue;
+      const F valid = V::lt(lanes, end);
       splitArray<kPairs>(a.pinned + q, ea.pinned, eb.pinned);
       if (displacements) {
         splitArray<kPairs>(a.vx + q, ea.vx, eb.vx);

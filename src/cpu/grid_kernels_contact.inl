@@ -33,7 +33,8 @@ struct ContactKernels : Lanes<V> {
       V::gatherVec3(x, partner + k, lanes, jx, jy, jz, live);
       const F dx = V::sub(ix, jx), dy = V::sub(iy, jy), dz = V::sub(iz, jz);
       const F dist2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
-      int bits = V::bits(V::andNot(V::bitOr(V::ge(dist2, range2), V::le(dist2, zero)), live));
+      const int live_bits = (1 << lanes) - 1;
+      int bits = ~(V::geBits(dist2, range2) | V::leBits(dist2, zero)) & live_bits;
       if (bits == 0) continue;
       const int nan = V::bits(V::andNot(V::eq(dist2, dist2), live));
       const F dist = V::sqrt(dist2), f = V::div(V::sub(V::set1(range), dist), dist);

@@ -36,30 +36,34 @@ struct StencilKernels : Lanes<V> {
   // the lanes lie in (from least, as `squares` says; a NaN distance is -inf there, so that nothing is ruled out until
   // the next build)
   template <bool kInterior, bool kRecord>
-  static void stencilTest(const GridStencilArgs& a, const StencilTerm& t, std::ptrdiff_t q, F X, F Y, F Z, F us, F own,
-                          F r2, std::uint32_t first, int& found, float* least, const Squares& squares) {
+  static void stencilTest(const GridStencilArgs& a, const StencilTerm& t, std::ptrdiff_t q, F X, F Y, F Z, F us,
+                          int own, F r2, std::uint32_t first, int& found, float* least, const Squares& squares) {
     const GridShape& g = a.shape;
-    const F all = V::eq(V::set1(0.0f), V::set1(0.0f));
     // The padding keeps every partner load inside the arrays (|du| <= kMaxStencilBox < 2 rows)
     const std::ptrdiff_t p = q + t.padded;
     const F dx = V::sub(X, V::load(a.x + p)), dy = V::sub(Y, V::load(a.y + p)), dz = V::sub(Z, V::load(a.z + p));
     const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
-    const F lanes = kInterior ? all : V::bitAnd(onGrid(us, t.du, g.W), own);
+    // The lanes as bits (onGrid's two compares): on AVX-512 straight from the mask registers, where a vector of each
+    // compare and its conversion back were a third of the kernel's instructions
+    const int lanes =
+        kInterior ? own : V::leBits(V::set1(float(-t.du)), us) & V::ltBits(us, V::set1(float(g.W - t.du))) & own;
     if constexpr (kRecord) {
       const F inf = V::set1(__builtin_inff());
-      const F value = V::select(lanes, V::select(V::ge(d2, V::set1(0.0f)), d2, V::neg(inf)), inf);
+      const F on = V::bitAnd(onGrid(us, t.du, g.W), V::lt(us, V::set1(float(g.W))));
+      const F value =
+          V::select(kInterior ? V::eq(us, us) : on, V::select(V::ge(d2, V::set1(0.0f)), d2, V::neg(inf)), inf);
       for (int s = 0; s < squares.count; ++s, least += squares.stride)
         V::store(least, V::min(V::load(least), value));
     }
     // not d2 >= range^2: a NaN distance is a pair, for the scalar sum to see
-    F pair = V::andNot(V::ge(d2, r2), lanes);
-    if (t.mixed && V::any(pair)) {  // heldAtRest(rest_i, rest_j, range): d . d < range^2
+    int pair = ~V::geBits(d2, r2) & lanes;
+    if (t.mixed && pair != 0) {  // heldAtRest(rest_i, rest_j, range): d . d < range^2
       const F ex = V::sub(V::load(a.rx + q), V::load(a.rx + p)), ey = V::sub(V::load(a.ry + q), V::load(a.ry + p)),
               ez = V::sub(V::load(a.rz + q), V::load(a.rz + p));
       const F e2 = V::add(V::add(V::mul(ex, ex), V::mul(ey, ey)), V::mul(ez, ez));
-      pair = V::andNot(V::lt(e2, r2), pair);
+      pair &= ~V::ltBits(e2, r2);
     }
-    for (int bits = V::bits(pair); bits != 0; bits &= bits - 1) {
+    for (int bits = pair; bits != 0; bits &= bits - 1) {
       const auto i = first + std::uint32_t(__builtin_ctz(unsigned(bits)));
       a.lower[found] = i;
       a.upper[found] = std::uint32_t(std::ptrdiff_t(i) + t.point);
@@ -77,7 +81,7 @@ struct StencilKernels : Lanes<V> {
     const std::ptrdiff_t q = at(g, u0, v);
     const F X = V::load(a.x + q), Y = V::load(a.y + q), Z = V::load(a.z + q);
     const F us = V::add(V::set1(float(u0)), V::iota());
-    const F own = kInterior ? V::eq(us, us) : V::lt(us, V::set1(float(g.W)));
+    const int own = kInterior ? (1 << kW) - 1 : V::ltBits(us, V::set1(float(g.W)));
     const auto first = std::uint32_t(std::ptrdiff_t(v) * g.W + u0);
     if constexpr (kTiles == kAllTested) {
       for (int k = 0; k < count; ++k)

@@ -95,6 +95,8 @@ struct Sse2 : LaneShuffles<Sse2> {
   static bool any(F m) { return _mm_movemask_ps(m) != 0; }
   static int bits(F m) { return _mm_movemask_ps(m); }     // lane l's mask in bit l
   static int ltBits(F a, F b) { return bits(lt(a, b)); }  // bits(lt(a, b)), where AVX-512 needs no vector of it
+  static int leBits(F a, F b) { return bits(le(a, b)); }
+  static int geBits(F a, F b) { return bits(ge(a, b)); }
   // base + l for each bit l of `lanes`, ascending, to out[0 ...]; every lane's word may be written
   static void storeLanes(std::uint32_t* out, int lanes, std::uint32_t base) {
     for (int k = 0; lanes != 0; lanes &= lanes - 1, ++k)
@@ -186,6 +188,8 @@ struct Avx2 : LaneShuffles<Avx2> {
   static bool any(F m) { return _mm256_movemask_ps(m) != 0; }
   static int bits(F m) { return _mm256_movemask_ps(m); }
   static int ltBits(F a, F b) { return bits(lt(a, b)); }
+  static int leBits(F a, F b) { return bits(le(a, b)); }
+  static int geBits(F a, F b) { return bits(ge(a, b)); }
   static void storeLanes(std::uint32_t* out, int lanes, std::uint32_t base) { Sse2::storeLanes(out, lanes, base); }
   static void fill(std::uint32_t* out, std::uint32_t v) {
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_set1_epi32(int(v)));
@@ -290,6 +294,8 @@ struct Avx512 : LaneShuffles<Avx512> {
   static bool any(F m) { return toMask(m) != 0; }
   static int bits(F m) { return int(toMask(m)); }
   static int ltBits(F a, F b) { return int(_mm512_cmp_ps_mask(a, b, _CMP_LT_OQ)); }
+  static int leBits(F a, F b) { return int(_mm512_cmp_ps_mask(a, b, _CMP_LE_OQ)); }
+  static int geBits(F a, F b) { return int(_mm512_cmp_ps_mask(a, b, _CMP_GE_OQ)); }
   // The lanes' numbers compressed in a register and stored whole: no branch a lane (the memory form of compress is
   // microcoded on Intel)
   static void storeLanes(std::uint32_t* out, int lanes, std::uint32_t base) {
