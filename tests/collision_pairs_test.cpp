@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -176,11 +177,22 @@ TEST(CollisionPairs, ABuildByCellListsWhatABuildByPointDoes) {
         pairs.setBuildOrder(order);
         pairs.configure(range, 0.75f * range);
         EXPECT_TRUE(pairs.update(x, 1));
-        // A point's entries in the order its pairs were found, which the sums do not depend on: as a set
-        std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
-        for (std::size_t i = 0; i < x.size(); ++i)
-          for (std::uint32_t k = pairs.forwardStart(i); k < pairs.forwardStart(i + 1); ++k)
-            out.emplace_back(std::uint32_t(i), pairs.forwardPartners()[k]);
+        // A point's entries in the order its pairs were found, which the sums do not depend on: as a set, each
+        // with its part. A near entry is closer than the range and half the skin, a far one not (farNeeded's
+        // proof), and every entry is its owner's, with a partner above it.
+        const float near2 = (range + 0.5f * pairs.margin()) * (range + 0.5f * pairs.margin());
+        std::vector<std::array<std::uint32_t, 3>> out;
+        for (std::uint32_t far = 0; far < 2; ++far) {
+          const auto& part = far ? pairs.farEntries() : pairs.nearEntries();
+          for (std::size_t i = 0; i < x.size(); ++i)
+            for (std::uint32_t k = part.start[i]; k < part.start[i + 1]; ++k) {
+              const std::uint32_t j = part.partner[k];
+              EXPECT_EQ(part.owner[k], i);
+              EXPECT_GT(j, i);
+              EXPECT_EQ(glm::dot(x[i] - x[j], x[i] - x[j]) >= near2, far != 0) << i << "-" << j;
+              out.push_back({std::uint32_t(i), j, far});
+            }
+        }
         std::sort(out.begin(), out.end());
         return out;
       };

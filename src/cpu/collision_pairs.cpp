@@ -6,13 +6,40 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <exception>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
+#include <type_traits>
 #include <utility>
 
 namespace drape {
+
+namespace {
+
+// The largest |c| of `count` coordinates and `least` (>= 0), a NaN passed over as std::max passes it. Float's compared
+// as the bits of |c|, which order as the values do for every float from +0 to infinity: a loop the compiler
+// vectorises, where it may not reorder a float maximum (a fifth of finishBuild's time, one point at a time).
+template <class T>
+T largestCoordinate(const T* c, std::size_t count, T least) {
+  if constexpr (std::is_same_v<T, float>) {
+    std::int32_t most = std::bit_cast<std::int32_t>(least);
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::int32_t b = std::bit_cast<std::int32_t>(c[k]) & 0x7fffffff;
+      most = std::max(most, b > 0x7f800000 ? 0 : b);
+    }
+    return std::bit_cast<float>(most);
+  } else {
+    T most = least;
+    for (std::size_t k = 0; k < count; ++k)
+      most = std::max(most, std::abs(c[k]));
+    return most;
+  }
+}
+
+}  // namespace
 
 template <class T>
 void CollisionPairs<T>::configure(T range, T margin) {
@@ -233,6 +260,9 @@ void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
   const T reach = range_ + margin_;
   const std::size_t n = x.size();
   if (!teamSerial(failure_, [&] {
+        // A pair's part rides in its upper end's top bit (Pair)
+        if (n > kFarBit) throw std::length_error("self-collision lists take at most 2^31 points");
+        near_reach_ = range_ + T(0.5) * margin_;
         by_offset_ = box_ >= 0 && u_.size() == n;
         for (std::vector<T>* a : {&sx_, &sy_, &sz_, &su_, &sv_})
           a->resize(n + kPairScanPad);  // the pad is read by the kernels' last vectors, whose lanes there are dropped
@@ -275,102 +305,89 @@ void CollisionPairs<T>::sizeLists(std::size_t n) {
   std::size_t pairs = 0;
   for (const std::vector<Pair>& part : found_)
     pairs += part.size();
-  forward_start_.resize(n + 1);
-  forward_start_[0] = 0;
-  forward_.resize(pairs);
-  forward_owner_.resize(pairs);
-  fill_.resize(n);
-  part_pairs_.assign(std::size_t(teamSize()), 0);
+  for (EntryPart* part : {&near_, &far_}) {
+    part->start.resize(n + 1);
+    part->start[0] = 0;
+    if (part->owner.size() < pairs) {  // only grown: either part may hold every pair
+      part->owner.resize(pairs);
+      part->partner.resize(pairs);
+    }
+  }
+  fill_.resize(2 * n);
+  part_pairs_.assign(2 * std::size_t(teamSize()), 0);
 }
 
-// The pairs every thread found into the forward lists, by their lower ends: in a team each thread takes the pairs of
-// its share of the points (reading every thread's), counts them, and after a barrier places them from the entries of
-// the threads before it. A point's partners are in the order the pairs were found, whichever threads place them.
-// One thread did it all while the others waited: 0.19 ms a build at 256^2.
+// The pairs every thread found into the entries, near and far (each pair's part was told by the thread that found
+// it, from the build's distance), by their lower ends: in a team each thread takes the pairs of its share of the
+// points (reading every thread's), counts them, and after a barrier places them from the entries of the threads
+// before it. A point's partners are in the order the pairs were found, whichever threads place them. One thread did
+// it all while the others waited: 0.19 ms a build at 256^2. Listing every pair and then parting them by a second
+// look at each one's distance (finishBuild, before) cost a quarter more of the build's time on CS184's
+// selfCollision.
 template <class T>
 void CollisionPairs<T>::assembleLists(std::size_t n) {
   long long first, last;
   teamShare(0, (long long)n, first, last);
   const auto lo = std::uint32_t(first), hi = std::uint32_t(last);
-  std::fill(forward_start_.begin() + first + 1, forward_start_.begin() + last + 1, 0);
-  std::uint32_t mine = 0;
+  std::uint32_t* const start[2] = {near_.start.data(), far_.start.data()};
+  for (std::uint32_t* s : start)
+    std::fill(s + first + 1, s + last + 1, 0u);
+  std::uint32_t mine[2] = {0, 0};
   for (const std::vector<Pair>& part : found_)
     for (const Pair& pair : part)
-      if (const std::uint32_t i = std::min(pair.i, pair.j); i >= lo && i < hi) {
-        ++forward_start_[i + 1];
-        ++mine;
+      if (pair.lower >= lo && pair.lower < hi) {
+        const std::uint32_t far = pair.upper >> 31;
+        ++start[far][pair.lower + 1];
+        ++mine[far];
       }
-  const auto thread = std::size_t(teamThread());
-  part_pairs_[thread] = mine;
+  const auto thread = std::size_t(teamThread()), team = std::size_t(teamSize());
+  part_pairs_[thread] = mine[0];
+  part_pairs_[team + thread] = mine[1];
   teamBarrier();
   // from the entries of the threads before this one
-  std::uint32_t at = std::accumulate(part_pairs_.begin(), part_pairs_.begin() + std::ptrdiff_t(thread), 0u);
-  for (std::uint32_t i = lo; i < hi; ++i) {
-    fill_[i] = at;
-    const std::uint32_t count = forward_start_[i + 1];
-    std::fill(forward_owner_.begin() + at, forward_owner_.begin() + at + count, i);
-    at += count;
-    forward_start_[i + 1] = at;
+  std::uint32_t* const next[2] = {fill_.data(), fill_.data() + n};
+  for (std::size_t f = 0; f < 2; ++f) {
+    const auto before = part_pairs_.begin() + std::ptrdiff_t(f * team);
+    std::uint32_t at = std::accumulate(before, before + std::ptrdiff_t(thread), 0u);
+    for (std::uint32_t i = lo; i < hi; ++i) {
+      next[f][i] = at;
+      at += start[f][i + 1];
+      start[f][i + 1] = at;
+    }
   }
+  std::uint32_t* const owner[2] = {near_.owner.data(), far_.owner.data()};
+  std::uint32_t* const partner[2] = {near_.partner.data(), far_.partner.data()};
   for (const std::vector<Pair>& part : found_)
     for (const Pair& pair : part)
-      if (const std::uint32_t i = std::min(pair.i, pair.j); i >= lo && i < hi)
-        forward_[fill_[i]++] = std::max(pair.i, pair.j);
+      if (pair.lower >= lo && pair.lower < hi) {
+        const std::uint32_t far = pair.upper >> 31, k = next[far][pair.lower]++;
+        owner[far][k] = pair.lower;
+        partner[far][k] = pair.upper & ~kFarBit;
+      }
   teamBarrier();
 }
 
-// The build's anchors (the positions it was made from, and their padded copy), the check's bounds, and the list's
-// entries parted into near and far. In a team every thread calls it, the copies and the entries split by points:
-// on one thread of two, at 256^2, the other waited through it.
+// The build's anchors (the positions it was made from, and their padded copy) and the check's bounds. In a team every
+// thread calls it, the copies split by points: on one thread of two, at 256^2, the other waited through it.
 template <class T>
 void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
-  const std::size_t n = x.size(), entries = forward_.size(), size = padded_.x ? padded_.shape.size : 0;
+  const std::size_t n = x.size(), size = padded_.x ? padded_.shape.size : 0;
   if (!teamSerial(failure_, [&] {
         anchor_.resize(n);
         for (PaddedFloats& a : padded_anchor_)
           a.resize(size);
         if (tiled_ != n) makeTiles(n);
-        for (EntryPart* part : {&near_, &far_}) {
-          part->start.resize(n + 1);
-          part->start[0] = 0;
-          if (part->owner.size() < entries) {
-            part->owner.resize(entries);
-            part->partner.resize(entries);
-          }
-        }
         part_extent_.assign(std::size_t(teamSize()), range_ + margin_);
-        part_near_.assign(std::size_t(teamSize()), 0);
-        near_reach_ = range_ + T(0.5) * margin_;
         stencil_min2_.resize(tile_count_ * forwardOffsets());
         if (edge_ > 0) shared_min2_.resize(std::size_t(recordRow()) * std::size_t(teamSize()));
         stencil_active_.resize(tile_count_ * std::size_t(teamSize()));
         active_rows_.assign(std::size_t(teamSize()), {0, 0});
       }))
     return;
-  const T near2 = near_reach_ * near_reach_;
-  // A NaN distance is near: always tested, as the scalar sum gives such a pair its terms
-  const auto is_near = [&](std::size_t i, std::uint32_t j) {
-    const vec3 d = x[i] - x[j];
-    return !(glm::dot(d, d) >= near2);
-  };
-  // In a team, each thread counts its points' near entries first: the entries' pass then starts each thread's
-  // points after the entries of the threads before it, and writes the starts as it goes (as one thread alone does).
-  // Before, one thread summed every point's counts while the others waited: 0.17 ms a build at 256^2.
-  const bool alone = teamSize() == 1;
   const auto thread = std::size_t(teamThread());
   teamPart(0, (long long)n, [&](long long lo, long long hi) {
-    T extent = range_ + margin_;
-    std::uint32_t near = 0;
-    for (auto i = std::size_t(lo); i < std::size_t(hi); ++i) {
-      const vec3& p = x[i];
-      anchor_[i] = p;
-      extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-      if (alone) continue;
-      for (std::uint32_t k = forward_start_[i]; k < forward_start_[i + 1]; ++k)
-        near += is_near(i, forward_[k]);
-    }
-    part_extent_[thread] = extent;
-    part_near_[thread] = near;
+    std::copy(x.begin() + lo, x.begin() + hi, anchor_.begin() + lo);
+    part_extent_[thread] = largestCoordinate(&x[std::size_t(lo)].x, 3 * std::size_t(hi - lo), range_ + margin_);
   });
   if (size > 0)
     teamPart(0, (long long)size, [&](long long lo, long long hi) {
@@ -379,7 +396,6 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
         std::copy(from[c] + lo, from[c] + hi, padded_anchor_[c].begin() + lo);
     });
   teamBarrier();
-  // Nothing reads these before the entries' barrier
   if (thread == 0) {
     const T extent = *std::max_element(part_extent_.begin(), part_extent_.end());
     travel_ = safeTravel(margin_, extent + margin_);
@@ -388,24 +404,7 @@ void CollisionPairs<T>::finishBuild(const std::vector<vec3>& x) {
     ++rebuilds_;
     entries_built_ += (long long)pairCount();
   }
-  // Each thread writes only its points' entries and starts: a slot past its own is the next thread's
-  teamRange(0, (long long)n, [&](long long lo, long long hi) {
-    // after the near entries of the threads before this one
-    const std::uint32_t before = std::accumulate(part_near_.begin(), part_near_.begin() + std::ptrdiff_t(thread), 0u);
-    std::uint32_t at[2] = {before, forward_start_[std::size_t(lo)] - before};
-    std::uint32_t* owner[2] = {near_.owner.data(), far_.owner.data()};
-    std::uint32_t* partner[2] = {near_.partner.data(), far_.partner.data()};
-    for (auto i = std::size_t(lo); i < std::size_t(hi); ++i) {
-      for (std::uint32_t k = forward_start_[i]; k < forward_start_[i + 1]; ++k) {
-        const std::uint32_t j = forward_[k];
-        const int part = is_near(i, j) ? 0 : 1;
-        owner[part][at[part]] = std::uint32_t(i);
-        partner[part][at[part]++] = j;
-      }
-      near_.start[i + 1] = at[0];
-      far_.start[i + 1] = at[1];
-    }
-  });
+  teamBarrier();  // farNeeded reads extent_ next, on every thread
 }
 
 template <class T>
@@ -440,20 +439,22 @@ template <class T>
 auto CollisionPairs<T>::bothEnds() const -> const BothEnds& {
   BothEnds& b = both_ends_;
   if (b.made) return b;
-  const std::size_t n = forward_start_.empty() ? 0 : forward_start_.size() - 1;
+  const std::size_t n = near_.start.empty() ? 0 : near_.start.size() - 1;
   b.start.assign(n + 1, 0);
-  for (std::size_t k = 0; k < forward_.size(); ++k) {
-    ++b.start[forward_owner_[k] + 1];
-    ++b.start[forward_[k] + 1];
-  }
+  for (const EntryPart* part : {&near_, &far_})
+    for (std::size_t k = 0; k < (n ? part->start[n] : 0); ++k) {
+      ++b.start[part->owner[k] + 1];
+      ++b.start[part->partner[k] + 1];
+    }
   for (std::size_t i = 0; i < n; ++i)
     b.start[i + 1] += b.start[i];
   b.list.resize(b.start[n]);
   std::vector<std::uint32_t> fill(b.start.begin(), b.start.end() - 1);
-  for (std::size_t k = 0; k < forward_.size(); ++k) {
-    b.list[fill[forward_owner_[k]]++] = forward_[k];
-    b.list[fill[forward_[k]]++] = forward_owner_[k];
-  }
+  for (const EntryPart* part : {&near_, &far_})
+    for (std::size_t k = 0; k < (n ? part->start[n] : 0); ++k) {
+      b.list[fill[part->owner[k]]++] = part->partner[k];
+      b.list[fill[part->partner[k]]++] = part->owner[k];
+    }
   for (std::size_t i = 0; i < n; ++i)
     std::sort(b.list.begin() + b.start[i], b.list.begin() + b.start[i + 1]);
   b.made = true;

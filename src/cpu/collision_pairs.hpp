@@ -95,23 +95,21 @@ class CollisionPairs {
   std::exception_ptr takeFailure() { return std::exchange(failure_, nullptr); }
 
   // Listed candidates of point i, ascending: every j off the stencil with |x_i - x_j| < range + margin at the
-  // last build. Made from the forward lists at the first call after a build (the solver needs only those):
+  // last build. Made from the entries at the first call after a build (the solver needs only those):
   // for tests and diagnostics, not to be called from two threads at once.
   const std::uint32_t* begin(std::size_t i) const { return bothEnds().list.data() + bothEnds().start[i]; }
   const std::uint32_t* end(std::size_t i) const { return bothEnds().list.data() + bothEnds().start[i + 1]; }
-  std::size_t pairCount() const { return 2 * forward_.size(); }  // each pair counted from both ends
-  // The same pairs from their lower end only: every listed j > i of point i, in no particular order (for a
-  // sum that visits each pair once and sorts its terms itself).
-  // Laid out as one array of entries, point after point: entry k pairs forwardOwners()[k] with
-  // forwardPartners()[k], and point i's entries are [forwardStart(i), forwardStart(i + 1)).
-  std::uint32_t forwardStart(std::size_t i) const { return forward_start_[i]; }
-  const std::uint32_t* forwardOwners() const { return forward_owner_.data(); }
-  const std::uint32_t* forwardPartners() const { return forward_.data(); }
-  // The same entries in two parts laid out alike: those closer at the build than the range and half the skin
-  // (near), and the rest (far), which no pair in range can be among until two points have moved apart or together
-  // by half the skin since the build: for most of a list's life only the near part is tested (farNeeded).
+  std::size_t pairCount() const {  // each pair counted from both ends
+    return near_.start.empty() ? 0 : 2 * std::size_t(near_.start.back() + far_.start.back());
+  }
+  // The same pairs from their lower end only, every listed j > i of point i in no particular order (for a sum that
+  // visits each pair once and sorts its terms itself), in two parts laid out alike: those closer at the build than
+  // the range and half the skin (near), and the rest (far), which no pair in range can be among until two points have
+  // moved apart or together by half the skin since the build: for most of a list's life only the near part is tested
+  // (farNeeded).
   struct EntryPart {
-    // start: n + 1 offsets by owner; owner and partner hold at least start[n] entries
+    // start: n + 1 offsets by owner (point i's entries are [start[i], start[i + 1])); entry k pairs owner[k] with
+    // partner[k]; owner and partner hold at least start[n] entries
     std::vector<std::uint32_t> start, owner, partner;
   };
   const EntryPart& nearEntries() const { return near_; }
@@ -271,9 +269,11 @@ class CollisionPairs {
   // the stencil. Off the box of offsets the table covers, kList.
   enum OffsetKind : std::uint8_t { kList, kHeld, kStencil };
 
+  // A pair as the build found it: its lower end, and its upper end with kFarBit set where it is a far entry
   struct Pair {
-    std::uint32_t i, j;
+    std::uint32_t lower, upper;
   };
+  static constexpr std::uint32_t kFarBit = std::uint32_t(1) << 31;
   HashGrid<T> grid_;
   std::vector<std::vector<Pair>> found_;  // per thread, kept to spare the allocations
   struct BothEnds {
@@ -282,8 +282,7 @@ class CollisionPairs {
   };
   const BothEnds& bothEnds() const;
   mutable BothEnds both_ends_;
-  std::vector<std::uint32_t> fill_;
-  std::vector<std::uint32_t> forward_start_, forward_, forward_owner_;
+  std::vector<std::uint32_t> fill_;  // assembleLists' next near entry of each point, then its next far one
   EntryPart near_, far_;
   T near_reach_ = 0;          // the near entries' reach at the build: range + margin / 2
   T extent_ = 0;              // the largest coordinate at the build, and the margin
@@ -295,8 +294,7 @@ class CollisionPairs {
   Padded padded_;                          // setPaddedPositions
   PaddedFloats padded_anchor_[3];          // anchor_ in padded_'s layout, where the last build had it (else empty)
   std::vector<T> part_extent_;             // finishBuild's largest coordinate, per thread of the team
-  std::vector<std::uint32_t> part_near_;   // finishBuild's near entries, per thread of the team
-  std::vector<std::uint32_t> part_pairs_;  // assembleLists' pairs, per thread of the team
+  std::vector<std::uint32_t> part_pairs_;  // assembleLists' near entries per thread of the team, then its far ones
   // needsBuild()'s tiles, as runs of consecutive points, and per tile the box of its displacements since the build
   // and the box of its points
   static constexpr int kTileEdge = 8, kTilesAcross = 16;
@@ -368,7 +366,13 @@ class CollisionPairs {
                     std::uint32_t* points, std::uint32_t* slots) const;
   BuildOrder build_order_ = BuildOrder::ByCell;
   void setPoint(ScanArgs& scan, const std::vector<vec3>& x, std::size_t i) const;
-  void consider(std::uint32_t i, std::uint32_t j, std::vector<Pair>& mine) const;
+  // d2: the pair's squared distance, which parts it near or far
+  void consider(std::uint32_t i, std::uint32_t j, T d2, std::vector<Pair>& mine) const;
+  // |p - (the candidate at slot s of the grid's order)|^2, as glm::dot sums it
+  T squaredDistance(vec3 p, std::uint32_t s) const {
+    const T dx = p.x - sx_[s], dy = p.y - sy_[s], dz = p.z - sz_[s];
+    return dx * dx + dy * dy + dz * dz;
+  }
   std::vector<std::vector<std::uint32_t>> cell_found_;  // findPairsByCell's pairs of slots, per thread
   void sizeLists(std::size_t n);                        // serial: the lists sized for the pairs found
   void assembleLists(std::size_t n);

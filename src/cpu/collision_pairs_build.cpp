@@ -32,21 +32,23 @@ int CollisionPairs<T>::scanSlots(const ScanArgs& a, std::uint32_t first, std::ui
   return count;
 }
 
-// Pair {i, j} of a candidate found within reach (j in a forward cell of i's) into `mine` unless the springs hold it
-// or the stencil tests it.
+// Pair {i, j} of a candidate found within reach (j in a forward cell of i's), at squared distance d2, into `mine`
+// unless the springs hold it or the stencil tests it: near, or far where d2 is not under the near entries' reach
+// (a NaN distance is near: always tested, as the scalar sum gives such a pair its terms).
 template <class T>
-void CollisionPairs<T>::consider(std::uint32_t i, std::uint32_t j, std::vector<Pair>& mine) const {
+void CollisionPairs<T>::consider(std::uint32_t i, std::uint32_t j, T d2, std::vector<Pair>& mine) const {
+  const Pair pair{std::min(i, j), std::max(i, j) | (d2 >= near_reach_ * near_reach_ ? kFarBit : 0)};
   if (by_offset_) {
     const int du = int(u_[j]) - int(u_[i]), dv = int(v_[j]) - int(v_[i]);
     // Off the box no pair is held: the box spans the reach.
     if (du < -box_ || du > box_ || dv < -box_ || dv > box_) {
-      mine.push_back({i, j});
+      mine.push_back(pair);
       return;
     }
     const int side = 2 * box_ + 1;
     if (kind_[std::size_t((dv + box_) * side + du + box_)] != kList) return;  // held, or stencil
   }
-  if (rest_.empty() || !physics::heldAtRest(rest_[i], rest_[j], range_)) mine.push_back({i, j});
+  if (rest_.empty() || !physics::heldAtRest(rest_[i], rest_[j], range_)) mine.push_back(pair);
 }
 
 // Each pair once (half the cell lookups), into thread t's share; the lists made from them are grouped by point and
@@ -69,8 +71,8 @@ void CollisionPairs<T>::findPairs(const std::vector<vec3>& x, int t, long long l
         if (slots.size() < last - first) slots.resize(last - first);
         const int found = scanSlots(scan, first, last, slots.data());
         for (int k = 0; k < found; ++k) {
-          const std::uint32_t j = sorted[slots[std::size_t(k)]];
-          if (grid_.inCell(j, cell)) consider(std::uint32_t(i), j, mine);
+          const std::uint32_t s = slots[std::size_t(k)], j = sorted[s];
+          if (grid_.inCell(j, cell)) consider(std::uint32_t(i), j, squaredDistance(x[i], s), mine);
         }
       });
     } catch (const std::bad_alloc&) {
@@ -150,7 +152,8 @@ void CollisionPairs<T>::findPairsByCell(int t, long long lo, long long hi) {
       std::uint32_t *const points = found.data(), *const slots = found.data() + room;
       const int pairs = count_of > 0 ? scanCellSlots(scan_, p0, p1, ranges, count_of, points, slots) : 0;
       for (int k = 0; k < pairs; ++k)
-        consider(sorted[points[k]], sorted[slots[k]], mine);
+        consider(sorted[points[k]], sorted[slots[k]],
+                 squaredDistance(vec3(sx_[points[k]], sy_[points[k]], sz_[points[k]]), slots[k]), mine);
       s = e;
     }
   } catch (const std::bad_alloc&) {
@@ -159,14 +162,14 @@ void CollisionPairs<T>::findPairsByCell(int t, long long lo, long long hi) {
 }
 
 template int CollisionPairs<float>::scanSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t*) const;
-template void CollisionPairs<float>::consider(std::uint32_t, std::uint32_t, std::vector<Pair>&) const;
+template void CollisionPairs<float>::consider(std::uint32_t, std::uint32_t, float, std::vector<Pair>&) const;
 template void CollisionPairs<float>::findPairs(const std::vector<vec3>&, int, long long, long long);
 template void CollisionPairs<float>::setPoint(ScanArgs&, const std::vector<vec3>&, std::size_t) const;
 template void CollisionPairs<float>::findPairsByCell(int, long long, long long);
 template int CollisionPairs<float>::scanCellSlots(const ScanArgs&, std::uint32_t, std::uint32_t, const CellRange*, int,
                                                   std::uint32_t*, std::uint32_t*) const;
 template int CollisionPairs<double>::scanSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t*) const;
-template void CollisionPairs<double>::consider(std::uint32_t, std::uint32_t, std::vector<Pair>&) const;
+template void CollisionPairs<double>::consider(std::uint32_t, std::uint32_t, double, std::vector<Pair>&) const;
 template void CollisionPairs<double>::findPairs(const std::vector<vec3>&, int, long long, long long);
 template void CollisionPairs<double>::setPoint(ScanArgs&, const std::vector<vec3>&, std::size_t) const;
 template void CollisionPairs<double>::findPairsByCell(int, long long, long long);

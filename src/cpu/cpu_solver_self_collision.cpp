@@ -251,8 +251,6 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool flagged, T thic
       if (order_i < 0) return;
       both(i, j, order_i, cellOrder(cell_j, cell_i), ci, cj);
     };
-    const std::uint32_t first = pairs_.forwardStart(std::size_t(lo)), last = pairs_.forwardStart(std::size_t(hi));
-    const std::uint32_t *owner = pairs_.forwardOwners(), *partner = pairs_.forwardPartners();
     if constexpr (std::is_same_v<T, float>)
       if (kernels_) {
         // Both ends' terms and cells side by side, the list's entries and then the stencil's pairs in range
@@ -304,8 +302,9 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool flagged, T thic
         if (mine.stencil_pairs > 0) take(mine.lower.data(), mine.upper.data(), 0, std::uint32_t(mine.stencil_pairs));
         return;
       }
-    for (std::uint32_t k = first; k < last; ++k)
-      pair(owner[k], partner[k]);
+    for (const auto* part : {&pairs_.nearEntries(), &pairs_.farEntries()})
+      for (std::uint32_t k = part->start[std::size_t(lo)]; k < part->start[std::size_t(hi)]; ++k)
+        pair(part->owner[k], part->partner[k]);
     for (std::size_t k = 0; k < mine.stencil_pairs; ++k)
       pair(mine.lower[k], mine.upper[k]);
     if (flagged)
