@@ -76,8 +76,9 @@ struct ContactKernels : Lanes<V> {
   }
 
   // Each sphere, then each plane, on the lanes of `free`: X..VZ moved in place (collidePoint: x += c, v += c).
-  // Returns the lanes some object moved.
-  static F collideLanes(const CollideArgs& a, F free, F& X, F& Y, F& Z, F& VX, F& VY, F& VZ) {
+  // Returns the lanes some object moved. Inlined: called a vector at a time, GCC kept it a call, which passed the six
+  // vectors through memory (sphere, plane and selfCollision 0.96-0.98 of the time inlined).
+  [[gnu::always_inline]] static F collideLanes(const CollideArgs& a, F free, F& X, F& Y, F& Z, F& VX, F& VY, F& VZ) {
     const F zero = V::set1(0.0f), one = V::set1(1.0f);
     F moved = zero;
     // c is added to x and to v where `hit` (collidePoint: x += c, v += c)
