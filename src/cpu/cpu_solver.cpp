@@ -290,6 +290,11 @@ bool CpuSolver<T>::keepsPointsInArrays() const {
          !needsPass(kVbd) && scene_.meshes.empty() && !needsPass(kTether);
 }
 
+template <class T>
+std::vector<typename CpuSolver<T>::vec3>* CpuSolver<T>::integratedPositionsOut() {
+  return needsPass(kSelfCollide) ? &x_ : nullptr;
+}
+
 // Whether the forces read the positions from the padded arrays (GridPath::forces), not from x_.
 template <class T>
 bool CpuSolver<T>::forcesReadArrays() const {
@@ -341,7 +346,7 @@ void CpuSolver<T>::accumulateForces() {
   if constexpr (std::is_same_v<T, float>)
     if (grid_ && springs && !wind.enabled && grid_integrate_) {
       // and integrate in the same sweep (integrate() then only waits for it)
-      grid_->forcesAndIntegrate(x_, v_, f_, gravity, stiffness_.k, enabled, dt_ * dt_, keep_);
+      grid_->forcesAndIntegrate(integratedPositionsOut(), f_, gravity, stiffness_.k, enabled, dt_ * dt_, keep_);
       return;
     }
   if constexpr (std::is_same_v<T, float>)
@@ -388,7 +393,7 @@ void CpuSolver<T>::integrate() {
   // By pointShare in a team: the grid forces end without a barrier (runPasses)
   if constexpr (std::is_same_v<T, float>)
     if (grid_integrate_) {
-      if (!forcesReadArrays()) grid_->integrate(x_, v_, f_, dt2, keep_);  // else done with the forces
+      if (!forcesReadArrays()) grid_->integrate(integratedPositionsOut(), f_, dt2, keep_);  // else done with the forces
       teamBarrier();
       return;
     }

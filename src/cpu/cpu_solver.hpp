@@ -345,6 +345,10 @@ class CpuSolver final : public Solver {
   // copies them in (gridIntegrates). Set by step() outside its team.
   bool grid_integrate_ = false;
   bool gridIntegrates() const;
+  // Where integrate on the arrays also writes its positions: x_ where self-collision reads them there (its search and
+  // builds), else nowhere. x_ and v_ are then behind the arrays (positions_behind_) until syncPositions: no pass of
+  // the substep reads them, and writing every point's twice was a third of integrate's stores.
+  std::vector<vec3>* integratedPositionsOut();
   bool forcesReadArrays() const;
   void positionsMoved() {
     if (in_passes_) return;

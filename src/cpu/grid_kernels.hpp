@@ -69,16 +69,16 @@ struct GridStretchArgs {
 };
 
 // Verlet in displacement form on the padded arrays' rows, as GridKernels::integrate computes each coordinate, the
-// forces read from the solver's vec3 array. The new positions and displacements go to the padded arrays and to the
-// solver's vec3 arrays alike, so that the passes after need no copy in (CpuSolver::integrate).
+// forces read from the solver's vec3 array. The new positions and displacements go to the padded arrays, where the
+// substep's passes after read them, and the positions also to the solver's vec3 array where self-collision reads them
+// there (CpuSolver::integrate); the displacements stay in the arrays until the solver's next copy back.
 struct GridIntegrateArgs {
   GridShape shape;
   float *x, *y, *z, *vx, *vy, *vz;  // padded layout, updated in place
   const float* pinned;              // all bits set where pinned, padded layout
   const float* inv_mass;            // padded layout
   const float* forces;              // vec3 per point, in point order
-  float* aos_x;                     // the positions and displacements as vec3 arrays, written
-  float* aos_v;
+  float* aos_x;                     // the positions as a vec3 array, written; nullptr: not written
   float dt2 = 0, keep = 0;
   std::uint8_t* signed_rows;  // per row: 1 where a new coordinate is -0, else 0 (GridStretchArgs::signed_rows)
 };

@@ -329,8 +329,7 @@ struct Kernels : Lanes<V> {
           V::store(soa[3 + c] + q + i, v[c]);
           negative_zero = V::bitOr(negative_zero, V::bitOr(V::negZero(x[c]), V::negZero(v[c])));
         }
-        V::storeVec3(a.aos_x + first + 3 * i, x[0], x[1], x[2]);
-        V::storeVec3(a.aos_v + first + 3 * i, v[0], v[1], v[2]);
+        if (a.aos_x) V::storeVec3(a.aos_x + first + 3 * i, x[0], x[1], x[2]);
       }
       bool tail_zero = false;
       for (; i < g.W; ++i) {
@@ -338,8 +337,7 @@ struct Kernels : Lanes<V> {
           float& x = soa[c][q + i];
           float& v = soa[3 + c][q + i];
           verletScalar(x, v, a.forces[first + 3 * i + c], a.inv_mass[q + i], a.pinned[q + i], a.keep, a.dt2);
-          a.aos_x[first + 3 * i + c] = x;
-          a.aos_v[first + 3 * i + c] = v;
+          if (a.aos_x) a.aos_x[first + 3 * i + c] = x;
           tail_zero = tail_zero || (x == 0.0f && std::signbit(x)) || (v == 0.0f && std::signbit(v));
         }
       }

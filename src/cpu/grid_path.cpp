@@ -90,16 +90,27 @@ GridForceArgs GridPath::forceArgs(std::vector<glm::vec3>& f, glm::vec3 gravity, 
                        &f.data()->x};
 }
 
-GridIntegrateArgs GridPath::integrateArgs(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v,
-                                          const std::vector<glm::vec3>& f, float dt2, float keep) {
-  return GridIntegrateArgs{shape_,     x_.data(),      y_.data(),          z_.data(),    vx_.data(),   vy_.data(),
-                           vz_.data(), pinned_.data(), inv_mass_.data(),   &f.data()->x, &x.data()->x, &v.data()->x,
-                           dt2,        keep,           signed_rows_.data()};
+GridIntegrateArgs GridPath::integrateArgs(std::vector<glm::vec3>* x_out, const std::vector<glm::vec3>& f, float dt2,
+                                          float keep) {
+  return GridIntegrateArgs{shape_,
+                           x_.data(),
+                           y_.data(),
+                           z_.data(),
+                           vx_.data(),
+                           vy_.data(),
+                           vz_.data(),
+                           pinned_.data(),
+                           inv_mass_.data(),
+                           &f.data()->x,
+                           x_out ? &x_out->data()->x : nullptr,
+                           dt2,
+                           keep,
+                           signed_rows_.data()};
 }
 
-void GridPath::forcesAndIntegrate(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, std::vector<glm::vec3>& f,
-                                  glm::vec3 gravity, const float k[3], const bool enabled[3], float dt2, float keep) {
-  const GridIntegrateArgs step = integrateArgs(x, v, f, dt2, keep);
+void GridPath::forcesAndIntegrate(std::vector<glm::vec3>* x_out, std::vector<glm::vec3>& f, glm::vec3 gravity,
+                                  const float k[3], const bool enabled[3], float dt2, float keep) {
+  const GridIntegrateArgs step = integrateArgs(x_out, f, dt2, keep);
   GridForceArgs args = forceArgs(f, gravity, k, enabled);
   args.integrate = &step;
   long long y0, y1;
@@ -115,9 +126,8 @@ void GridPath::forcesAndIntegrate(std::vector<glm::vec3>& x, std::vector<glm::ve
   if (args.integrate_to < y1) kernels_->integrateRows(step, args.integrate_to, int(y1));
 }
 
-void GridPath::integrate(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, const std::vector<glm::vec3>& f,
-                         float dt2, float keep) {
-  const GridIntegrateArgs args = integrateArgs(x, v, f, dt2, keep);
+void GridPath::integrate(std::vector<glm::vec3>* x_out, const std::vector<glm::vec3>& f, float dt2, float keep) {
+  const GridIntegrateArgs args = integrateArgs(x_out, f, dt2, keep);
   teamPart(0, shape_.H, [&](long long y0, long long y1) { kernels_->integrateRows(args, int(y0), int(y1)); });
 }
 

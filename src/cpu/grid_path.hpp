@@ -34,10 +34,10 @@ class GridPath {
   void forces(const std::vector<glm::vec3>& x, std::vector<glm::vec3>& f, glm::vec3 gravity, const float k[3],
               const bool enabled[3], bool wait = true, bool loaded = false);
   // Verlet in displacement form (GridKernels::integrateRows) on the padded arrays, which must hold x and v (the
-  // substep before left them there): the new x and v written there and to x and v alike, each thread its own rows,
-  // no barrier after. Until a pass moves x or v on their own, the arrays hold both (loaded below).
-  void integrate(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, const std::vector<glm::vec3>& f, float dt2,
-                 float keep);
+  // substep before left them there): the new x and v written there, and the new x to *x_out where given (the solver's
+  // x, which self-collision reads), each thread its own rows, no barrier after. The solver's v is not written: it is
+  // behind the arrays until storePositions.
+  void integrate(std::vector<glm::vec3>* x_out, const std::vector<glm::vec3>& f, float dt2, float keep);
   // Point i (in point order) moved by c in the padded arrays, its displacement with it: CpuSolver::displace in
   // displacement form, between integrate and the stretch limit's copy back.
   void displace(std::size_t i, glm::vec3 c) {
@@ -54,8 +54,8 @@ class GridPath {
   // forces() on the padded arrays, which hold x and v (as for integrate), and integrate in the same sweep: each row
   // once no later row's forces read it, a thread's first and last two rows (which another thread's forces read)
   // after a barrier. No barrier after.
-  void forcesAndIntegrate(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, std::vector<glm::vec3>& f,
-                          glm::vec3 gravity, const float k[3], const bool enabled[3], float dt2, float keep);
+  void forcesAndIntegrate(std::vector<glm::vec3>* x_out, std::vector<glm::vec3>& f, glm::vec3 gravity, const float k[3],
+                          const bool enabled[3], float dt2, float keep);
   // The positions x into the padded arrays, where self-collision's check and stencil read them (positions()).
   // Called by every thread of a team, or by one thread alone.
   void loadPositions(const std::vector<glm::vec3>& x);
@@ -114,8 +114,8 @@ class GridPath {
   using ColourKernel = void (*)(const GridStretchArgs&, int, int, int, int);
   GridSprings springs(const float k[3], const bool enabled[3]) const;
   GridForceArgs forceArgs(std::vector<glm::vec3>& f, glm::vec3 gravity, const float k[3], const bool enabled[3]) const;
-  GridIntegrateArgs integrateArgs(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, const std::vector<glm::vec3>& f,
-                                  float dt2, float keep);
+  GridIntegrateArgs integrateArgs(std::vector<glm::vec3>* x_out, const std::vector<glm::vec3>& f, float dt2,
+                                  float keep);
   GridStretchArgs colourArgs(bool displacements, const GridSprings& springs);
   // x (and v, where not nullptr) into the padded arrays and back, each thread its rows; every thread of a team calls
   // them. wait: a barrier after (false where the next step reads only its own thread's rows).
