@@ -88,11 +88,12 @@ class CpuSolver final : public Solver {
 
   // step() is this list of passes; each is public so tests can run and compare them one by one.
   void step() override;
-  void accumulateForces();  // gravity + springs + wind -> forces_ (XPBD: gravity + wind, springs are constraints)
-  void integrate();         // Verlet, pinned points stay (XPBD: the prediction x* = x + keep v + a dt^2)
-  void solveXpbd();         // XPBD: sim.iterations Gauss-Seidel sweeps of the springs as distance constraints
-  void solveVbd();          // VBD: sim.iterations Gauss-Seidel sweeps of per-point Newton steps, colour by colour
-  void selfCollide();       // candidate lists, Jacobi, averaged, / steps_per_frame
+  void stepFrame() override;  // a run of substeps on the team in one region (runTeamSubsteps)
+  void accumulateForces();    // gravity + springs + wind -> forces_ (XPBD: gravity + wind, springs are constraints)
+  void integrate();           // Verlet, pinned points stay (XPBD: the prediction x* = x + keep v + a dt^2)
+  void solveXpbd();           // XPBD: sim.iterations Gauss-Seidel sweeps of the springs as distance constraints
+  void solveVbd();            // VBD: sim.iterations Gauss-Seidel sweeps of per-point Newton steps, colour by colour
+  void selfCollide();         // candidate lists, Jacobi, averaged, / steps_per_frame
   void collide(bool wait = true);       // each sphere, then each plane, then each mesh's field; wait: see runPasses
   void tether();                        // long-range attachments to the pins (core/tethers.hpp), when the scene asks
   void limitStretch(bool wait = true);  // Provot, sim.stretch_passes passes (Gauss-Seidel over colours, or Jacobi)
@@ -342,9 +343,12 @@ class CpuSolver final : public Solver {
   bool in_passes_ = false;  // step() is running its passes, which keep soa_positions_ themselves
   // This substep runs integrate on the padded arrays (they hold x_ and v_ at its start) and every pass after it
   // moves the points there (self-collision, the spheres' and planes' collisions, the stretch limit), so that none
-  // copies them in (gridIntegrates). Set by step() outside its team.
+  // copies them in (gridIntegrates). Set by beginSubstep, on one thread.
   bool grid_integrate_ = false;
   bool gridIntegrates() const;
+  int runTeamSubsteps(int most);
+  bool beginSubstep(bool may_copy);            // a substep's state before its passes, by one thread
+  bool endSubstep(bool team, double seconds);  // and after them
   // Where integrate on the arrays also writes its positions: x_ where self-collision reads them there (its search and
   // builds), else nowhere. x_ and v_ are then behind the arrays (positions_behind_) until syncPositions: no pass of
   // the substep reads them, and writing every point's twice was a third of integrate's stores.
