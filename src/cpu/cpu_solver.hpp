@@ -337,10 +337,10 @@ class CpuSolver final : public Solver {
   QuickHealth quick_health_;  // float: health()'s quick look (refreshDerived)
   // The grid path's padded arrays hold x_ as it is at the start of substep soa_positions_ (-1: not known), so
   // that the forces need not copy the positions in: after a substep whose last pass to move the points was the
-  // grid stretch limit's copy back (loadedAfterPasses). Only step() sets it, outside its team; every other way
+  // grid stretch limit's copy back (loadedAfterPasses). Only endSubstep sets it, on one thread; every other way
   // the points move (a pass run on its own, setState, reset) clears it (positionsMoved).
   long long soa_positions_ = -1;
-  bool in_passes_ = false;  // step() is running its passes, which keep soa_positions_ themselves
+  bool in_passes_ = false;  // a substep is running its passes, which keep soa_positions_ themselves
   // This substep runs integrate on the padded arrays (they hold x_ and v_ at its start) and every pass after it
   // moves the points there (self-collision, the spheres' and planes' collisions, the stretch limit), so that none
   // copies them in (gridIntegrates). Set by beginSubstep, on one thread.
