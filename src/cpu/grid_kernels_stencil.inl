@@ -50,9 +50,8 @@ struct StencilKernels : Lanes<V> {
         kInterior ? own : V::leBits(V::set1(float(-t.du)), us) & V::ltBits(us, V::set1(float(g.W - t.du))) & own;
     if constexpr (kRecord) {
       const F inf = V::set1(__builtin_inff());
-      const F on = V::bitAnd(onGrid(us, t.du, g.W), V::lt(us, V::set1(float(g.W))));
-      const F value =
-          V::select(kInterior ? V::eq(us, us) : on, V::select(V::ge(d2, V::set1(0.0f)), d2, V::neg(inf)), inf);
+      const F on = kInterior ? V::eq(us, us) : V::bitAnd(onGrid(us, t.du, g.W), V::lt(us, V::set1(float(g.W))));
+      const F value = V::select(on, V::select(V::ge(d2, V::set1(0.0f)), d2, V::neg(inf)), inf);
       for (int s = 0; s < squares.count; ++s, least += squares.stride)
         V::store(least, V::min(V::load(least), value));
     }

@@ -21,9 +21,24 @@ namespace {
 // Splitting consecutive points into even and odd ones, or into pairs, and back: the same shuffles in every set,
 // made from its own (S::shuffle and S::unpack, which work within each 128-bit part of a vector). lo = p0..p(w-1) and
 // hi = pw..p(2w-1) become the even and odd points in an order of their own (within each 128-bit part), which
-// interleave undoes, or the pairs (p0 p1, p4 p5, ...) and (p2 p3, p6 p7, ...), which interleavePairs undoes.
+// interleave undoes, or the pairs (p0 p1, p4 p5, ...) and (p2 p3, p6 p7, ...), which interleavePairs undoes. Also
+// what every set makes alike from its compares.
 template <class S>
 struct LaneShuffles {
+  // A compare's lanes as bits, bits(lt(a, b)) and the like: AVX-512 has its own, straight from the mask register
+  // with no vector made of it
+  template <class F>
+  static int ltBits(F a, F b) {
+    return S::bits(S::lt(a, b));
+  }
+  template <class F>
+  static int leBits(F a, F b) {
+    return S::bits(S::le(a, b));
+  }
+  template <class F>
+  static int geBits(F a, F b) {
+    return S::bits(S::ge(a, b));
+  }
   template <class F>
   static F evens(F lo, F hi) {
     return S::template shuffle<_MM_SHUFFLE(2, 0, 2, 0)>(lo, hi);
@@ -93,10 +108,7 @@ struct Sse2 : LaneShuffles<Sse2> {
   static F bitOr(F a, F b) { return _mm_or_ps(a, b); }
   static F ge(F a, F b) { return _mm_cmpge_ps(a, b); }  // false where either is NaN
   static bool any(F m) { return _mm_movemask_ps(m) != 0; }
-  static int bits(F m) { return _mm_movemask_ps(m); }     // lane l's mask in bit l
-  static int ltBits(F a, F b) { return bits(lt(a, b)); }  // bits(lt(a, b)), where AVX-512 needs no vector of it
-  static int leBits(F a, F b) { return bits(le(a, b)); }
-  static int geBits(F a, F b) { return bits(ge(a, b)); }
+  static int bits(F m) { return _mm_movemask_ps(m); }  // lane l's mask in bit l
   // base + l for each bit l of `lanes`, ascending, to out[0 ...]; every lane's word may be written
   static void storeLanes(std::uint32_t* out, int lanes, std::uint32_t base) {
     for (int k = 0; lanes != 0; lanes &= lanes - 1, ++k)
@@ -187,9 +199,6 @@ struct Avx2 : LaneShuffles<Avx2> {
   static F ge(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
   static bool any(F m) { return _mm256_movemask_ps(m) != 0; }
   static int bits(F m) { return _mm256_movemask_ps(m); }
-  static int ltBits(F a, F b) { return bits(lt(a, b)); }
-  static int leBits(F a, F b) { return bits(le(a, b)); }
-  static int geBits(F a, F b) { return bits(ge(a, b)); }
   static void storeLanes(std::uint32_t* out, int lanes, std::uint32_t base) { Sse2::storeLanes(out, lanes, base); }
   static void fill(std::uint32_t* out, std::uint32_t v) {
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_set1_epi32(int(v)));
