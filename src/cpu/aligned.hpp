@@ -23,6 +23,13 @@ struct CacheAligned {
   friend bool operator==(CacheAligned, CacheAligned) { return true; }
 };
 
+// One per thread of a team, on lines of its own: in a std::vector<Lined<T>>, what one thread writes in its element (a
+// std::vector's end as it grows) shares no cache line with another thread's element.
+template <class T>
+struct alignas(kCacheLine) Lined {
+  T value;
+};
+
 // A padded array of the grid path (GridShape's layout)
 using PaddedFloats = std::vector<float, CacheAligned<float>>;
 

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -210,9 +211,13 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
   if (failure_) return rethrowOutsideTeam();
   const long long count = (long long)x.size();
   if (team) {
-    // Dealt in chunks: a folded cloth's candidates crowd in its fold.
-    teamChunks(0, count, dealChunk(count, teamSize()),
-               [&](long long lo, long long hi) { findPairs(x, teamThread(), lo, hi); });
+    // A folded cloth's candidates crowd in its fold: the shares follow the time they take. Dealing chunks of 1/32 in
+    // turn instead spread them blindly and read most candidates from the other core's cache.
+    const auto t = std::size_t(teamThread());
+    const auto start = std::chrono::steady_clock::now();
+    findPairs(x, int(t), search_bounds_[t], search_bounds_[t + 1]);
+    search_seconds_[t] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    teamBarrier();
   } else {
 #pragma omp parallel num_threads(teamFor(threads, count))
     {
@@ -225,6 +230,7 @@ void CollisionPairs<T>::build(const std::vector<vec3>& x, int threads) {
           found_.clear();
           failAllocation();
         }
+        if (team) balanceShares(search_bounds_, search_seconds_, search_per_point_, 0.5, std::max(1LL, count / 16));
         sizeLists(x.size());
       }))
     return rethrowOutsideTeam();
@@ -279,32 +285,43 @@ void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
         // one on a team would list the team's other pairs again.
         found_.resize(std::size_t(std::max(threads, 1)));
         cell_found_.resize(found_.size());
-        for (std::vector<Pair>& part : found_)
-          part.clear();
+        for (Lined<std::vector<Pair>>& part : found_)
+          part.value.clear();
+        if (const auto team = std::size_t(teamSize());
+            search_bounds_.size() != team + 1 || search_bounds_.back() != (long long)n) {  // even at first
+          search_bounds_.resize(team + 1);
+          for (std::size_t t = 0; t <= team; ++t)
+            search_bounds_[t] = evenShare((long long)n, (long long)t, (long long)team);
+          search_seconds_.assign(team, 0);
+          search_per_point_.assign(team, -1);
+        }
         out_of_memory_.set = false;
       }))
     return;
   grid_.build(x, reach, failure_);  // cells at least as large as the reach, so neighbouring cells hold every candidate
   if (failure_) return;
   const std::vector<std::uint32_t>& sorted = grid_.sorted();
-  teamRange(0, (long long)n, [&](long long lo, long long hi) {
-    for (auto s = std::size_t(lo); s < std::size_t(hi); ++s) {
-      const std::uint32_t j = sorted[s];
-      sx_[s] = x[j].x;
-      sy_[s] = x[j].y;
-      sz_[s] = x[j].z;
-      su_[s] = by_offset_ ? T(u_[j]) : T(0);
-      sv_[s] = by_offset_ ? T(v_[j]) : T(0);
-    }
-  });
+  // In a team each thread its share of the search, whose candidates are mostly its own slots
+  const bool team = inTeam();
+  const auto t = std::size_t(teamThread());
+  const auto first = std::size_t(team ? search_bounds_[t] : 0), last = team ? std::size_t(search_bounds_[t + 1]) : n;
+  for (std::size_t s = first; s < last; ++s) {
+    const std::uint32_t j = sorted[s];
+    sx_[s] = x[j].x;
+    sy_[s] = x[j].y;
+    sz_[s] = x[j].z;
+    su_[s] = by_offset_ ? T(u_[j]) : T(0);
+    sv_[s] = by_offset_ ? T(v_[j]) : T(0);
+  }
+  teamBarrier();
 }
 
 template <class T>
 void CollisionPairs<T>::sizeLists(std::size_t n) {
   both_ends_.made = false;
   std::size_t pairs = 0;
-  for (const std::vector<Pair>& part : found_)
-    pairs += part.size();
+  for (const Lined<std::vector<Pair>>& part : found_)
+    pairs += part.value.size();
   for (EntryPart* part : {&near_, &far_}) {
     part->start.resize(n + 1);
     part->start[0] = 0;
@@ -332,8 +349,8 @@ void CollisionPairs<T>::assembleLists(std::size_t n) {
   for (std::uint32_t* s : start)
     std::fill(s + first + 1, s + last + 1, 0u);
   std::uint32_t mine[2] = {0, 0};
-  for (const std::vector<Pair>& part : found_)
-    for (const Pair& pair : part)
+  for (const Lined<std::vector<Pair>>& part : found_)
+    for (const Pair& pair : part.value)
       if (pair.lower >= lo && pair.lower < hi) {
         const std::uint32_t far = pair.upper >> 31;
         ++start[far][pair.lower + 1];
@@ -356,8 +373,8 @@ void CollisionPairs<T>::assembleLists(std::size_t n) {
   }
   std::uint32_t* const owner[2] = {near_.owner.data(), far_.owner.data()};
   std::uint32_t* const partner[2] = {near_.partner.data(), far_.partner.data()};
-  for (const std::vector<Pair>& part : found_)
-    for (const Pair& pair : part)
+  for (const Lined<std::vector<Pair>>& part : found_)
+    for (const Pair& pair : part.value)
       if (pair.lower >= lo && pair.lower < hi) {
         const std::uint32_t far = pair.upper >> 31, k = next[far][pair.lower]++;
         owner[far][k] = pair.lower;

@@ -275,7 +275,13 @@ class CollisionPairs {
   };
   static constexpr std::uint32_t kFarBit = std::uint32_t(1) << 31;
   HashGrid<T> grid_;
-  std::vector<std::vector<Pair>> found_;  // per thread, kept to spare the allocations
+  // Per thread, kept to spare the allocations; on lines of their own, as every pair found moves its vector's end
+  std::vector<Lined<std::vector<Pair>>> found_;
+  // In a team, thread t searches from the points (or the grid's slots) [search_bounds_[t], search_bounds_[t + 1]):
+  // contiguous shares moved towards equal times (balanceShares) by search_seconds_, the last build's seconds, and
+  // search_per_point_, each thread's seconds a point smoothed over builds
+  std::vector<long long> search_bounds_;
+  std::vector<double> search_seconds_, search_per_point_;
   struct BothEnds {
     bool made = false;
     std::vector<std::uint32_t> start, list;

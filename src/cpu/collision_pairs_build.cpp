@@ -58,7 +58,7 @@ template <class T>
 void CollisionPairs<T>::findPairs(const std::vector<vec3>& x, int t, long long lo, long long hi) {
   const MemoryStage stage("listing the self-collision candidates of " + std::to_string(x.size()) + " points");
   if (grid_.dense() && build_order_ == BuildOrder::ByCell) return findPairsByCell(t, lo, hi);
-  std::vector<Pair>& mine = found_[std::size_t(t)];  // cleared by prepareBuild: a team adds chunk after chunk
+  std::vector<Pair>& mine = found_[std::size_t(t)].value;  // cleared by prepareBuild: a team adds chunk after chunk
   std::vector<std::uint32_t> slots;
   ScanArgs scan = scan_;
   const std::vector<std::uint32_t>& sorted = grid_.sorted();
@@ -126,7 +126,7 @@ int CollisionPairs<T>::scanCellSlots(const ScanArgs& a, std::uint32_t p0, std::u
 // did, cost twice the scans themselves.
 template <class T>
 void CollisionPairs<T>::findPairsByCell(int t, long long lo, long long hi) {
-  std::vector<Pair>& mine = found_[std::size_t(t)];
+  std::vector<Pair>& mine = found_[std::size_t(t)].value;
   std::vector<std::uint32_t>& found = cell_found_[std::size_t(t)];
   const std::vector<std::uint32_t>& sorted = grid_.sorted();
   try {

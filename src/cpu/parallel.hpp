@@ -233,24 +233,6 @@ void teamRange(long long first, long long last, F&& body) {
   teamBarrier();
 }
 
-// body(lo, hi) on this thread's chunks of [first, last), then a barrier: chunks of `chunk` items dealt in turn
-// (thread t takes chunks t, t + T, t + 2T, ...). Where an item's cost varies along the range (a cloth folded
-// at one end, its candidates there), dealing spreads the cost where a contiguous split would give one thread
-// most of it. Outside a team, every chunk.
-template <class F>
-void teamChunks(long long first, long long last, long long chunk, F&& body) {
-  const long long threads = teamSize();
-  for (long long lo = first + teamThread() * chunk; lo < last; lo += threads * chunk)
-    body(lo, lo + chunk < last ? lo + chunk : last);
-  teamBarrier();
-}
-// A chunk for teamChunks: small enough that each of `threads` gets many, large enough to keep a thread's
-// items together.
-inline long long dealChunk(long long items, int threads) {
-  const long long chunk = items / (16LL * threads);
-  return chunk > 64 ? chunk : 64;
-}
-
 // Contiguous shares of [0, n) moved towards equal times, where the work is not spread evenly (self-collision's
 // pairs crowd where a cloth folds): bounds (T + 1 of them, bounds[0] = 0, bounds[T] = n) gives thread t items
 // [bounds[t], bounds[t + 1]); it took seconds[t] for them. per_point[t], the thread's seconds an item smoothed
