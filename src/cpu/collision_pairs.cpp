@@ -283,10 +283,12 @@ void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
         }
         // Every thread's pairs go, not only those of the threads this build runs on: a build on one thread after
         // one on a team would list the team's other pairs again.
-        found_.resize(std::size_t(std::max(threads, 1)));
-        cell_found_.resize(found_.size());
-        for (Lined<std::vector<Pair>>& part : found_)
+        assemblers_ = std::size_t(teamSize());
+        found_.resize(std::size_t(std::max(threads, 1)) * assemblers_);
+        cell_found_.resize(std::size_t(std::max(threads, 1)));
+        for (Found& part : found_)
           part.value.clear();
+        assembleBounds(n);
         if (const auto team = std::size_t(teamSize());
             search_bounds_.size() != team + 1 || search_bounds_.back() != (long long)n) {  // even at first
           search_bounds_.resize(team + 1);
@@ -320,7 +322,7 @@ template <class T>
 void CollisionPairs<T>::sizeLists(std::size_t n) {
   both_ends_.made = false;
   std::size_t pairs = 0;
-  for (const Lined<std::vector<Pair>>& part : found_)
+  for (const Found& part : found_)
     pairs += part.value.size();
   for (EntryPart* part : {&near_, &far_}) {
     part->start.resize(n + 1);
@@ -342,21 +344,19 @@ void CollisionPairs<T>::sizeLists(std::size_t n) {
 // look at each one's distance (finishBuild, before) made CS184's selfCollision 1.02 times as long on one thread.
 template <class T>
 void CollisionPairs<T>::assembleLists(std::size_t n) {
-  long long first, last;
-  teamShare(0, (long long)n, first, last);
-  const auto lo = std::uint32_t(first), hi = std::uint32_t(last);
+  const auto thread = std::size_t(teamThread()), team = std::size_t(teamSize());
+  const std::uint32_t lo = assemble_bounds_[thread], hi = assemble_bounds_[thread + 1];
+  const std::size_t first = lo, last = hi;
   std::uint32_t* const start[2] = {near_.start.data(), far_.start.data()};
   for (std::uint32_t* s : start)
     std::fill(s + first + 1, s + last + 1, 0u);
   std::uint32_t mine[2] = {0, 0};
-  for (const Lined<std::vector<Pair>>& part : found_)
-    for (const Pair& pair : part.value)
-      if (pair.lower >= lo && pair.lower < hi) {
-        const std::uint32_t far = pair.upper >> 31;
-        ++start[far][pair.lower + 1];
-        ++mine[far];
-      }
-  const auto thread = std::size_t(teamThread()), team = std::size_t(teamSize());
+  for (std::size_t f = thread; f < found_.size(); f += team)
+    for (const Pair& pair : found_[f].value) {
+      const std::uint32_t far = pair.upper >> 31;
+      ++start[far][pair.lower + 1];
+      ++mine[far];
+    }
   part_pairs_[thread] = mine[0];
   part_pairs_[team + thread] = mine[1];
   teamBarrier();
@@ -373,14 +373,38 @@ void CollisionPairs<T>::assembleLists(std::size_t n) {
   }
   std::uint32_t* const owner[2] = {near_.owner.data(), far_.owner.data()};
   std::uint32_t* const partner[2] = {near_.partner.data(), far_.partner.data()};
-  for (const Lined<std::vector<Pair>>& part : found_)
-    for (const Pair& pair : part.value)
-      if (pair.lower >= lo && pair.lower < hi) {
-        const std::uint32_t far = pair.upper >> 31, k = next[far][pair.lower]++;
-        owner[far][k] = pair.lower;
-        partner[far][k] = pair.upper & ~kFarBit;
-      }
+  for (std::size_t f = thread; f < found_.size(); f += team)
+    for (const Pair& pair : found_[f].value) {
+      const std::uint32_t far = pair.upper >> 31, k = next[far][pair.lower]++;
+      owner[far][k] = pair.lower;
+      partner[far][k] = pair.upper & ~kFarBit;
+    }
   teamBarrier();
+}
+
+// assembleLists' shares of the points, each with about as many of the last build's entries and points as the next:
+// where a cloth folds its points have the most (CS184's selfCollision on two threads: one of even shares of the
+// points took 1.5 times as long as the other). Even shares where no lists were built for as many points.
+template <class T>
+void CollisionPairs<T>::assembleBounds(std::size_t n) {
+  assemble_bounds_.assign(assemblers_ + 1, std::uint32_t(n));
+  assemble_bounds_[0] = 0;
+  const bool last = near_.start.size() == n + 1 && far_.start.size() == n + 1;
+  const std::uint64_t total = last ? std::uint64_t(near_.start[n]) + far_.start[n] + n : n;
+  for (std::size_t d = 1; d < assemblers_; ++d) {
+    const std::uint64_t target = total * d / assemblers_;
+    // The first point whose entries and points before it reach the target (they only grow with it)
+    std::size_t lo = 0, hi = n;
+    while (last && lo < hi) {
+      const std::size_t mid = lo + (hi - lo) / 2;
+      if (std::uint64_t(near_.start[mid]) + far_.start[mid] + mid < target)
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    assemble_bounds_[d] =
+        std::uint32_t(last ? lo : std::size_t(evenShare((long long)n, (long long)d, (long long)assemblers_)));
+  }
 }
 
 // The build's anchors (the positions it was made from, and their padded copy) and the check's bounds. In a team every

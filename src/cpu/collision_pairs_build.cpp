@@ -36,19 +36,22 @@ int CollisionPairs<T>::scanSlots(const ScanArgs& a, std::uint32_t first, std::ui
 // unless the springs hold it or the stencil tests it: near, or far where d2 is not under the near entries' reach
 // (a NaN distance is near: always tested, as the scalar sum gives such a pair its terms).
 template <class T>
-void CollisionPairs<T>::consider(std::uint32_t i, std::uint32_t j, T d2, std::vector<Pair>& mine) const {
+void CollisionPairs<T>::consider(std::uint32_t i, std::uint32_t j, T d2, Found* mine) const {
   const Pair pair{std::min(i, j), std::max(i, j) | (d2 >= near_reach_ * near_reach_ ? kFarBit : 0)};
+  const auto keep = [&] {
+    std::size_t d = 0;
+    while (pair.lower >= assemble_bounds_[d + 1])
+      ++d;
+    mine[d].value.push_back(pair);
+  };
   if (by_offset_) {
     const int du = int(u_[j]) - int(u_[i]), dv = int(v_[j]) - int(v_[i]);
     // Off the box no pair is held: the box spans the reach.
-    if (du < -box_ || du > box_ || dv < -box_ || dv > box_) {
-      mine.push_back(pair);
-      return;
-    }
+    if (du < -box_ || du > box_ || dv < -box_ || dv > box_) return keep();
     const int side = 2 * box_ + 1;
     if (kind_[std::size_t((dv + box_) * side + du + box_)] != kList) return;  // held, or stencil
   }
-  if (rest_.empty() || !physics::heldAtRest(rest_[i], rest_[j], range_)) mine.push_back(pair);
+  if (rest_.empty() || !physics::heldAtRest(rest_[i], rest_[j], range_)) keep();
 }
 
 // Each pair once (half the cell lookups), into thread t's share; the lists made from them are grouped by point and
@@ -58,7 +61,7 @@ template <class T>
 void CollisionPairs<T>::findPairs(const std::vector<vec3>& x, int t, long long lo, long long hi) {
   const MemoryStage stage("listing the self-collision candidates of " + std::to_string(x.size()) + " points");
   if (grid_.dense() && build_order_ == BuildOrder::ByCell) return findPairsByCell(t, lo, hi);
-  std::vector<Pair>& mine = found_[std::size_t(t)].value;  // cleared by prepareBuild: a team adds chunk after chunk
+  Found* const mine = &found_[std::size_t(t) * assemblers_];  // cleared by prepareBuild
   std::vector<std::uint32_t> slots;
   ScanArgs scan = scan_;
   const std::vector<std::uint32_t>& sorted = grid_.sorted();
@@ -126,7 +129,7 @@ int CollisionPairs<T>::scanCellSlots(const ScanArgs& a, std::uint32_t p0, std::u
 // did, cost twice the scans themselves.
 template <class T>
 void CollisionPairs<T>::findPairsByCell(int t, long long lo, long long hi) {
-  std::vector<Pair>& mine = found_[std::size_t(t)].value;
+  Found* const mine = &found_[std::size_t(t) * assemblers_];
   std::vector<std::uint32_t>& found = cell_found_[std::size_t(t)];
   const std::vector<std::uint32_t>& sorted = grid_.sorted();
   try {
@@ -162,14 +165,14 @@ void CollisionPairs<T>::findPairsByCell(int t, long long lo, long long hi) {
 }
 
 template int CollisionPairs<float>::scanSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t*) const;
-template void CollisionPairs<float>::consider(std::uint32_t, std::uint32_t, float, std::vector<Pair>&) const;
+template void CollisionPairs<float>::consider(std::uint32_t, std::uint32_t, float, Found*) const;
 template void CollisionPairs<float>::findPairs(const std::vector<vec3>&, int, long long, long long);
 template void CollisionPairs<float>::setPoint(ScanArgs&, const std::vector<vec3>&, std::size_t) const;
 template void CollisionPairs<float>::findPairsByCell(int, long long, long long);
 template int CollisionPairs<float>::scanCellSlots(const ScanArgs&, std::uint32_t, std::uint32_t, const CellRange*, int,
                                                   std::uint32_t*, std::uint32_t*) const;
 template int CollisionPairs<double>::scanSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t*) const;
-template void CollisionPairs<double>::consider(std::uint32_t, std::uint32_t, double, std::vector<Pair>&) const;
+template void CollisionPairs<double>::consider(std::uint32_t, std::uint32_t, double, Found*) const;
 template void CollisionPairs<double>::findPairs(const std::vector<vec3>&, int, long long, long long);
 template void CollisionPairs<double>::setPoint(ScanArgs&, const std::vector<vec3>&, std::size_t) const;
 template void CollisionPairs<double>::findPairsByCell(int, long long, long long);
