@@ -2,11 +2,16 @@
 // (spacing 1/3 m, so a structural spring rests at 1/3 m), and the CPU solver's health() built on it.
 #include "core/health.hpp"
 #include "cpu/cpu_solver.hpp"
+#include "cpu/grid_path.hpp"
+#include "kernel_sets.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+#include <random>
+#include <utility>
+#include <vector>
 
 namespace drape {
 namespace {
@@ -214,6 +219,97 @@ TEST(Health, TheQuickLooksRunsHoldEveryEnabledSpringOnceUnderItsOwnLimit) {
     EXPECT_EQ(low, cut <= 40) << cut;
     EXPECT_EQ(high, cut > 40) << cut;
   }
+}
+
+// The grid path's quick look (GridPath::healthy, each instruction set) on cloths of 4 x 4 and 37 x 23 points, their
+// bending springs on and off: where it passes a state the scan finds nothing, and it passes every state the look on
+// the vec3s passes (its limits are each spring's own, the runs' the least of theirs). States: one point moved up to
+// twelve spacings along x (either side of eleven rest lengths), a coordinate past the bound, NaN and infinity in a
+// position or a displacement, each at a random point (the rows' ends and the last rows too), over a jittered cloth.
+TEST(Health, TheGridPathsQuickLookPassesOnlyWhatTheScanFindsHealthy) {
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  for (const auto& [w, h] : {std::pair{4, 4}, std::pair{37, 23}})
+    for (const bool bending : {true, false}) {
+      ClothSpec cloth;
+      cloth.num_width_points = w;
+      cloth.num_height_points = h;
+      cloth.enable_bending = bending;
+      const Topology topo = buildTopology(cloth);
+      const QuickHealth q = quickHealth(topo, cloth);
+      ASSERT_TRUE(q.usable);
+      std::vector<float> rest(topo.springs.size());
+      for (std::size_t k = 0; k < rest.size(); ++k)
+        rest[k] = float(topo.springs[k].rest);
+      const double spacing = 1.0 / double(w - 1);
+      for (const GridIsa isa : test::cpuIsas()) {
+        GridPath path(topo, rest, isa);
+        path.setHealthLimits(topo, cloth);
+        std::mt19937 random(7);
+        std::uniform_int_distribution<std::size_t> point(0, topo.initial_positions.size() - 1);
+        std::uniform_real_distribution<double> unit(-1.0, 1.0), stretch(0.5, 12.0);
+        int passed = 0, failed = 0;
+        for (int trial = 0; trial < 400; ++trial) {
+          std::vector<glm::vec3> x(topo.initial_positions.size()), v(x.size(), glm::vec3(0));
+          for (std::size_t i = 0; i < x.size(); ++i)
+            x[i] = glm::vec3(topo.initial_positions[i] +
+                             0.05 * spacing * glm::dvec3(unit(random), unit(random), unit(random)));
+          const std::size_t at = point(random);
+          switch (trial % 6) {
+            case 0:
+              x[at].x += float(stretch(random) * spacing);
+              break;
+            case 1:
+              x[at].y = float(HealthLimits{}.sane_bound * (1.0 + 1e-6 * unit(random)));
+              break;
+            case 2:
+              x[at].z = float(trial % 12 < 6 ? nan : -inf);
+              break;
+            case 3:
+              v[at].x = float(trial % 12 < 6 ? nan : inf);
+              break;
+            case 4:
+              v[at].y = 1e30f;
+              break;
+            default:
+              break;  // the jittered cloth alone
+          }
+          path.loadState(x, v);
+          const bool grid = path.healthy(q.bound);
+          const bool vec3s = quickHealthy(q, x, v, 0, x.size(), 0, topo.springs.size());
+          const Health scan = scanHealthPart(topo, cloth, x, v, HealthLimits{}, 0, x.size(), 0, topo.springs.size());
+          ASSERT_TRUE(!grid || scan.ok()) << w << " x " << h << ", trial " << trial << ", point " << at;
+          ASSERT_TRUE(!vec3s || grid) << w << " x " << h << ", trial " << trial << ", point " << at;
+          (grid ? passed : failed) += 1;
+        }
+        EXPECT_GT(passed, 100) << w << " x " << h;
+        EXPECT_GT(failed, 100) << w << " x " << h;
+      }
+    }
+}
+
+// A cloth that blows up (CS184's pinned2 at 40 x 40, ks 10^8, 3 substeps a frame): health() on the grid path, which
+// looks at the arrays first and falls back to the scan, answers frame by frame as the general path's scan, flags and
+// first point, through the frames where it first flags.
+TEST(Health, TheGridPathAnswersAsTheScanThroughABlowUp) {
+  Scene scene;
+  scene.cloth.num_width_points = scene.cloth.num_height_points = 40;
+  scene.cloth.ks = 1e8;
+  scene.cloth.pinned = {{0, 0}, {39, 0}};
+  scene.sim.steps_per_frame = 3;
+  CpuSolver<float> grid(scene, CpuSolverOptions{.threads = 1}),
+      general(scene, CpuSolverOptions{.threads = 1, .grid_path = false});
+  int flagged = 0, in_arrays = 0;
+  for (int frame = 0; frame < 60 && flagged < 3; ++frame) {
+    grid.stepFrame();
+    general.stepFrame();
+    in_arrays += grid.positionsInArrays();
+    const Health g = grid.health(), s = general.health();
+    ASSERT_EQ(g.flags, s.flags) << "frame " << frame;
+    ASSERT_EQ(g.first_point, s.first_point) << "frame " << frame;
+    flagged += !s.ok();
+  }
+  EXPECT_GT(flagged, 0) << "the cloth must blow up";
+  EXPECT_GT(in_arrays, 0) << "the grid path must leave the points in its arrays";
 }
 
 }  // namespace

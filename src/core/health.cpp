@@ -80,7 +80,7 @@ QuickHealth quickHealth(const Topology& topo, const ClothSpec& cloth, const Heal
     const double most = stretch * s.rest;
     // Float squares of lengths this short lose their relative precision (subnormals): the scan decides there
     if (!(most * most >= 0x1p-60)) q.usable = false;
-    const float limit2 = float(most * most * (1.0 - 0x1p-20));  // rounded either way: still within the margin
+    const float limit2 = quickLimit2(s.rest, limits);
     const auto step = std::int32_t(std::int64_t(s.b) - std::int64_t(s.a));
     if (!q.runs.empty()) {
       QuickHealth::Run& run = q.runs.back();
@@ -97,6 +97,11 @@ QuickHealth quickHealth(const Topology& topo, const ClothSpec& cloth, const Heal
     run_most = limit2;
   }
   return q;
+}
+
+float quickLimit2(double rest, const HealthLimits& limits) {
+  const double most = (1.0 + limits.max_strain) * rest;
+  return float(most * most * (1.0 - 0x1p-20));  // rounded either way: still within the margin
 }
 
 bool quickHealthy(const QuickHealth& q, const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v,

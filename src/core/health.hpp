@@ -70,6 +70,9 @@ struct QuickHealth {
   bool usable = false;    // false where a spring's limit is too small for the margin (it would underflow)
 };
 QuickHealth quickHealth(const Topology& topo, const ClothSpec& cloth, const HealthLimits& limits = {});
+// A spring's limit in the quick look: a float |d|^2 at most this is within (1 + max_strain) x rest, its rounding
+// either way inside the margin of 2^-20. Where most^2 is under 2^-60 (subnormal squares) the quick look is not usable.
+float quickLimit2(double rest, const HealthLimits& limits);
 bool quickHealthy(const QuickHealth& q, const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v,
                   std::size_t p0, std::size_t p1, std::size_t s0, std::size_t s1);
 

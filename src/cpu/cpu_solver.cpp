@@ -87,7 +87,10 @@ std::string CpuSolver<T>::name() const {
 template <class T>
 void CpuSolver<T>::refreshDerived() {
   const ClothSpec& c = scene_.cloth;
-  if constexpr (std::is_same_v<T, float>) quick_health_ = quickHealth(topo_, c);
+  if constexpr (std::is_same_v<T, float>) {
+    quick_health_ = quickHealth(topo_, c);
+    if (grid_) grid_->setHealthLimits(topo_, c);
+  }
   const std::size_t n = std::size_t(topo_.pointCount());
   mass_.resize(n);
   inv_mass_.resize(n);

@@ -41,6 +41,16 @@ struct GridSprings {
 
 struct GridIntegrateArgs;
 
+// The health check's quick look (core/health.hpp, quickHealthy) on the padded arrays of x and v: per direction the
+// limit of each spring at its start (quickLimit2, +inf where none starts), or nullptr where the direction's type is
+// off.
+struct GridHealthArgs {
+  GridShape shape;
+  const float *x, *y, *z, *vx, *vy, *vz;
+  const float* limit2[6] = {};
+  float bound = 0;  // QuickHealth::bound
+};
+
 struct GridForceArgs {
   GridShape shape;
   const float *x, *y, *z;  // positions, padded layout
@@ -254,6 +264,9 @@ struct GridKernels {
                     float keep, long long first, long long last);
   // The same on rows [y0, y1) of the padded arrays (GridIntegrateArgs).
   void (*integrateRows)(const GridIntegrateArgs&, int y0, int y1);
+  // Whether rows [y0, y1) pass the health check's quick look: every coordinate within the bound, every displacement
+  // finite, every spring that starts there at most its limit long (a NaN passes none of them).
+  bool (*healthyRows)(const GridHealthArgs&, int y0, int y1);
   // The entries k in [first, last) whose pair {owner[k], partner[k]} is within self-collision range, by the
   // test of physics::selfCollisionCorrection (a NaN distance counts, as there), with both ends' terms and cell
   // orders (PairTermOut), written to out in ascending k; their count returned. x is the vec3 array seen as

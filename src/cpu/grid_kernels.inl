@@ -12,6 +12,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 namespace drape {
@@ -345,6 +346,34 @@ struct Kernels : Lanes<V> {
     }
   }
 
+  // quickHealthy's tests lane by lane, |d|^2 summed as it sums it (from b - a: the same squares). Lanes off the grid
+  // (the padding holds anything) and springs whose far end is off it are left out; no early exit.
+  static bool healthyRows(const GridHealthArgs& a, int y0, int y1) {
+    const GridShape& g = a.shape;
+    const F sign = V::set1(-0.0f), bound = V::set1(a.bound), finite = V::set1(std::numeric_limits<float>::max());
+    const auto within = [&](const float* c, std::ptrdiff_t q, F most) {
+      return V::leBits(V::andNot(sign, V::load(c + q)), most);
+    };
+    int bad = 0;
+    for (int row = y0; row < y1; ++row)
+      for (int x0 = 0; x0 < g.W; x0 += kW) {
+        const std::ptrdiff_t q = at(g, x0, row);
+        const F xs = V::add(V::set1(float(x0)), V::iota());
+        int ok = within(a.x, q, bound) & within(a.y, q, bound) & within(a.z, q, bound) & within(a.vx, q, finite) &
+                 within(a.vy, q, finite) & within(a.vz, q, finite);
+        for (int d = 0; d < 6; ++d) {
+          if (!a.limit2[d] || row + kDy[d] >= g.H) continue;
+          const std::ptrdiff_t far = q + kDx[d] + std::ptrdiff_t(kDy[d]) * g.stride;
+          const F dx = V::sub(V::load(a.x + far), V::load(a.x + q)), dy = V::sub(V::load(a.y + far), V::load(a.y + q)),
+                  dz = V::sub(V::load(a.z + far), V::load(a.z + q));
+          const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
+          ok &= V::leBits(d2, V::load(a.limit2[d] + q)) | ~V::bits(onGrid(xs, kDx[d], g.W));
+        }
+        bad |= ~ok & V::bits(V::lt(xs, V::set1(float(g.W))));
+      }
+    return bad == 0;
+  }
+
   static constexpr GridKernels table(const char* name) {
     return {name,
             kW,
@@ -356,6 +385,7 @@ struct Kernels : Lanes<V> {
             &Vbd::vbdPoints,
             &integrate,
             &integrateRows,
+            &healthyRows,
             &Contact::pairTerms,
             &StencilKernels<V>::stencilPairs,
             &Contact::scanPairs,

@@ -1,4 +1,5 @@
 #include "cpu/grid_path.hpp"
+#include "core/health.hpp"
 
 #include "core/colouring.hpp"
 #include "cpu/parallel.hpp"
@@ -257,6 +258,26 @@ void GridPath::vbd(std::vector<glm::vec3>& x, std::vector<glm::vec3>* v, const f
       teamRange(colour_start[c], colour_start[c + 1],
                 [&](long long lo, long long hi) { kern.vbdPoints(args, lo, hi); });
   copyOut(x, v);
+}
+
+void GridPath::setHealthLimits(const Topology& topo, const ClothSpec& cloth) {
+  for (PaddedFloats& l : limit2_)
+    l.clear();
+  const auto w = std::uint32_t(topo.W);
+  for (const Spring& sp : topo.springs) {
+    if (!cloth.springEnabled(sp.type)) continue;
+    PaddedFloats& l = limit2_[gridDirection(topo, sp)];
+    if (l.empty()) l.assign(shape_.size, std::numeric_limits<float>::infinity());
+    l[std::size_t(shape_.at(int(sp.a % w), int(sp.a / w)))] = quickLimit2(sp.rest, HealthLimits{});
+  }
+}
+
+bool GridPath::healthy(float bound) const {
+  GridHealthArgs args{shape_, x_.data(), y_.data(), z_.data(), vx_.data(), vy_.data(), vz_.data()};
+  for (int d = 0; d < 6; ++d)
+    args.limit2[d] = limit2_[d].empty() ? nullptr : limit2_[d].data();
+  args.bound = bound;
+  return kernels_->healthyRows(args, 0, shape_.H);
 }
 
 void GridPath::copyIn(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>* v, bool wait) {

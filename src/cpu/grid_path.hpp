@@ -5,6 +5,7 @@
 // the colouring.
 #pragma once
 
+#include "core/scene.hpp"
 #include "core/topology.hpp"
 #include "cpu/aligned.hpp"
 #include "cpu/grid_kernels.hpp"
@@ -51,6 +52,13 @@ class GridPath {
   }
   // The padded arrays back into x and v, by one thread outside a team (CpuSolver::syncPositions).
   void storePositions(std::vector<glm::vec3>& x, std::vector<glm::vec3>& v) { copyOut(x, &v, false); }
+  // x and v into the padded arrays, by one thread outside a team (a test's state)
+  void loadState(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v) { copyIn(x, &v, false); }
+  // The health check's quick look (GridKernels::healthyRows) on the padded arrays, which must hold x and v: the
+  // springs' limits per direction from the cloth's enabled types (setHealthLimits, again where they change), the
+  // coordinates' bound QuickHealth's.
+  void setHealthLimits(const Topology& topo, const ClothSpec& cloth);
+  bool healthy(float bound) const;
   // forces() on the padded arrays, which hold x and v (as for integrate), and integrate in the same sweep: each row
   // once no later row's forces read it, a thread's first and last two rows (which another thread's forces read)
   // after a barrier. No barrier after.
@@ -133,6 +141,7 @@ class GridPath {
   PaddedFloats x_, y_, z_, vx_, vy_, vz_, pinned_, mass_, inv_mass_;
   PaddedFloats rx_, ry_, rz_;  // rest positions, as the float solver rounds them
   PaddedFloats rest_[6];       // per direction, at each spring's start a
+  PaddedFloats limit2_[6];     // per direction, at each spring's start: its quickLimit2 (empty: the type is off)
   PaddedFloats tx_, ty_, tz_;  // VBD of several sweeps: each point's prediction
   // VBD: the colours' points' padded indices, columns and rows (setVbdPoints)
   std::vector<std::int32_t> vbd_padded_;
