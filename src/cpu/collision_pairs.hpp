@@ -276,12 +276,12 @@ class CollisionPairs {
   static constexpr std::uint32_t kFarBit = std::uint32_t(1) << 31;
   HashGrid<T> grid_;
   // The pairs thread t found whose lower ends are in the points [assemble_bounds_[d], assemble_bounds_[d + 1]), which
-  // assembleLists' share d places: found_[t * assemblers_ + d]. Kept to spare the allocations; on lines of their own,
-  // as every pair found moves its vector's end.
-  std::vector<Lined<std::vector<Pair>>> found_;
-  std::size_t assemblers_ = 1;                  // the team's size at the build, 1 outside a team
-  std::vector<std::uint32_t> assemble_bounds_;  // assemblers_ + 1 of them, from 0 to the point count
+  // assembleLists' share d places: found_[t * assemblers() + d]. Kept to spare the allocations; on lines of their
+  // own, as every pair found moves its vector's end.
   using Found = Lined<std::vector<Pair>>;
+  std::vector<Found> found_;
+  std::vector<std::uint32_t> assemble_bounds_;  // a share's bounds, from 0 to the point count: a team's size + 1
+  std::size_t assemblers() const { return assemble_bounds_.size() - 1; }
   // In a team, thread t searches from the points (or the grid's slots) [search_bounds_[t], search_bounds_[t + 1]):
   // contiguous shares moved towards equal times (balanceShares) by search_seconds_, the last build's seconds, and
   // search_per_point_, each thread's seconds a point smoothed over builds
@@ -378,7 +378,7 @@ class CollisionPairs {
   BuildOrder build_order_ = BuildOrder::ByCell;
   void setPoint(ScanArgs& scan, const std::vector<vec3>& x, std::size_t i) const;
   // d2: the pair's squared distance, which parts it near or far
-  // mine: the finding thread's found_, assemblers_ of them
+  // mine: the finding thread's found_, assemblers() of them
   void consider(std::uint32_t i, std::uint32_t j, T d2, Found* mine) const;
   // |p - (the candidate at slot s of the grid's order)|^2, as glm::dot sums it
   T squaredDistance(vec3 p, std::uint32_t s) const {
@@ -388,7 +388,7 @@ class CollisionPairs {
   std::vector<std::vector<std::uint32_t>> cell_found_;  // findPairsByCell's pairs of slots, per thread
   void sizeLists(std::size_t n);                        // serial: the lists sized for the pairs found
   void assembleLists(std::size_t n);
-  void assembleBounds(std::size_t n);  // serial: assemble_bounds_
+  void assembleBounds(std::size_t n, std::size_t shares);  // serial: assemble_bounds_
   void finishBuild(const std::vector<vec3>& x);
   template <class F>
   void guarded(F&& f);

@@ -96,7 +96,7 @@ template <class T>
 void CollisionPairs<T>::findPairs(const std::vector<vec3>& x, int t, long long lo, long long hi) {
   const MemoryStage stage("listing the self-collision candidates of " + std::to_string(x.size()) + " points");
   if (grid_.dense() && build_order_ == BuildOrder::ByCell) return findPairsByCell(t, lo, hi);
-  Found* const mine = &found_[std::size_t(t) * assemblers_];  // cleared by prepareBuild
+  Found* const mine = &found_[std::size_t(t) * assemblers()];  // cleared by prepareBuild
   std::vector<std::uint32_t> slots;
   ScanArgs scan = scan_;
   const std::vector<std::uint32_t>& sorted = grid_.sorted();
@@ -164,7 +164,7 @@ int CollisionPairs<T>::scanCellSlots(const ScanArgs& a, std::uint32_t p0, std::u
 // did, cost twice the scans themselves.
 template <class T>
 void CollisionPairs<T>::findPairsByCell(int t, long long lo, long long hi) {
-  Found* const mine = &found_[std::size_t(t) * assemblers_];
+  Found* const mine = &found_[std::size_t(t) * assemblers()];
   std::vector<std::uint32_t>& found = cell_found_[std::size_t(t)];
   const std::vector<std::uint32_t>& sorted = grid_.sorted();
   try {
@@ -262,14 +262,13 @@ void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
           scan_.b2 = b2_;
           scan_.near_below = near_below_;
         }
+        assembleBounds(n, std::size_t(teamSize()));
         // Every thread's pairs go, not only those of the threads this build runs on: a build on one thread after
         // one on a team would list the team's other pairs again.
-        assemblers_ = std::size_t(teamSize());
-        found_.resize(std::size_t(std::max(threads, 1)) * assemblers_);
+        found_.resize(std::size_t(std::max(threads, 1)) * assemblers());
         cell_found_.resize(std::size_t(std::max(threads, 1)));
         for (Found& part : found_)
           part.value.clear();
-        assembleBounds(n);
         if (const auto team = std::size_t(teamSize());
             search_bounds_.size() != team + 1 || search_bounds_.back() != (long long)n) {  // even at first
           search_bounds_.resize(team + 1);
@@ -369,24 +368,26 @@ void CollisionPairs<T>::assembleLists(std::size_t n) {
 // where a cloth folds its points have the most (CS184's selfCollision on two threads: one of even shares of the
 // points took 1.5 times as long as the other). Even shares where no lists were built for as many points.
 template <class T>
-void CollisionPairs<T>::assembleBounds(std::size_t n) {
-  assemble_bounds_.assign(assemblers_ + 1, std::uint32_t(n));
+void CollisionPairs<T>::assembleBounds(std::size_t n, std::size_t shares) {
+  assemble_bounds_.assign(shares + 1, std::uint32_t(n));
   assemble_bounds_[0] = 0;
+  // A point's cost: its entries, where the last lists were built for as many points, and itself
   const bool last = near_.start.size() == n + 1 && far_.start.size() == n + 1;
-  const std::uint64_t total = last ? std::uint64_t(near_.start[n]) + far_.start[n] + n : n;
-  for (std::size_t d = 1; d < assemblers_; ++d) {
-    const std::uint64_t target = total * d / assemblers_;
-    // The first point whose entries and points before it reach the target (they only grow with it)
+  const auto before = [&](std::size_t i) {
+    return (last ? std::uint64_t(near_.start[i]) + far_.start[i] : 0) + i;  // the cost of the points before i
+  };
+  for (std::size_t d = 1; d < shares; ++d) {
+    // The first point whose points before it reach share d's start (their cost only grows with it)
+    const std::uint64_t target = before(n) * d / shares;
     std::size_t lo = 0, hi = n;
-    while (last && lo < hi) {
+    while (lo < hi) {
       const std::size_t mid = lo + (hi - lo) / 2;
-      if (std::uint64_t(near_.start[mid]) + far_.start[mid] + mid < target)
+      if (before(mid) < target)
         lo = mid + 1;
       else
         hi = mid;
     }
-    assemble_bounds_[d] =
-        std::uint32_t(last ? lo : std::size_t(evenShare((long long)n, (long long)d, (long long)assemblers_)));
+    assemble_bounds_[d] = std::uint32_t(lo);
   }
 }
 
@@ -434,7 +435,7 @@ template void CollisionPairs<float>::build(const std::vector<vec3>&, int);
 template void CollisionPairs<float>::prepareBuild(const std::vector<vec3>&, int);
 template void CollisionPairs<float>::sizeLists(std::size_t);
 template void CollisionPairs<float>::assembleLists(std::size_t);
-template void CollisionPairs<float>::assembleBounds(std::size_t);
+template void CollisionPairs<float>::assembleBounds(std::size_t, std::size_t);
 template void CollisionPairs<float>::finishBuild(const std::vector<vec3>&);
 template int CollisionPairs<float>::scanSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t*) const;
 template void CollisionPairs<float>::consider(std::uint32_t, std::uint32_t, float, Found*) const;
@@ -447,7 +448,7 @@ template void CollisionPairs<double>::build(const std::vector<vec3>&, int);
 template void CollisionPairs<double>::prepareBuild(const std::vector<vec3>&, int);
 template void CollisionPairs<double>::sizeLists(std::size_t);
 template void CollisionPairs<double>::assembleLists(std::size_t);
-template void CollisionPairs<double>::assembleBounds(std::size_t);
+template void CollisionPairs<double>::assembleBounds(std::size_t, std::size_t);
 template void CollisionPairs<double>::finishBuild(const std::vector<vec3>&);
 template int CollisionPairs<double>::scanSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t*) const;
 template void CollisionPairs<double>::consider(std::uint32_t, std::uint32_t, double, Found*) const;
