@@ -116,6 +116,7 @@ class Watchdog {
 // wake-up, fails it (the second by the watchdog: a hang ends the test binary with a message, not CI's time limit).
 long long missedWrites(unsigned threads, unsigned spins, int rounds, bool nap) {
   TeamBarrier barrier;
+  barrier.prepare(threads);
   std::vector<std::atomic<int>> slot(threads);
   std::atomic<long long> missed{0};
   const Watchdog watchdog("TeamBarrier", threads);
@@ -126,10 +127,10 @@ long long missedWrites(unsigned threads, unsigned spins, int rounds, bool nap) {
         slot[t].store(r, std::memory_order_relaxed);
         // Now and then a thread arrives late, so that the others spin out and sleep
         if (nap && (r + int(t)) % 97 == 0) std::this_thread::sleep_for(std::chrono::microseconds(200));
-        barrier.wait(threads, spins);
+        barrier.wait(threads, t, spins);
         for (unsigned u = 0; u < threads; ++u)
           missed += slot[u].load(std::memory_order_relaxed) != r;
-        barrier.wait(threads, spins);  // no thread writes the next round before every one has read this one
+        barrier.wait(threads, t, spins);  // no thread writes the next round before every one has read this one
       }
     });
   for (std::thread& t : team)
@@ -204,6 +205,51 @@ TEST(TeamProgress, ASleepingThreadIsWokenAndTheCountsWrap) {
   // From 1000 below 2^32: the counts wrap to 0 halfway, and a count just past the wrap is still later
   EXPECT_EQ(missedNeighbourWrites(2, 0, 2000, 0xFFFFFFFFu - 999u, false, &two), 0);
   EXPECT_EQ(two, 0);
+}
+
+TEST(TeamCount, ASleeperWhoseWakeUpIsMissedWakesAtItsTimeout) {
+  // The owner's store is seen, but no wake-up is sent (what a publish whose look for sleepers ran ahead of its store
+  // does): the sleeper must still return, at its timeout, with the count it waited for.
+  TeamCount count;
+  const Watchdog watchdog("TeamCount", 1);
+  std::atomic<std::uint32_t> seen{0};
+  std::thread sleeper([&] { seen = count.await(1, 0); });
+  while (count.sleepers.load() == 0)  // asleep, or about to be
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  const auto start = std::chrono::steady_clock::now();
+  count.count.store(1, std::memory_order_release);
+  sleeper.join();
+  EXPECT_EQ(seen.load(), 1u);
+  EXPECT_EQ(count.sleepers.load(), 0u);
+  // A timeout of a hundred microseconds; a loaded machine may take its time to run the thread again
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
+}
+
+TEST(TeamBarrier, ABarrierServesTeamsOfOtherSizesInTurn) {
+  // One barrier for teams of 3, 2, 3 and 2 threads one after another (runOnTeam's prepare between): the counts of a
+  // thread that sat out a team must not hold the next team back or let it through early.
+  TeamBarrier barrier;
+  const Watchdog watchdog("TeamBarrier", 3);
+  for (const unsigned threads : {3u, 2u, 3u, 2u}) {
+    barrier.prepare(threads);
+    std::vector<std::atomic<int>> slot(threads);
+    std::atomic<long long> missed{0};
+    std::vector<std::thread> team;
+    for (unsigned t = 0; t < threads; ++t)
+      team.emplace_back([&, t] {
+        for (int r = 1; r <= 300 + int(threads); ++r) {  // teams end on different counts
+          slot[t].store(r, std::memory_order_relaxed);
+          barrier.wait(threads, t, 200);
+          for (unsigned u = 0; u < threads; ++u)
+            missed += slot[u].load(std::memory_order_relaxed) != r;
+          barrier.wait(threads, t, 200);
+        }
+      });
+    for (std::thread& t : team)
+      t.join();
+    EXPECT_EQ(missed.load(), 0) << threads << " threads";
+  }
 }
 
 TEST(TeamBarrier, ATeamScopeGivesItsThreadsTheirNumbersOneSingleAndItsBarrier) {

@@ -2,6 +2,18 @@
 
 #include <omp.h>
 
+#include <climits>
+#ifdef __linux__
+#include <linux/futex.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <ctime>
+#else
+#include <chrono>
+#include <thread>
+#endif
+
 namespace drape {
 
 TeamScope::TeamScope(TeamBarrier& barrier) : previous_(current_team) {
@@ -12,7 +24,32 @@ TeamScope::TeamScope(TeamBarrier& barrier) : previous_(current_team) {
   current_team = {&barrier, threads, unsigned(omp_get_thread_num()), spins};
 }
 
+// A sleeper's timeout: long against a thread's wait for a descheduled one's time slice (it is woken then), short
+// against a run, where a wake-up missed (TeamCount::publish) costs no more than this.
+constexpr long kSleepNanoseconds = 100'000;
+
+void sleepOn(std::atomic<std::uint32_t>& word, std::uint32_t seen) {
+#ifdef __linux__
+  static_assert(sizeof(std::atomic<std::uint32_t>) == sizeof(std::uint32_t));
+  const timespec timeout{0, kSleepNanoseconds};
+  syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&word), FUTEX_WAIT_PRIVATE, seen, &timeout, nullptr, 0);
+#else
+  (void)word;
+  (void)seen;
+  std::this_thread::sleep_for(std::chrono::nanoseconds(kSleepNanoseconds));
+#endif
+}
+
+void wakeAll(std::atomic<std::uint32_t>& word) {
+#ifdef __linux__
+  syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&word), FUTEX_WAKE_PRIVATE, INT_MAX, nullptr, nullptr, 0);
+#else
+  (void)word;
+#endif
+}
+
 void runOnTeam(int threads, TeamBarrier& barrier, const std::function<void()>& body) {
+  barrier.prepare(unsigned(threads));
 #pragma omp parallel num_threads(threads)
   {
     const TeamScope scope(barrier);

@@ -19,14 +19,68 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <thread>
 
 namespace drape {
 
-// The barrier of a team (CpuSolver::step's region, runOnTeam's): its threads spin on a shared generation, and
-// only one that has spun `spins` times sleeps (a futex, through std::atomic::wait) until the last one arrives.
-// libgomp's `omp barrier` makes a futex_wake system call at every barrier, whether or not a thread sleeps
-// (strace: 200,005 futex calls for 200,000 barriers of two threads): 0.26-0.5 us a barrier on this machine,
-// against 0.04-0.08 us for this one, and a 50 x 50 substep on a team passes 17 of them (docs/design.md, Threads).
+// Sleeping on a count (TeamCount): until `word` no longer holds `seen`, a wake-up (wakeAll) or a short timeout,
+// whichever comes first (parallel.cpp: a futex on Linux). The timeout is what makes a missed wake-up cost a moment, not
+// a hang.
+void sleepOn(std::atomic<std::uint32_t>& word, std::uint32_t seen);
+void wakeAll(std::atomic<std::uint32_t>& word);
+
+// A count one thread of a team publishes and the others wait for: a barrier's arrivals (TeamBarrier), a thread's
+// finished steps (TeamProgress). On a line of its own, as its owner writes it and the others spin reading it. The
+// owner's store is a release and nothing more, so that a publish costs the store: a sequentially consistent one (a
+// fence, which waits for every store the pass before left in the core's buffer) before the look for sleepers made
+// the last thread of a barrier take 520-1340 cycles in it here, against 150 for a line to cross between the cores
+// (docs/results/cpu_speed.md). Without the fence the owner may look for sleepers before its store is seen and miss
+// one that counted itself just then: that one wakes at its timeout (sleepOn) instead, a thing of a hundred
+// microseconds that a spinning waiter never meets.
+struct alignas(64) TeamCount {
+  std::atomic<std::uint32_t> count{0};
+  std::atomic<std::uint32_t> sleepers{0};  // written only by a thread about to sleep on count
+
+  static constexpr int kYields = 12;
+  static bool reached(std::uint32_t seen, std::uint32_t target) { return std::int32_t(seen - target) >= 0; }
+  // The owner: the count is now `value`; everything it wrote before is seen by a thread that awaits it
+  void publish(std::uint32_t value) {
+    count.store(value, std::memory_order_release);
+    if (sleepers.load(std::memory_order_relaxed) != 0) wakeAll(count);
+  }
+  // Until the count has reached `target` (counts wrap: compared by their difference); spins `spins` times, yields,
+  // then sleeps. Returns the count it saw.
+  std::uint32_t await(std::uint32_t target, unsigned spins) {
+    for (unsigned s = 0; s < spins; ++s) {
+      if (const std::uint32_t c = count.load(std::memory_order_acquire); reached(c, target)) return c;
+#if defined(__x86_64__) || defined(__i386__)
+      __builtin_ia32_pause();
+#endif
+    }
+    // Then gives its processor to another thread a few times before sleeping: where a team has more threads than
+    // processors, the one it waits for is often on this processor's queue, and a yield runs it at once, where a sleep
+    // waits for a wake-up (CS184's selfCollision on a forced team of three threads on two cores: 0.12 s against 0.59
+    // with sleeps alone, 30 frames)
+    for (int y = 0; y < kYields; ++y) {
+      if (const std::uint32_t c = count.load(std::memory_order_acquire); reached(c, target)) return c;
+      std::this_thread::yield();
+    }
+    sleepers.fetch_add(1, std::memory_order_seq_cst);
+    std::uint32_t c;
+    while (!reached(c = count.load(std::memory_order_seq_cst), target))
+      sleepOn(count, c);
+    sleepers.fetch_sub(1, std::memory_order_relaxed);
+    return c;
+  }
+};
+
+// The barrier of a team (CpuSolver::step's region, runOnTeam's): each thread publishes its arrivals in a count of its
+// own and awaits every other's, spinning, then sleeping (TeamCount). A shared count of arrivals, which the last
+// thread moved on, made every barrier three transfers of a line between the cores one after another (the count, the
+// generation, the look for sleepers behind a fence): a barrier between two passes cost each of two threads 520-810
+// cycles of latency, where this costs about one transfer. libgomp's `omp barrier` makes a futex_wake system call at
+// every barrier (strace: 200,005 futex calls for 200,000 barriers of two threads), and a 50 x 50 substep on a team
+// passes about a dozen (docs/design.md, Threads).
 class TeamBarrier {
  public:
   TeamBarrier() = default;
@@ -34,41 +88,35 @@ class TeamBarrier {
   TeamBarrier(const TeamBarrier&) {}
   TeamBarrier& operator=(const TeamBarrier&) { return *this; }
 
-  // Every thread of the team calls it with the same count.
-  void wait(unsigned threads, unsigned spins) {
-    // Read before arriving: the last thread to arrive moves it on
-    const unsigned generation = generation_.load(std::memory_order_acquire);
-    if (arrived_.fetch_add(1, std::memory_order_acq_rel) + 1 == threads) {
-      arrived_.store(0, std::memory_order_relaxed);  // seen by every thread that sees the new generation
-      generation_.store(generation + 1, std::memory_order_seq_cst);
-      // A sleeper counted itself before its last look at the generation (both sequentially consistent): either
-      // it saw the new one, or this sees it and wakes it.
-      if (sleepers_.load(std::memory_order_seq_cst) != 0) generation_.notify_all();
-      return;
+  // Outside concurrent use (runOnTeam, before its region): room for a team of `threads`, every count 0
+  void prepare(unsigned threads) {
+    if (threads != size_) {
+      counts_ = std::make_unique<TeamCount[]>(threads);
+      size_ = threads;
     }
-    for (unsigned s = 0; s < spins; ++s) {
-      if (generation_.load(std::memory_order_acquire) != generation) return;
-#if defined(__x86_64__) || defined(__i386__)
-      __builtin_ia32_pause();
-#endif
-    }
-    sleepers_.fetch_add(1, std::memory_order_seq_cst);
-    while (generation_.load(std::memory_order_seq_cst) == generation)
-      generation_.wait(generation, std::memory_order_seq_cst);
-    sleepers_.fetch_sub(1, std::memory_order_relaxed);
+    for (unsigned t = 0; t < size_; ++t)
+      counts_[t].count.store(0, std::memory_order_relaxed);
+  }
+  unsigned size() const { return size_; }
+  // Every thread of the team calls it, `thread` its number (below prepare's count), with the same `threads`.
+  void wait(unsigned threads, unsigned thread, unsigned spins) {
+    TeamCount* counts = counts_.get();
+    // Only this thread writes its count: a thread can be one barrier ahead of another, never two
+    const std::uint32_t next = counts[thread].count.load(std::memory_order_relaxed) + 1;
+    counts[thread].publish(next);
+    for (unsigned t = 0; t < threads; ++t)
+      if (t != thread) counts[t].await(next, spins);
   }
 
  private:
-  // On lines of their own: every thread writes the count, and spins reading the generation.
-  alignas(64) std::atomic<unsigned> arrived_{0};
-  alignas(64) std::atomic<unsigned> generation_{0};
-  std::atomic<unsigned> sleepers_{0};  // written only by a thread about to sleep
+  std::unique_ptr<TeamCount[]> counts_;
+  unsigned size_ = 0;
 };
 
 // Each thread's count of the steps it has finished, for steps that need only some threads' earlier steps done
 // rather than every thread's (a barrier): a thread publishes each step it ends and, before a step, awaits the
-// counts of the threads whose rows it shares (GridPath's colours: a thread's neighbours). A waiting thread spins,
-// then sleeps as TeamBarrier's does. The counts wrap: they are compared by their difference.
+// counts of the threads whose rows it shares (GridPath's colours: a thread's neighbours). The counts wrap: they
+// are compared by their difference.
 class TeamProgress {
  public:
   TeamProgress() = default;
@@ -78,43 +126,19 @@ class TeamProgress {
 
   // Outside concurrent use: a count for each of `threads` threads, all 0
   void resize(unsigned threads) {
-    slots_ = std::make_unique<Slot[]>(threads);
+    slots_ = std::make_unique<TeamCount[]>(threads);
     size_ = threads;
   }
   unsigned size() const { return size_; }
   std::uint32_t count(unsigned thread) const { return slots_[thread].count.load(std::memory_order_relaxed); }
   // Thread `thread`'s count is now `count`: everything it wrote before is seen by a thread that awaits it
-  void publish(unsigned thread, std::uint32_t count) {
-    Slot& slot = slots_[thread];
-    slot.count.store(count, std::memory_order_seq_cst);
-    // As TeamBarrier's last thread: a sleeper counted itself before its last look at the count
-    if (slot.sleepers.load(std::memory_order_seq_cst) != 0) slot.count.notify_all();
-  }
-  static bool reached(std::uint32_t seen, std::uint32_t count) { return std::int32_t(seen - count) >= 0; }
+  void publish(unsigned thread, std::uint32_t count) { slots_[thread].publish(count); }
+  static bool reached(std::uint32_t seen, std::uint32_t count) { return TeamCount::reached(seen, count); }
   // Until thread `other` has published `count` or more; returns the count it saw (`count` or more)
-  std::uint32_t await(unsigned other, std::uint32_t count, unsigned spins) {
-    Slot& slot = slots_[other];
-    for (unsigned s = 0; s < spins; ++s) {
-      if (const std::uint32_t c = slot.count.load(std::memory_order_acquire); reached(c, count)) return c;
-#if defined(__x86_64__) || defined(__i386__)
-      __builtin_ia32_pause();
-#endif
-    }
-    slot.sleepers.fetch_add(1, std::memory_order_seq_cst);
-    std::uint32_t c;
-    while (!reached(c = slot.count.load(std::memory_order_seq_cst), count))
-      slot.count.wait(c, std::memory_order_seq_cst);
-    slot.sleepers.fetch_sub(1, std::memory_order_relaxed);
-    return c;
-  }
+  std::uint32_t await(unsigned other, std::uint32_t count, unsigned spins) { return slots_[other].await(count, spins); }
 
  private:
-  // A line each: a thread writes its own count and its neighbours spin reading it
-  struct alignas(64) Slot {
-    std::atomic<std::uint32_t> count{0};
-    std::atomic<std::uint32_t> sleepers{0};  // written only by a thread about to sleep
-  };
-  std::unique_ptr<Slot[]> slots_;
+  std::unique_ptr<TeamCount[]> slots_;
   unsigned size_ = 0;
 };
 
@@ -199,7 +223,7 @@ inline void teamShare(long long first, long long last, long long& lo, long long&
 // with no TeamScope.
 inline void teamBarrier() {
   if (const TeamContext& team = current_team; team.barrier) {
-    if (team.threads > 1) team.barrier->wait(team.threads, team.spins);
+    if (team.threads > 1) team.barrier->wait(team.threads, team.thread, team.spins);
     return;
   }
 #ifdef _OPENMP
