@@ -388,6 +388,38 @@ TEST(TeamTrial, ACloseLossIsTriedAgainSoon) {
   EXPECT_TRUE(trial.useTeam());
 }
 
+// Every 12th substep also rebuilds (irregular), at 3 times a regular one's work either way: the trial compares the
+// regular ones, so each probe measures the team at what it takes on them.
+TEST(TeamTrial, SubstepsWithAJobOfTheirOwnAreLeftOutOfTheComparison) {
+  TeamTrial trial;
+  std::vector<double> ratios;
+  long long on_team = 0;
+  for (long long s = 0; s < 3000; ++s) {
+    const bool use = trial.useTeam(), regular = s % 12 != 5;
+    on_team += use;
+    const double work = regular ? 1.0 : 3.0;
+    trial.record(work * (use ? 0.75 : 1.0), regular);
+    if (ratios.empty() || trial.teamOverSolo() != ratios.back()) ratios.push_back(trial.teamOverSolo());
+  }
+  EXPECT_TRUE(trial.useTeam());
+  EXPECT_GT(on_team, 3000 - 100);
+  // Counting the rebuilds, a probe of 16 substeps (its slowest left out) against the mean of a longer run puts the
+  // team at 0.74-0.88 of one thread's time, by where the rebuilds fall
+  for (const double r : ratios) {
+    if (!std::isnan(r)) {
+      EXPECT_NEAR(r, 0.75, 1e-12);
+    }
+  }
+  // Substeps that are all irregular count: the probes end and decide as before
+  TeamTrial busy;
+  for (long long s = 0; s < 1000; ++s) {
+    const bool use = busy.useTeam();
+    busy.record(use ? 0.75 : 1.0, false);
+  }
+  EXPECT_TRUE(busy.useTeam());
+  EXPECT_NEAR(busy.teamOverSolo(), 0.75, 1e-12);
+}
+
 // The processors' idle time between two readings of /proc/stat, as the room for a team is judged.
 TEST(TeamTrial, IdleProcessorsBetweenTwoReadings) {
   EXPECT_DOUBLE_EQ(idleProcessors({100, 1000}, {300, 1400}, 2, 4), 1.0) << "half of two processors' ticks idle";
@@ -395,6 +427,21 @@ TEST(TeamTrial, IdleProcessorsBetweenTwoReadings) {
   EXPECT_TRUE(std::isnan(idleProcessors({100, 1000}, {102, 1003}, 2, 4))) << "three ticks say little";
   EXPECT_TRUE(std::isnan(idleProcessors({100, 1000}, {90, 1400}, 2, 4))) << "not a later reading";
   EXPECT_TRUE(std::isnan(idleProcessors({100, 1000}, {900, 1400}, 2, 4))) << "more idle than in all";
+}
+
+// The tasks runnable now, as the room for a team is judged before the ticks say anything
+TEST(TeamTrial, TheTasksRunnableNowFromProcLoadavg) {
+  EXPECT_EQ(runnableTasks("1.51 1.39 1.38 1/109 29822"), 1);
+  EXPECT_EQ(runnableTasks("0.00 0.01 0.05 12/1204 7\n"), 12);
+  EXPECT_EQ(runnableTasks("1.51 1.39 1.38 0/109 29822"), -1) << "the caller is running";
+  EXPECT_EQ(runnableTasks("1.51 1.39 1.38 3/2 29822"), -1);
+  EXPECT_EQ(runnableTasks("1.51 1.39 1.38"), -1);
+  EXPECT_EQ(runnableTasks(""), -1);
+  // On two processors a team of two has room while the caller runs alone, not beside another task
+  EXPECT_TRUE(roomAmongRunnable(1, 2, 2));
+  EXPECT_FALSE(roomAmongRunnable(2, 2, 2));
+  EXPECT_TRUE(roomAmongRunnable(2, 4, 3));
+  EXPECT_FALSE(roomAmongRunnable(3, 4, 3));
 }
 
 TEST(TeamTrial, NoCoreForTheTeamNoProbe) {

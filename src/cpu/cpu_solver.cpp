@@ -302,7 +302,8 @@ bool CpuSolver<T>::endSubstep(bool team, double seconds) {
   positions_behind_ = grid_integrate_;  // its stretch limit left them in the arrays
   grid_integrate_ = false;
   soa_positions_ = !failure_ && loadedAfterPasses() ? substeps_ + 1 : -1;
-  if (trial_) trial_->record(seconds);
+  // A substep that rebuilt the self-collision lists did a job of its own: the trial leaves it out of its means
+  if (trial_) trial_->record(seconds, list_built_at_ != substeps_);
   if (failure_) return false;
   ++substeps_;
   team_substeps_ += team;

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -33,9 +34,12 @@ std::optional<ProcessorTicks> readProcessorTicks() {
 }
 
 // The processors' idle time since `last` (the time this run has been running on one thread, or since the last
-// answer), or, until a few ticks have passed, the 1-minute load average, which also counts processes that
-// ended a moment ago (another benchmark's run just before this one). A team probed on busy cores waits a
-// time slice at each barrier.
+// answer), or, until a few ticks have passed (20 ms on two processors), what the 1-minute load average and the tasks
+// runnable now say, either of them enough. The load average also counts processes that ended a moment ago: run after
+// another run (a benchmark's rounds, a build), CS184's selfCollision kept one thread for its first 300-400 substeps
+// of 2700 while it stayed above 1.5, until the ticks had passed. The tasks runnable now count a shell or a process
+// that is about to end: alone they kept a team from more runs than the load average did. A team probed on busy
+// cores waits a time slice at each barrier.
 bool roomForTeam(int team, ProcessorTicks& last) {
   const int processors = omp_get_num_procs();
   if (const std::optional<ProcessorTicks> now = readProcessorTicks()) {
@@ -45,11 +49,26 @@ bool roomForTeam(int team, ProcessorTicks& last) {
     if (!std::isnan(idle)) return idle >= double(team - 1) - 0.5;
   }
   double load = 0;
-  if (getloadavg(&load, 1) != 1) return true;
-  return load + double(team - 1) <= double(processors) + 0.5;
+  if (getloadavg(&load, 1) != 1 || load + double(team - 1) <= double(processors) + 0.5) return true;
+  std::ifstream in("/proc/loadavg");
+  std::string text;
+  std::getline(in, text);
+  const int runnable = runnableTasks(text);
+  return runnable >= 1 && roomAmongRunnable(runnable, processors, team);
 }
 
 }  // namespace
+
+int runnableTasks(const std::string& loadavg) {
+  std::istringstream in(loadavg);
+  double averages[3];
+  int runnable = -1, all = -1;
+  char slash = 0;
+  if (!(in >> averages[0] >> averages[1] >> averages[2] >> runnable >> slash >> all) || slash != '/' || runnable < 1 ||
+      all < runnable)
+    return -1;
+  return runnable;
+}
 
 bool spreadTeam(int team) {
   cpu_set_t allowed;

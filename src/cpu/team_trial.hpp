@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <functional>
 #include <limits>
+#include <string>
 #include <utility>
 
 namespace drape {
@@ -34,9 +35,19 @@ inline double idleProcessors(ProcessorTicks before, ProcessorTicks after, int pr
   return double(processors) * double(idle) / double(total);
 }
 
+// The tasks runnable now, the caller among them, from the text of /proc/loadavg (its fourth field, "runnable/all"),
+// or -1 where the text is not that.
+int runnableTasks(const std::string& loadavg);
+
+// Whether a team of `team` threads has a processor for each thread when `runnable` tasks are runnable now, the caller
+// among them (the team's first thread), on `processors` processors.
+inline bool roomAmongRunnable(int runnable, int processors, int team) {
+  return runnable - 1 + team <= processors;
+}
+
 // The `room` a trial of a team of `team` threads asks on this machine (cpu/team_trial.cpp): whether the
 // processors' idle time since the last ask (or since this call) leaves a core for each of its other threads;
-// until a few ticks have passed, whether the 1-minute load average does.
+// until a few ticks have passed, whether the 1-minute load average or the tasks runnable now (roomAmongRunnable) do.
 std::function<bool()> machineRoom(int team);
 
 // Moves each thread of an OpenMP team of `team` to a processor of its own once, then lets the scheduler place it
@@ -70,12 +81,21 @@ class TeamTrial {
 
   bool useTeam() const { return probing_ ? !team_ : team_; }
 
-  // The substep just run (the way useTeam() said) took `seconds` of wall-clock time.
-  void record(double seconds) {
+  // The substep just run (the way useTeam() said) took `seconds` of wall-clock time. regular: it did only the work
+  // every substep does. One that also did a job of its own now and then (a rebuild of the self-collision lists: one
+  // substep in 12 on CS184's selfCollision, 2-4 times a substep's work) is left out of the means either way runs, so
+  // that both compare the same work: a probe of 16 substeps holds one such job or two or none, while the mean it is
+  // measured against holds them at their rate, and on that file the probes put the team at 0.38-0.91 of one thread's
+  // time where it takes about 0.75, and gave it up for a tenth of a run in 1 run of 30. Where irregular substeps are
+  // most of those seen since the last probe ended (kSamples at least), they count (a probe of them would not end).
+  void record(double seconds, bool regular = true) {
+    ++tally_.seen;
+    tally_.irregular += !regular;
+    const bool counted = regular || (tally_.seen >= kSamples && 2 * tally_.irregular > tally_.seen);
     if (!probing_) {
       // Means, not medians: a team's time on a busy machine is mostly short substeps and a few that wait a
       // whole time slice, and those few are the cost.
-      if (!first_) {  // the very first substep builds what the run keeps (lists, caches)
+      if (!first_ && counted) {  // the very first substep builds what the run keeps (lists, caches)
         sum_ += seconds;
         ++count_;
         window_sum_ += seconds;
@@ -95,10 +115,11 @@ class TeamTrial {
         countdown_ = interval_;  // no core for a team now: run alone, ask again later
       return;
     }
+    const double current = count_ > 0 ? sum_ / double(count_) : seconds;
+    if (!counted && seconds <= kAbsurd * current) return;  // an absurd one counts: the machine stalled
     probe_sum_ += seconds;
     probe_max_ = std::max(probe_max_, seconds);
     ++probe_runs_;
-    const double current = count_ > 0 ? sum_ / double(count_) : seconds;
     // The probe's time less its slowest substep (the first, where a team's threads wake, or one interrupted)
     // is what decides; once it exceeds what kSamples substeps may take to win, the other way has lost,
     // however the rest would go.
@@ -131,6 +152,7 @@ class TeamTrial {
     countdown_ = interval_;
     sum_ = window_sum_ = 0;
     count_ = window_count_ = 0;
+    tally_ = {};
   }
 
   // The team's time over one thread's, at the last probe (NaN before the first).
@@ -156,6 +178,10 @@ class TeamTrial {
   double window_sum_ = 0;  // over the last window_count_ substeps (up to kMinInterval)
   long long window_count_ = 0;
   double probe_sum_ = 0, probe_max_ = 0;
+  struct Tally {  // substeps recorded since the last probe ended, and how many of them were not regular
+    long long seen = 0, irregular = 0;
+  };
+  Tally tally_;
   int probe_runs_ = 0;
   double team_over_solo_ = std::numeric_limits<double>::quiet_NaN();
 };
