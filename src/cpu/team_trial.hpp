@@ -8,8 +8,8 @@
 // one way, now and then times a few substeps the other way, and keeps the faster. A probe costs at most
 // kProbeShare of the run: the more the other way lost by, the longer until it is tried again, and a probe
 // that has already lost stops at once. The team is not tried at all while the machine has no core for its
-// other threads (the caller's `room`: the processors' idle time, or the load average). The bytes are the same either
-// way: what is decided here is only how long they take.
+// other threads (the caller's `room`: the processors' idle time, or the load average and the tasks runnable now). The
+// bytes are the same either way: what is decided here is only how long they take.
 #pragma once
 
 #include <algorithm>
