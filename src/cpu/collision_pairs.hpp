@@ -91,6 +91,7 @@ class CollisionPairs {
                         const float* z, int y0, int y1);
   static constexpr int kDisplacementParts = 64;  // a larger team skips the box
   void build(const std::vector<vec3>& x, int threads);
+  bool splitCheck() const;  // whether finishCheck splits the check between a team's threads
   // What a build in a team failed with (out of memory), once the team is done with it; cleared by taking it.
   std::exception_ptr takeFailure() { return std::exchange(failure_, nullptr); }
 
@@ -246,7 +247,6 @@ class CollisionPairs {
     int count = 0;
   };
   std::vector<LookedAt> looked_at_;  // per thread of a team
-  bool splitCheck() const;           // whether finishCheck splits the check between a team's threads
   void makeTiles(std::size_t n);
   // A grid's squares of tiles (edge_ > 0): how many across and down
   int tilesAcross() const { return (w_ + edge_ - 1) / edge_; }

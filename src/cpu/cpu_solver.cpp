@@ -358,6 +358,15 @@ bool CpuSolver<T>::keepsPointsInArrays() const {
          !needsPass(kVbd) && scene_.meshes.empty() && !needsPass(kTether);
 }
 
+// Where self-collision follows integrate on the grid path and its check is split between the threads, no thread reads
+// another's rows before the check's serial step ends with a barrier: each boxes the displacements of its own rows
+// first (selfCollide), and the serial step reads no position. A barrier after integrate then only waited for the
+// stores of the rows just integrated (selfCollision on a forced team: each thread 1.5-1.8k cycles a substep in it).
+template <class T>
+bool CpuSolver<T>::selfCollisionSparesBarrier() const {
+  return needsPass(kSelfCollide) && pairs_.splitCheck();
+}
+
 template <class T>
 std::vector<typename CpuSolver<T>::vec3>* CpuSolver<T>::integratedPositionsOut() {
   return needsPass(kSelfCollide) ? &x_ : nullptr;

@@ -353,6 +353,7 @@ class CpuSolver final : public Solver {
   // builds), else nowhere. x_ and v_ are then behind the arrays (positions_behind_) until syncPositions: no pass of
   // the substep reads them, and writing every point's twice was a third of integrate's stores.
   std::vector<vec3>* integratedPositionsOut();
+  bool selfCollisionSparesBarrier() const;  // integrate on the grid path ends without a barrier
   bool forcesReadArrays() const;
   void positionsMoved() {
     if (in_passes_) return;

@@ -76,7 +76,7 @@ void CpuSolver<T>::integrate() {
   if constexpr (std::is_same_v<T, float>)
     if (grid_integrate_) {
       if (!forcesReadArrays()) grid_->integrate(integratedPositionsOut(), f_, dt2, keep_);  // else done with the forces
-      teamBarrier();
+      if (!selfCollisionSparesBarrier()) teamBarrier();
       return;
     }
   if constexpr (std::is_same_v<T, float>)
