@@ -86,8 +86,8 @@ class TeamTrial {
   // substep in 12 on CS184's selfCollision, 2-4 times a substep's work) is left out of the means either way runs, so
   // that both compare the same work: a probe of 16 substeps holds one such job or two or none, while the mean it is
   // measured against holds them at their rate, and on that file the probes put the team at 0.38-0.91 of one thread's
-  // time where it takes about 0.75, and gave it up for a tenth of a run in 1 run of 30. Where irregular substeps are
-  // most of those seen since the last probe ended (kSamples at least), they count (a probe of them would not end).
+  // time where it takes about 0.7, and in 1 run of 30 kept one thread for 220 substeps of 2700. Where irregular ones
+  // are most of those seen since the last probe ended (kSamples at least), they count (a probe of them would not end).
   void record(double seconds, bool regular = true) {
     ++tally_.seen;
     tally_.irregular += !regular;
