@@ -74,45 +74,6 @@ struct alignas(64) TeamCount {
   }
 };
 
-// The barrier of a team (CpuSolver::step's region, runOnTeam's): each thread publishes its arrivals in a count of its
-// own and awaits every other's, spinning, then sleeping (TeamCount). A shared count of arrivals, which the last
-// thread moved on, made every barrier three transfers of a line between the cores one after another (the count, the
-// generation, the look for sleepers behind a fence): a barrier between two passes cost each of two threads 520-810
-// cycles of latency, where this costs about one transfer. libgomp's `omp barrier` makes a futex_wake system call at
-// every barrier (strace: 200,005 futex calls for 200,000 barriers of two threads), and a 50 x 50 substep on a team
-// passes about a dozen (docs/design.md, Threads).
-class TeamBarrier {
- public:
-  TeamBarrier() = default;
-  // A copy is a new barrier: a solver is copied between substeps, when no thread waits on it.
-  TeamBarrier(const TeamBarrier&) {}
-  TeamBarrier& operator=(const TeamBarrier&) { return *this; }
-
-  // Outside concurrent use (runOnTeam, before its region): room for a team of `threads`, every count 0
-  void prepare(unsigned threads) {
-    if (threads != size_) {
-      counts_ = std::make_unique<TeamCount[]>(threads);
-      size_ = threads;
-    }
-    for (unsigned t = 0; t < size_; ++t)
-      counts_[t].count.store(0, std::memory_order_relaxed);
-  }
-  unsigned size() const { return size_; }
-  // Every thread of the team calls it, `thread` its number (below prepare's count), with the same `threads`.
-  void wait(unsigned threads, unsigned thread, unsigned spins) {
-    TeamCount* counts = counts_.get();
-    // Only this thread writes its count: a thread can be one barrier ahead of another, never two
-    const std::uint32_t next = counts[thread].count.load(std::memory_order_relaxed) + 1;
-    counts[thread].publish(next);
-    for (unsigned t = 0; t < threads; ++t)
-      if (t != thread) counts[t].await(next, spins);
-  }
-
- private:
-  std::unique_ptr<TeamCount[]> counts_;
-  unsigned size_ = 0;
-};
-
 // Each thread's count of the steps it has finished, for steps that need only some threads' earlier steps done
 // rather than every thread's (a barrier): a thread publishes each step it ends and, before a step, awaits the
 // counts of the threads whose rows it shares (GridPath's colours: a thread's neighbours). The counts wrap: they
@@ -120,7 +81,7 @@ class TeamBarrier {
 class TeamProgress {
  public:
   TeamProgress() = default;
-  // A copy is new, as a barrier's (a solver is copied between substeps, when no thread uses it)
+  // A copy is new (a solver is copied between substeps, when no thread uses it)
   TeamProgress(const TeamProgress&) {}
   TeamProgress& operator=(const TeamProgress&) { return *this; }
 
@@ -140,6 +101,31 @@ class TeamProgress {
  private:
   std::unique_ptr<TeamCount[]> slots_;
   unsigned size_ = 0;
+};
+
+// The barrier of a team (CpuSolver::step's region, runOnTeam's): each thread publishes its arrivals in a count of its
+// own and awaits every other's, spinning, then sleeping (TeamCount). A shared count of arrivals, which the last
+// thread moved on, made every barrier three transfers of a line between the cores one after another (the count, the
+// generation, the look for sleepers behind a fence): a barrier between two passes cost each of two threads 520-810
+// cycles of latency, where this costs about one transfer. libgomp's `omp barrier` makes a futex_wake system call at
+// every barrier (strace: 200,005 futex calls for 200,000 barriers of two threads), and a 50 x 50 substep on a team
+// passes about a dozen (docs/design.md, Threads).
+class TeamBarrier {
+ public:
+  // Outside concurrent use (runOnTeam, before its region): a team of `threads`, every count 0. (A copy is a new
+  // barrier, as its counts are new: a solver is copied between substeps, when no thread waits on it.)
+  void prepare(unsigned threads) { arrivals_.resize(threads); }
+  // Every thread of the team calls it, `thread` its number (below prepare's count), with the same `threads`.
+  void wait(unsigned threads, unsigned thread, unsigned spins) {
+    // Only this thread writes its count: a thread can be one barrier ahead of another, never two
+    const std::uint32_t next = arrivals_.count(thread) + 1;
+    arrivals_.publish(thread, next);
+    for (unsigned t = 0; t < threads; ++t)
+      if (t != thread) arrivals_.await(t, next, spins);
+  }
+
+ private:
+  TeamProgress arrivals_;  // each thread's barriers passed
 };
 
 // The team the calling thread is in while a TeamScope lives (barrier null outside one): its barrier, size and
