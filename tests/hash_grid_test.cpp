@@ -1,10 +1,12 @@
 #include "cpu/hash_grid.hpp"
 #include "cpu/parallel.hpp"
+#include "kernel_sets.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <iterator>
+#include <limits>
 #include <random>
 #include <set>
 
@@ -113,6 +115,48 @@ TEST(HashGrid, ATeamBuildsTheGridOfOneThread) {
       EXPECT_EQ(team.sorted(), one_part.sorted()) << side << ", " << threads << " threads, a second build";
       EXPECT_EQ(candidates(team, part.size()), candidates(one_part, part.size())) << side << ", " << threads;
     }
+  }
+}
+
+// With the kernels' cellsOf every point gets cellOf's cell, several at once, and so the same buckets: on one thread and
+// on teams (a share of none among them), for counts that leave a vector part full, with the coordinates cellOf clamps
+// or sends to cell 0 (NaN, infinities, beyond 2^30 cells), -0 and points on cell borders.
+TEST(HashGrid, EveryKernelSetMakesTheCellsOfOnePointAtATime) {
+  const float cell = 0.019f, inf = std::numeric_limits<float>::infinity();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-0.2f, 0.3f);
+  std::vector<glm::vec3> cloud(3001);
+  for (auto& q : cloud)
+    q = {u(rng), u(rng), u(rng)};
+  for (std::size_t k = 0; k < 40; ++k)
+    cloud[k * 7] = glm::round(cloud[k * 7] / cell) * cell;  // on borders
+  const std::vector<glm::vec3> odd = {{std::numeric_limits<float>::quiet_NaN(), 0.1f, -0.1f},
+                                      {inf, -inf, 0.0f},
+                                      {-0.0f, 1e12f, -1e12f},
+                                      {0.05f, -0.0f, 0.019f}};
+  std::copy(odd.begin(), odd.end(), cloud.begin() + 1000);
+  for (const std::size_t n : {std::size_t(2), std::size_t(37), cloud.size()}) {
+    const std::vector<glm::vec3> p(cloud.begin() + std::ptrdiff_t(n == 2 ? 1001 : 0),
+                                   cloud.begin() + std::ptrdiff_t(n == 2 ? 1003 : n));
+    HashGrid<float> one;
+    one.build(p, cell);
+    for (const GridKernels* kernels : test::kernelSets())
+      for (const int threads : {1, 2, 3}) {
+        HashGrid<float> grid;
+        grid.setKernels(kernels);
+        std::exception_ptr failure;
+        if (threads == 1)
+          grid.build(p, cell);
+        else
+          runOnTeam(threads, [&] { grid.build(p, cell, failure); });
+        ASSERT_FALSE(failure);
+        for (std::size_t i = 0; i < p.size(); ++i)
+          ASSERT_EQ(grid.cellOfPoint(i), HashGrid<float>::cellOf(p[i], 1.0f / cell))
+              << kernels->name << ", " << threads << " threads, point " << i << " of " << p.size();
+        EXPECT_EQ(grid.dense(), one.dense()) << kernels->name << ", " << n;
+        EXPECT_EQ(grid.bucketCount(), one.bucketCount()) << kernels->name << ", " << n;
+        EXPECT_EQ(grid.sorted(), one.sorted()) << kernels->name << ", " << threads << " threads, " << n;
+      }
   }
 }
 

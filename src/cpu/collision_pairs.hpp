@@ -58,7 +58,10 @@ class CollisionPairs {
   // substep and never listed.
   void setGrid(int w, int h);
   // Float: the instruction set's scanPairs for builds (default: one candidate at a time). The same lists.
-  void setKernels(const GridKernels* kernels) { kernels_ = kernels; }
+  void setKernels(const GridKernels* kernels) {
+    kernels_ = kernels;
+    grid_.setKernels(kernels);
+  }
   // How a build on dense buckets goes through the points (findPairs): by cell (the default) or point by point,
   // which hashed buckets always do; the same lists (tests compare them).
   enum class BuildOrder { ByCell, ByPoint };

@@ -299,6 +299,9 @@ struct GridKernels {
   // The box of the displacements of every point of rows [y0, y1), from TileBoxArgs' padded positions and anchors
   // (which it needs), into out: min x, y, z, max x, y, z; false if a displacement is not finite.
   bool (*displacementBox)(const TileBoxArgs&, int y0, int y1, float* out);
+  // HashGrid<float>::cellOf of points [first, last) of x (vec3s) into cells (ivec3s), and box (least x, y, z, then
+  // greatest cell; holding the box to widen, or INT_MAX and INT_MIN) widened to hold them
+  void (*cellsOf)(const float* x, std::size_t first, std::size_t last, float inv_cell_size, int* cells, int* box);
   // Whether two tiles lie within apart of each other while the box of their displacements together has a
   // diagonal over limit (or not finite): compareTiles' test, several tiles c side by side.
   bool (*tilesMovedApart)(const TileCompareArgs&);

@@ -394,6 +394,7 @@ struct Kernels : Lanes<V> {
             &Contact::collideRows,
             &Contact::tileBoxes,
             &Contact::displacementBox,
+            &Contact::cellsOf,
             &Contact::tilesMovedApart,
             &Probes::probeAddMul,
             &Probes::probeDivSqrt,

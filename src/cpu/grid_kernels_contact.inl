@@ -21,6 +21,43 @@ struct ContactKernels : Lanes<V> {
     return V::floor(V::min(V::max(finite, V::set1(-limit)), V::set1(limit)));
   }
 
+  // HashGrid::build's cells: cellOf of points [first, last) of x (vec3s) into cells (ivec3s), the box of them widened
+  // into box (least x, y, z, then greatest). The cells are whole floats until stored: the box is taken on them.
+  static void cellsOf(const float* x, std::size_t first, std::size_t last, float inv_cell_size, int* cells, int* box) {
+    if (first >= last) return;
+    const F inv = V::set1(inv_cell_size);
+    F lo[3], hi[3];
+    for (int c = 0; c < 3; ++c) {
+      lo[c] = V::set1(float(box[c]));
+      hi[c] = V::set1(float(box[3 + c]));
+    }
+    const auto cellsAt = [&](const float* p, float* out, int live) {
+      F q[3];
+      V::loadVec3(p, q[0], q[1], q[2]);
+      const F in = V::lt(V::iota(), V::set1(float(live)));
+      for (int c = 0; c < 3; ++c) {
+        q[c] = cellCoordinate(V::mul(q[c], inv));
+        lo[c] = V::select(in, V::min(lo[c], q[c]), lo[c]);
+        hi[c] = V::select(in, V::max(hi[c], q[c]), hi[c]);
+      }
+      V::storeVec3(out, V::intBits(q[0]), V::intBits(q[1]), V::intBits(q[2]));
+    };
+    std::size_t i = first;
+    for (; i + kW <= last; i += kW)
+      cellsAt(x + 3 * i, reinterpret_cast<float*>(cells + 3 * i), kW);
+    if (i < last) {  // the last few through a vector's room of zeros
+      float p[3 * kW] = {}, out[3 * kW];
+      const std::size_t live = last - i;
+      std::memcpy(p, x + 3 * i, sizeof(float) * 3 * live);
+      cellsAt(p, out, int(live));
+      std::memcpy(cells + 3 * i, out, sizeof(float) * 3 * live);
+    }
+    for (int c = 0; c < 3; ++c) {
+      box[c] = int(V::hmin(lo[c]));
+      box[3 + c] = int(V::hmax(hi[c]));
+    }
+  }
+
   static int pairTerms(const float* x, const std::uint32_t* owner, const std::uint32_t* partner, std::uint32_t first,
                        std::uint32_t last, float thickness, float inv_range, PairTermOut* out) {
     const float range = 2.0f * thickness;  // as physics::selfCollisionCorrections computes it

@@ -1,11 +1,13 @@
 #include "cpu/hash_grid.hpp"
 
 #include "core/derived.hpp"
+#include "cpu/grid_kernels.hpp"
 #include "cpu/parallel.hpp"
 
 #include <algorithm>
 #include <bit>
 #include <limits>
+#include <type_traits>
 #include <utility>
 
 namespace drape {
@@ -40,7 +42,16 @@ void HashGrid<T>::build(const std::vector<vec3>& points, T cell_size, std::excep
   teamShare(0, (long long)n, lo_point, hi_point);
   const auto first = std::size_t(lo_point), last = std::size_t(hi_point);
   glm::ivec3 lo(std::numeric_limits<int>::max()), hi(std::numeric_limits<int>::min());
-  for (std::size_t i = first; i < last; ++i) {
+  bool cells = false;
+  if constexpr (std::is_same_v<T, float>)
+    if (kernels_) {  // several points at once (one at a time, a floor without SSE4.1 was most of the build)
+      int box[6] = {lo.x, lo.y, lo.z, hi.x, hi.y, hi.z};
+      kernels_->cellsOf(&points.data()->x, first, last, inv_cell_size, &cells_.data()->x, box);
+      lo = glm::ivec3(box[0], box[1], box[2]);
+      hi = glm::ivec3(box[3], box[4], box[5]);
+      cells = true;
+    }
+  for (std::size_t i = first; i < last && !cells; ++i) {
     cells_[i] = cellOf(points[i], inv_cell_size);
     lo = glm::min(lo, cells_[i]);
     hi = glm::max(hi, cells_[i]);

@@ -18,6 +18,8 @@
 
 namespace drape {
 
+struct GridKernels;
+
 template <class T>
 class HashGrid {
  public:
@@ -28,6 +30,8 @@ class HashGrid {
   // thread reads after the build, and the grid is then unusable until the next build.
   void build(const std::vector<vec3>& points, T cell_size);
   void build(const std::vector<vec3>& points, T cell_size, std::exception_ptr& failure);
+  // Float: the instruction set's cellsOf for the points' cells (default: one point at a time). The same cells.
+  void setKernels(const GridKernels* kernels) { kernels_ = kernels; }
 
   // Calls f(j) for every point j != i whose cell is within one cell of point i's cell, in a fixed
   // order (27 cells in z, y, x order; ascending index within a cell).
@@ -157,6 +161,7 @@ class HashGrid {
   std::vector<glm::ivec3> part_lo_, part_hi_;  // per thread of the build: its points' box of cells
   std::vector<std::uint32_t> part_count_;      // per thread of the build: the points in its share of the buckets
   std::uint32_t mask_ = 0;
+  const GridKernels* kernels_ = nullptr;
   bool dense_ = false;
   glm::ivec3 box_min_{}, box_size_{};
 };

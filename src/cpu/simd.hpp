@@ -98,6 +98,8 @@ struct Sse2 : LaneShuffles<Sse2> {
   static F sub(F a, F b) { return _mm_sub_ps(a, b); }
   static F mul(F a, F b) { return _mm_mul_ps(a, b); }
   static F div(F a, F b) { return _mm_div_ps(a, b); }
+  // Each lane converted to int32 (truncated; |a| < 2^31), the int's bits in the lane
+  static F intBits(F a) { return _mm_castsi128_ps(_mm_cvttps_epi32(a)); }
   static F sqrt(F a) { return _mm_sqrt_ps(a); }
   static F neg(F a) { return _mm_xor_ps(a, _mm_set1_ps(-0.0f)); }
   static F le(F a, F b) { return _mm_cmple_ps(a, b); }  // false where either is NaN, as a scalar <=
@@ -188,6 +190,7 @@ struct Avx2 : LaneShuffles<Avx2> {
   static F sub(F a, F b) { return _mm256_sub_ps(a, b); }
   static F mul(F a, F b) { return _mm256_mul_ps(a, b); }
   static F div(F a, F b) { return _mm256_div_ps(a, b); }
+  static F intBits(F a) { return _mm256_castsi256_ps(_mm256_cvttps_epi32(a)); }
   static F sqrt(F a) { return _mm256_sqrt_ps(a); }
   static F neg(F a) { return _mm256_xor_ps(a, _mm256_set1_ps(-0.0f)); }
   static F le(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
@@ -291,6 +294,7 @@ struct Avx512 : LaneShuffles<Avx512> {
   static F sub(F a, F b) { return _mm512_sub_ps(a, b); }
   static F mul(F a, F b) { return _mm512_mul_ps(a, b); }
   static F div(F a, F b) { return _mm512_div_ps(a, b); }
+  static F intBits(F a) { return _mm512_castsi512_ps(_mm512_cvttps_epi32(a)); }
   static F sqrt(F a) { return _mm512_sqrt_ps(a); }
   static F neg(F a) { return _mm512_xor_ps(a, _mm512_set1_ps(-0.0f)); }
   static F le(F a, F b) { return fromMask(_mm512_cmp_ps_mask(a, b, _CMP_LE_OQ)); }
