@@ -142,8 +142,10 @@ struct Kernels : Lanes<V> {
         const F dx = V::sub(V::load(a.x + q + offset), V::load(a.x + q));
         const F dy = V::sub(V::load(a.y + q + offset), V::load(a.y + q));
         const F dz = V::sub(V::load(a.z + q + offset), V::load(a.z + q));
-        const F len = V::sqrt(V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz)));
-        V::store(s_out + x0, V::div(V::mul(k, V::sub(len, V::load(a.springs.rest[d] + q))), len));
+        // The row's last vector: the divider only for the lanes on the grid (the padding holds anything)
+        const int lanes = std::min(kW, g.W - x0);
+        const F len = V::sqrtFirst(V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz)), lanes);
+        V::store(s_out + x0, V::divFirst(V::mul(k, V::sub(len, V::load(a.springs.rest[d] + q))), len, lanes));
         V::store(len_out + x0, len);
         F none = V::le(len, zero);
         if (x0 < 2 || x0 + kW + 2 > g.W)  // only the lanes of springs on the grid: the padding holds anything

@@ -100,6 +100,11 @@ struct Sse2 : LaneShuffles<Sse2> {
   static F div(F a, F b) { return _mm_div_ps(a, b); }
   // Each lane converted to int32 (truncated; |a| < 2^31), the int's bits in the lane
   static F intBits(F a) { return _mm_castsi128_ps(_mm_cvttps_epi32(a)); }
+  // sqrt and div in the first `lanes` lanes (the others: anything); on the wider sets a narrower instruction where
+  // those fit one, as the divider takes time by the lanes it is given (a 50-point row is three full vectors of
+  // sixteen and one of two)
+  static F sqrtFirst(F a, int) { return sqrt(a); }
+  static F divFirst(F a, F b, int) { return div(a, b); }
   static F sqrt(F a) { return _mm_sqrt_ps(a); }
   static F neg(F a) { return _mm_xor_ps(a, _mm_set1_ps(-0.0f)); }
   static F le(F a, F b) { return _mm_cmple_ps(a, b); }  // false where either is NaN, as a scalar <=
@@ -192,6 +197,13 @@ struct Avx2 : LaneShuffles<Avx2> {
   static F div(F a, F b) { return _mm256_div_ps(a, b); }
   static F intBits(F a) { return _mm256_castsi256_ps(_mm256_cvttps_epi32(a)); }
   static F sqrt(F a) { return _mm256_sqrt_ps(a); }
+  static F sqrtFirst(F a, int lanes) {
+    return lanes <= 4 ? _mm256_zextps128_ps256(_mm_sqrt_ps(_mm256_castps256_ps128(a))) : sqrt(a);
+  }
+  static F divFirst(F a, F b, int lanes) {
+    return lanes <= 4 ? _mm256_zextps128_ps256(_mm_div_ps(_mm256_castps256_ps128(a), _mm256_castps256_ps128(b)))
+                      : div(a, b);
+  }
   static F neg(F a) { return _mm256_xor_ps(a, _mm256_set1_ps(-0.0f)); }
   static F le(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
   static F lt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
@@ -296,6 +308,16 @@ struct Avx512 : LaneShuffles<Avx512> {
   static F div(F a, F b) { return _mm512_div_ps(a, b); }
   static F intBits(F a) { return _mm512_castsi512_ps(_mm512_cvttps_epi32(a)); }
   static F sqrt(F a) { return _mm512_sqrt_ps(a); }
+  static F sqrtFirst(F a, int lanes) {
+    if (lanes <= 4) return _mm512_zextps128_ps512(_mm_sqrt_ps(_mm512_castps512_ps128(a)));
+    if (lanes <= 8) return _mm512_zextps256_ps512(_mm256_sqrt_ps(_mm512_castps512_ps256(a)));
+    return sqrt(a);
+  }
+  static F divFirst(F a, F b, int lanes) {
+    if (lanes <= 4) return _mm512_zextps128_ps512(_mm_div_ps(_mm512_castps512_ps128(a), _mm512_castps512_ps128(b)));
+    if (lanes <= 8) return _mm512_zextps256_ps512(_mm256_div_ps(_mm512_castps512_ps256(a), _mm512_castps512_ps256(b)));
+    return div(a, b);
+  }
   static F neg(F a) { return _mm512_xor_ps(a, _mm512_set1_ps(-0.0f)); }
   static F le(F a, F b) { return fromMask(_mm512_cmp_ps_mask(a, b, _CMP_LE_OQ)); }
   static F lt(F a, F b) { return fromMask(_mm512_cmp_ps_mask(a, b, _CMP_LT_OQ)); }
