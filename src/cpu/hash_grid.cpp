@@ -51,11 +51,12 @@ void HashGrid<T>::build(const std::vector<vec3>& points, T cell_size, std::excep
       hi = glm::ivec3(box[3], box[4], box[5]);
       cells = true;
     }
-  for (std::size_t i = first; i < last && !cells; ++i) {
-    cells_[i] = cellOf(points[i], inv_cell_size);
-    lo = glm::min(lo, cells_[i]);
-    hi = glm::max(hi, cells_[i]);
-  }
+  if (!cells)
+    for (std::size_t i = first; i < last; ++i) {
+      cells_[i] = cellOf(points[i], inv_cell_size);
+      lo = glm::min(lo, cells_[i]);
+      hi = glm::max(hi, cells_[i]);
+    }
   part_lo_[t] = lo;
   part_hi_[t] = hi;
   teamBarrier();
