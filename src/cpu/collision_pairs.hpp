@@ -264,7 +264,7 @@ class CollisionPairs {
   void makeStencil();
   struct ScanArgs {  // GridKernels' PairScanArgs in T
     const T *x, *y, *z, *u, *v;
-    T px, py, pz, pu, pv, reach2, a2, b2, near_below;
+    T px, py, pz, pu, pv, reach2, a2, b2, near_below, near2;
   };
   int scanSlots(const ScanArgs& a, std::uint32_t first, std::uint32_t last, std::uint32_t* out) const;
   bool onGrid(int u, int v) const { return u >= 0 && u < w_ && v >= 0 && v < h_; }
@@ -276,7 +276,7 @@ class CollisionPairs {
   struct Pair {
     std::uint32_t lower, upper;
   };
-  static constexpr std::uint32_t kFarBit = std::uint32_t(1) << 31;
+  static constexpr std::uint32_t kFarBit = kFarSlot;  // as scanCell marks a far candidate's slot
   HashGrid<T> grid_;
   // The pairs thread t found whose lower ends are in the points [assemble_bounds_[d], assemble_bounds_[d + 1]), which
   // assembleLists' share d places: found_[t * assemblers() + d]. Kept to spare the allocations; on lines of their
@@ -380,9 +380,20 @@ class CollisionPairs {
                     std::uint32_t* points, std::uint32_t* slots) const;
   BuildOrder build_order_ = BuildOrder::ByCell;
   void setPoint(ScanArgs& scan, const std::vector<vec3>& x, std::size_t i) const;
-  // d2: the pair's squared distance, which parts it near or far
-  // mine: the finding thread's found_, assemblers() of them
-  void consider(std::uint32_t i, std::uint32_t j, T d2, Found* mine) const;
+  // The list's tables in locals, for the loops that file a build's pairs (the members, reloaded after every pair a
+  // vector stores, were half of findPairsByCell's own time): f(i, j, far), far kFarBit or 0
+  struct Filer {
+    Found* mine;                  // the finding thread's found_, assemblers() of them
+    const std::uint32_t* bounds;  // assemble_bounds_
+    bool one;                     // one share to assemble: every pair to mine[0]
+    const std::uint16_t *u, *v;   // the columns and rows, where pairs are classed by offset (by_offset_)
+    const std::uint8_t* kind;     // kind_ there, else null
+    int box;
+    const vec3* rest;  // without the table: the rest shape, or null
+    T range;
+    void operator()(std::uint32_t i, std::uint32_t j, std::uint32_t far) const;
+  };
+  Filer filer(Found* mine) const;
   // |p - (the candidate at slot s of the grid's order)|^2, as glm::dot sums it
   T squaredDistance(vec3 p, std::uint32_t s) const {
     const T dx = p.x - sx_[s], dy = p.y - sy_[s], dz = p.z - sz_[s];

@@ -52,7 +52,8 @@ template <class T>
 int CollisionPairs<T>::scanSlots(const ScanArgs& a, std::uint32_t first, std::uint32_t last, std::uint32_t* out) const {
   if constexpr (std::is_same_v<T, float>)
     if (kernels_) {
-      const PairScanArgs k{a.x, a.y, a.z, a.u, a.v, a.px, a.py, a.pz, a.pu, a.pv, a.reach2, a.a2, a.b2, a.near_below};
+      const PairScanArgs k{a.x,  a.y,  a.z,      a.u,  a.v,  a.px,         a.py,   a.pz,
+                           a.pu, a.pv, a.reach2, a.a2, a.b2, a.near_below, a.near2};
       return kernels_->scanPairs(k, first, last, out);
     }
   int count = 0;
@@ -67,26 +68,44 @@ int CollisionPairs<T>::scanSlots(const ScanArgs& a, std::uint32_t first, std::ui
   return count;
 }
 
-// Pair {i, j} of a candidate found within reach (j in a forward cell of i's), at squared distance d2, into `mine`
-// unless the springs hold it or the stencil tests it: near, or far where d2 is not under the near entries' reach
-// (a NaN distance is near: always tested, as the scalar sum gives such a pair its terms).
 template <class T>
-void CollisionPairs<T>::consider(std::uint32_t i, std::uint32_t j, T d2, Found* mine) const {
-  const Pair pair{std::min(i, j), std::max(i, j) | (d2 >= near_reach_ * near_reach_ ? kFarBit : 0)};
+typename CollisionPairs<T>::Filer CollisionPairs<T>::filer(Found* mine) const {
+  Filer f{mine, assemble_bounds_.data(), assemblers() == 1, nullptr, nullptr, nullptr, box_, nullptr, range_};
+  if (by_offset_) {
+    f.u = u_.data();
+    f.v = v_.data();
+    f.kind = kind_.data();
+  } else if (!rest_.empty()) {
+    f.rest = rest_.data();
+  }
+  return f;
+}
+
+// Pair {i, j} of a candidate found within reach (j in a forward cell of i's) into `mine` unless the springs hold it or
+// the stencil tests it, its part told by `far` (kFarBit where its squared distance is not under the near entries'
+// reach: a NaN distance is near, always tested, as the scalar sum gives such a pair its terms).
+// Classed by its offset, a pair is never held at rest where the table lists it or off the box: makeStencil lists an
+// offset only where its nominal distance, less the slack (the rest shape's jitter and the round-off of a distance in
+// T), reaches range + margin, and the box spans that reach. So heldAtRest is asked only without the table.
+template <class T>
+[[gnu::always_inline]] inline void CollisionPairs<T>::Filer::operator()(std::uint32_t i, std::uint32_t j,
+                                                                        std::uint32_t far) const {
+  const Pair pair{std::min(i, j), std::max(i, j) | far};
   const auto keep = [&] {
     std::size_t d = 0;
-    while (pair.lower >= assemble_bounds_[d + 1])
-      ++d;
+    if (!one)
+      while (pair.lower >= bounds[d + 1])
+        ++d;
     mine[d].value.push_back(pair);
   };
-  if (by_offset_) {
-    const int du = int(u_[j]) - int(u_[i]), dv = int(v_[j]) - int(v_[i]);
-    // Off the box no pair is held: the box spans the reach.
-    if (du < -box_ || du > box_ || dv < -box_ || dv > box_) return keep();
-    const int side = 2 * box_ + 1;
-    if (kind_[std::size_t((dv + box_) * side + du + box_)] != kList) return;  // held, or stencil
+  if (kind) {
+    const int du = int(u[j]) - int(u[i]), dv = int(v[j]) - int(v[i]);
+    if (du < -box || du > box || dv < -box || dv > box) return keep();
+    const int side = 2 * box + 1;
+    if (kind[std::size_t((dv + box) * side + du + box)] == kList) keep();  // else held, or on the stencil
+    return;
   }
-  if (rest_.empty() || !physics::heldAtRest(rest_[i], rest_[j], range_)) keep();
+  if (!rest || !physics::heldAtRest(rest[i], rest[j], range)) keep();
 }
 
 // Each pair once (half the cell lookups), into thread t's share; the lists made from them are grouped by point and
@@ -96,7 +115,8 @@ template <class T>
 void CollisionPairs<T>::findPairs(const std::vector<vec3>& x, int t, long long lo, long long hi) {
   const MemoryStage stage("listing the self-collision candidates of " + std::to_string(x.size()) + " points");
   if (grid_.dense() && build_order_ == BuildOrder::ByCell) return findPairsByCell(t, lo, hi);
-  Found* const mine = &found_[std::size_t(t) * assemblers()];  // cleared by prepareBuild
+  const Filer file = filer(&found_[std::size_t(t) * assemblers()]);  // cleared by prepareBuild
+  const T near2 = near_reach_ * near_reach_;
   std::vector<std::uint32_t> slots;
   ScanArgs scan = scan_;
   const std::vector<std::uint32_t>& sorted = grid_.sorted();
@@ -110,7 +130,7 @@ void CollisionPairs<T>::findPairs(const std::vector<vec3>& x, int t, long long l
         const int found = scanSlots(scan, first, last, slots.data());
         for (int k = 0; k < found; ++k) {
           const std::uint32_t s = slots[std::size_t(k)], j = sorted[s];
-          if (grid_.inCell(j, cell)) consider(std::uint32_t(i), j, squaredDistance(x[i], s), mine);
+          if (grid_.inCell(j, cell)) file(std::uint32_t(i), j, squaredDistance(x[i], s) >= near2 ? kFarBit : 0);
         }
       });
     } catch (const std::bad_alloc&) {
@@ -137,7 +157,7 @@ int CollisionPairs<T>::scanCellSlots(const ScanArgs& a, std::uint32_t p0, std::u
                                      int count_of, std::uint32_t* points, std::uint32_t* slots) const {
   if constexpr (std::is_same_v<T, float>)
     if (kernels_) {
-      const PairScanArgs k{a.x, a.y, a.z, a.u, a.v, 0, 0, 0, 0, 0, a.reach2, a.a2, a.b2, a.near_below};
+      const PairScanArgs k{a.x, a.y, a.z, a.u, a.v, 0, 0, 0, 0, 0, a.reach2, a.a2, a.b2, a.near_below, a.near2};
       return kernels_->scanCell(k, p0, p1, ranges, count_of, points, slots);
     }
   int count = 0;
@@ -153,6 +173,8 @@ int CollisionPairs<T>::scanCellSlots(const ScanArgs& a, std::uint32_t p0, std::u
       if (from >= range.last) continue;
       const int found = scanSlots(at, from, range.last, slots + count);
       std::fill(points + count, points + count + found, p);
+      for (std::uint32_t& s : std::span(slots + count, std::size_t(found)))
+        s |= squaredDistance(vec3(at.px, at.py, at.pz), s) >= a.near2 ? kFarBit : 0;
       count += found;
     }
   return count;
@@ -161,19 +183,19 @@ int CollisionPairs<T>::scanCellSlots(const ScanArgs& a, std::uint32_t p0, std::u
 // Slots [lo, hi) of the grid's order, a cell's points at a time: each of the cell's forward ranges (its own row
 // first, from the cell itself) is scanned once for all of them, the ranges in one call (scanCell). A cell holds a
 // few points (2.7 on selfCollision): copying its ranges into one run for each point to scan whole, as the build once
-// did, cost twice the scans themselves.
+// did, cost twice the scans themselves. The scan tells each pair's part (kFarSlot), from the distance it tested.
 template <class T>
 void CollisionPairs<T>::findPairsByCell(int t, long long lo, long long hi) {
-  Found* const mine = &found_[std::size_t(t) * assemblers()];
+  const Filer file = filer(&found_[std::size_t(t) * assemblers()]);
   std::vector<std::uint32_t>& found = cell_found_[std::size_t(t)];
   const std::vector<std::uint32_t>& sorted = grid_.sorted();
   try {
     for (long long s = lo; s < hi;) {
       if (out_of_memory_.set.load(std::memory_order_relaxed)) return;
-      const glm::ivec3 cell = grid_.cellOfPoint(sorted[std::size_t(s)]);
-      long long e = s + 1;  // the cell's points in this share: slots [s, e)
-      while (e < hi && grid_.cellOfPoint(sorted[std::size_t(e)]) == cell)
-        ++e;
+      const std::uint32_t at = sorted[std::size_t(s)];
+      const glm::ivec3 cell = grid_.cellOfPoint(at);
+      // the cell's points in this share: slots [s, e), to the end of its bucket (dense: a bucket is a cell)
+      const long long e = std::min(hi, (long long)grid_.bucketEnd(at));
       const auto p0 = std::uint32_t(s), p1 = std::uint32_t(e);
       CellRange ranges[kCellRanges];
       int count_of = 0;
@@ -190,8 +212,7 @@ void CollisionPairs<T>::findPairsByCell(int t, long long lo, long long hi) {
       std::uint32_t *const points = found.data(), *const slots = found.data() + room;
       const int pairs = count_of > 0 ? scanCellSlots(scan_, p0, p1, ranges, count_of, points, slots) : 0;
       for (int k = 0; k < pairs; ++k)
-        consider(sorted[points[k]], sorted[slots[k]],
-                 squaredDistance(vec3(sx_[points[k]], sy_[points[k]], sz_[points[k]]), slots[k]), mine);
+        file(sorted[points[k]], sorted[slots[k] & ~kFarBit], slots[k] & kFarBit);
       s = e;
     }
   } catch (const std::bad_alloc&) {
@@ -255,8 +276,21 @@ void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
           a->resize(n + kPairScanPad);  // the pad is read by the kernels' last vectors, whose lanes there are dropped
         for (std::vector<T>* a : {&su_, &sv_})
           std::fill(a->begin() + std::ptrdiff_t(n), a->end(), T(0));
-        scan_ = ScanArgs{sx_.data(), sy_.data(), sz_.data(), su_.data(),    sv_.data(), 0, 0,
-                         0,          0,          0,          reach * reach, 0,          0, T(-1)};
+        scan_ = ScanArgs{sx_.data(),
+                         sy_.data(),
+                         sz_.data(),
+                         su_.data(),
+                         sv_.data(),
+                         0,
+                         0,
+                         0,
+                         0,
+                         0,
+                         reach * reach,
+                         0,
+                         0,
+                         T(-1),
+                         near_reach_ * near_reach_};
         if (by_offset_) {
           scan_.a2 = a2_;
           scan_.b2 = b2_;
@@ -438,7 +472,6 @@ template void CollisionPairs<float>::assembleLists(std::size_t);
 template void CollisionPairs<float>::assembleBounds(std::size_t, std::size_t);
 template void CollisionPairs<float>::finishBuild(const std::vector<vec3>&);
 template int CollisionPairs<float>::scanSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t*) const;
-template void CollisionPairs<float>::consider(std::uint32_t, std::uint32_t, float, Found*) const;
 template void CollisionPairs<float>::findPairs(const std::vector<vec3>&, int, long long, long long);
 template void CollisionPairs<float>::setPoint(ScanArgs&, const std::vector<vec3>&, std::size_t) const;
 template void CollisionPairs<float>::findPairsByCell(int, long long, long long);
@@ -451,7 +484,6 @@ template void CollisionPairs<double>::assembleLists(std::size_t);
 template void CollisionPairs<double>::assembleBounds(std::size_t, std::size_t);
 template void CollisionPairs<double>::finishBuild(const std::vector<vec3>&);
 template int CollisionPairs<double>::scanSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t*) const;
-template void CollisionPairs<double>::consider(std::uint32_t, std::uint32_t, double, Found*) const;
 template void CollisionPairs<double>::findPairs(const std::vector<vec3>&, int, long long, long long);
 template void CollisionPairs<double>::setPoint(ScanArgs&, const std::vector<vec3>&, std::size_t) const;
 template void CollisionPairs<double>::findPairsByCell(int, long long, long long);

@@ -125,7 +125,11 @@ struct PairScanArgs {
   float a2, b2;            // the grid's squared steps along u and v at rest
   // An offset whose nominal squared distance du^2 a2 + dv^2 b2 is under near_below is held or on the stencil.
   float near_below;
+  // scanCell: a candidate at a squared distance of near2 or more (not a NaN) is a far one, its slot marked kFarSlot
+  float near2;
 };
+// The mark of a far candidate's slot from scanCell (a slot is below 2^31: CollisionPairs takes at most 2^31 points)
+inline constexpr std::uint32_t kFarSlot = std::uint32_t(1) << 31;
 
 // A range of candidate slots for GridKernels::scanCell: own where it is the cell's own row, whose slots up to each
 // point's own are not its candidates.
@@ -283,9 +287,10 @@ struct GridKernels {
   int (*scanPairs)(const PairScanArgs&, std::uint32_t first, std::uint32_t last, std::uint32_t* out);
   // scanPairs for the points at slots [p0, p1) of the same arrays (PairScanArgs' px ... pv unused) against each of
   // `count` ranges of slots, each vector of candidates loaded once for all of them. Writes each pair found as its
-  // point's slot to points and its candidate's to slots, range by range, returns how many; whole vectors are stored,
-  // so each array needs kPairScanPad words past the pairs. One call a cell: a cell holds a few points (2.7 on CS184's
-  // selfCollision) and a range a few candidates, and a call a range cost 47 ns.
+  // point's slot to points and its candidate's to slots (with kFarSlot where it is far: the lane's squared distance,
+  // as the list's part needs it, from the vector that had it), range by range, returns how many; whole vectors are
+  // stored, so each array needs kPairScanPad words past the pairs. One call a cell: a cell holds a few points (2.7 on
+  // CS184's selfCollision) and a range a few candidates, and a call a range cost 47 ns.
   int (*scanCell)(const PairScanArgs&, std::uint32_t p0, std::uint32_t p1, const CellRange* ranges, int count,
                   std::uint32_t* points, std::uint32_t* slots);
   // CpuSolver::collide on the points [first, last) without meshes: each sphere, then each plane, as

@@ -389,11 +389,11 @@ struct ContactKernels : Lanes<V> {
   // scanPairs' test of the points at slots [p0, p1) against each range of slots: a cell's few points, so each
   // vector of candidates is loaded once for all of them.
   struct ScanTest {
-    F reach2, a2, b2, near_below;
+    F reach2, a2, b2, near_below, near2;
   };
   static int scanCell(const PairScanArgs& a, std::uint32_t p0, std::uint32_t p1, const CellRange* ranges, int count_of,
                       std::uint32_t* points, std::uint32_t* slots) {
-    const ScanTest test{V::set1(a.reach2), V::set1(a.a2), V::set1(a.b2), V::set1(a.near_below)};
+    const ScanTest test{V::set1(a.reach2), V::set1(a.a2), V::set1(a.b2), V::set1(a.near_below), V::set1(a.near2)};
     int count = 0;
     for (int r = 0; r < count_of; ++r)
       count += scanRange(a, test, p0, p1, ranges[r], points + count, slots + count);
@@ -401,27 +401,31 @@ struct ContactKernels : Lanes<V> {
   }
   static int scanRange(const PairScanArgs& a, const ScanTest& test, std::uint32_t p0, std::uint32_t p1,
                        const CellRange& range, std::uint32_t* points, std::uint32_t* slots) {
+    // The arrays and the range in locals: the stores below may alias anything, and the pointers were loaded again for
+    // every point
+    const float *const x = a.x, *const y = a.y, *const z = a.z, *const u = a.u, *const v = a.v;
+    const std::uint32_t last = range.last;
+    const bool own = range.own;
     int count = 0;
-    for (std::uint32_t s = range.first; s < range.last; s += kW) {
-      const F X = V::load(a.x + s), Y = V::load(a.y + s), Z = V::load(a.z + s), U = V::load(a.u + s),
-              W = V::load(a.v + s);
-      const int live = range.last - s < std::uint32_t(kW) ? (1 << (range.last - s)) - 1 : (1 << kW) - 1;
+    for (std::uint32_t s = range.first; s < last; s += kW) {
+      const F X = V::load(x + s), Y = V::load(y + s), Z = V::load(z + s), U = V::load(u + s), W = V::load(v + s);
+      const int live = last - s < std::uint32_t(kW) ? (1 << (last - s)) - 1 : (1 << kW) - 1;
       for (std::uint32_t p = p0; p < p1; ++p) {
         int lanes = live;
-        if (range.own && p >= s) {  // the slots up to the point's own are not its candidates
+        if (own && p >= s) {  // the slots up to the point's own are not its candidates
           if (p - s + 1 >= std::uint32_t(kW)) continue;
           lanes &= ~((1 << (p - s + 1)) - 1);
         }
-        const F dx = V::sub(V::set1(a.x[p]), X), dy = V::sub(V::set1(a.y[p]), Y), dz = V::sub(V::set1(a.z[p]), Z);
+        const F dx = V::sub(V::set1(x[p]), X), dy = V::sub(V::set1(y[p]), Y), dz = V::sub(V::set1(z[p]), Z);
         const F d2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
-        const F du = V::sub(U, V::set1(a.u[p])), dv = V::sub(W, V::set1(a.v[p]));
+        const F du = V::sub(U, V::set1(u[p])), dv = V::sub(W, V::set1(v[p]));
         const F nominal = V::add(V::mul(V::mul(du, du), test.a2), V::mul(V::mul(dv, dv), test.b2));
         // Within reach and not nominally near: the two compares' bits (on AVX-512 mask registers) combined, and the
         // pairs written whole vectors at a time (on AVX-512 without a branch: whether a vector holds one was
         // mispredicted at about half of them)
         const int bits = V::ltBits(d2, test.reach2) & ~V::ltBits(nominal, test.near_below) & lanes;
         V::fill(points + count, p);
-        V::storeLanes(slots + count, bits, s);
+        V::storeLanesMarked(slots + count, bits, s, V::geBits(d2, test.near2), kFarSlot);
         count += __builtin_popcount(unsigned(bits));
       }
     }

@@ -115,6 +115,8 @@ class HashGrid {
       row(dy, 1, -1, 1);
   }
   glm::ivec3 cellOfPoint(std::size_t i) const { return cells_[i]; }
+  // The slot after the last of point i's bucket: on dense buckets, the end of its cell's points in sorted()
+  std::uint32_t bucketEnd(std::size_t i) const { return start_[bucket_[i] + 1]; }
   bool inCell(std::uint32_t j, glm::ivec3 n) const { return dense_ || cells_[j] == n; }
   const std::vector<std::uint32_t>& sorted() const { return sorted_; }
 

@@ -121,6 +121,13 @@ struct Sse2 : LaneShuffles<Sse2> {
     for (int k = 0; lanes != 0; lanes &= lanes - 1, ++k)
       out[k] = base + std::uint32_t(__builtin_ctz(unsigned(lanes)));
   }
+  // storeLanes with `mark` or-ed into the words of the lanes that `marked` has
+  static void storeLanesMarked(std::uint32_t* out, int lanes, std::uint32_t base, int marked, std::uint32_t mark) {
+    for (int k = 0; lanes != 0; lanes &= lanes - 1, ++k) {
+      const int l = __builtin_ctz(unsigned(lanes));
+      out[k] = (base + std::uint32_t(l)) | ((marked >> l) & 1 ? mark : 0);
+    }
+  }
   static void fill(std::uint32_t* out, std::uint32_t v) {  // v to out[0 ... kWidth - 1]
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_set1_epi32(int(v)));
   }
@@ -215,6 +222,9 @@ struct Avx2 : LaneShuffles<Avx2> {
   static bool any(F m) { return _mm256_movemask_ps(m) != 0; }
   static int bits(F m) { return _mm256_movemask_ps(m); }
   static void storeLanes(std::uint32_t* out, int lanes, std::uint32_t base) { Sse2::storeLanes(out, lanes, base); }
+  static void storeLanesMarked(std::uint32_t* out, int lanes, std::uint32_t base, int marked, std::uint32_t mark) {
+    Sse2::storeLanesMarked(out, lanes, base, marked, mark);
+  }
   static void fill(std::uint32_t* out, std::uint32_t v) {
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_set1_epi32(int(v)));
   }
@@ -337,6 +347,12 @@ struct Avx512 : LaneShuffles<Avx512> {
     const __m512i numbers = _mm512_add_epi32(_mm512_set1_epi32(int(base)),
                                              _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
     _mm512_storeu_si512(out, _mm512_maskz_compress_epi32(__mmask16(lanes), numbers));
+  }
+  static void storeLanesMarked(std::uint32_t* out, int lanes, std::uint32_t base, int marked, std::uint32_t mark) {
+    const __m512i numbers = _mm512_add_epi32(_mm512_set1_epi32(int(base)),
+                                             _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
+    const __m512i words = _mm512_mask_or_epi32(numbers, __mmask16(marked), numbers, _mm512_set1_epi32(int(mark)));
+    _mm512_storeu_si512(out, _mm512_maskz_compress_epi32(__mmask16(lanes), words));
   }
   static void fill(std::uint32_t* out, std::uint32_t v) { _mm512_storeu_si512(out, _mm512_set1_epi32(int(v))); }
   static F min(F a, F b) { return _mm512_min_ps(a, b); }
