@@ -95,11 +95,14 @@ TEST(Bench, TinyRunHasEveryFigure) {
                      double(run.points) * run.steps_per_frame / (run.frame_ms.median * 1e-3));
     EXPECT_EQ(run.gpu_memory_bytes, -1);
     std::vector<std::string> names;
+    double pass_ms = 0;
     for (const BenchPass& p : run.passes) {
       names.push_back(p.name);
       EXPECT_EQ(p.calls_per_frame, run.steps_per_frame) << p.name;  // one call per substep
       EXPECT_GE(p.ms_per_frame, 0.0);
+      pass_ms += p.ms_per_frame;
     }
+    EXPECT_GT(pass_ms, 0.0) << "bench times the CPU's passes";
     EXPECT_EQ(names, (std::vector<std::string>{"forces", "integrate", "limit_stretch"}));
   }
   const nlohmann::json j = benchJson(report);

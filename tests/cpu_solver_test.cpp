@@ -243,6 +243,35 @@ TEST(CpuSolver, PassesLeftOutWhenTheSceneDoesNotNeedThem) {
             (std::vector<std::string>{"forces", "integrate", "self_collide", "collide"}));
 }
 
+// Without pass timing the passes are counted and never timed; with it (the default) each takes some time. The bytes
+// are the same either way.
+TEST(CpuSolver, PassTimingOffCountsThePassesAndTimesNone) {
+  const Scene scene = standardScene("selfCollision.json");
+  for (const int threads : {1, 2}) {
+    CpuSolver<float> timed(scene, CpuSolverOptions{.threads = threads, .team_min_points = 0});
+    CpuSolver<float> counted(scene, CpuSolverOptions{.threads = threads, .team_min_points = 0, .pass_timing = false});
+    for (int f = 0; f < 2; ++f) {
+      timed.stepFrame();
+      counted.stepFrame();
+    }
+    const int substeps = 2 * scene.sim.steps_per_frame;
+    double total = 0;
+    for (const PassTiming& t : timed.timings()) {
+      EXPECT_EQ(t.calls, substeps) << t.name;
+      total += t.ms;
+    }
+    EXPECT_GT(total, 0.0);
+    std::vector<std::string> names;
+    for (const PassTiming& t : counted.timings()) {
+      names.push_back(t.name);
+      EXPECT_EQ(t.calls, substeps) << t.name;
+      EXPECT_EQ(t.ms, 0.0) << t.name;
+    }
+    EXPECT_EQ(names, counted.passes());
+    EXPECT_EQ(timed.positions(), counted.positions()) << threads << " threads";
+  }
+}
+
 }  // namespace
 }  // namespace drape
 

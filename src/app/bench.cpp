@@ -76,7 +76,9 @@ BenchRun benchOne(SolverFactory& factory, const Scene& original, const std::stri
   std::unique_ptr<Solver> solver;
   try {
     solver = factory.make(scene, solver_name,
-                          {.threads = threads, .team_always = o.team_always && !isGpuSolver(solver_name)});
+                          {.pass_timing = !isGpuSolver(solver_name),
+                           .threads = threads,
+                           .team_always = o.team_always && !isGpuSolver(solver_name)});
   } catch (const SkippedRun& e) {
     run.skipped = e.what();
     return run;

@@ -45,6 +45,7 @@ SolverFactory::~SolverFactory() = default;
 std::unique_ptr<Solver> SolverFactory::make(const Scene& scene, const std::string& name, SolverRequest request) {
   const MemoryStage stage(fmt::format("building the {} solver for {} points", name, scene.cloth.pointCount()));
   CpuSolverOptions cpu{.threads = request.threads, .skip_held_pairs = !request.collide_held_pairs};
+  cpu.pass_timing = request.pass_timing;
   if (request.team_always) cpu.team_min_points = 0;
   if (name == "cpu") return std::make_unique<CpuSolver<float>>(scene, cpu);
   if (name == "cpu64") return std::make_unique<CpuSolver<double>>(scene, cpu);
@@ -52,7 +53,8 @@ std::unique_ptr<Solver> SolverFactory::make(const Scene& scene, const std::strin
     return std::make_unique<CpuSolver<float>>(scene, CpuSolverOptions{.form = VerletForm::PreviousPosition,
                                                                       .threads = request.threads,
                                                                       .skip_held_pairs = !request.collide_held_pairs,
-                                                                      .team_min_points = cpu.team_min_points});
+                                                                      .team_min_points = cpu.team_min_points,
+                                                                      .pass_timing = cpu.pass_timing});
   if (isGpuSolver(name)) {
     if (request.collide_held_pairs)
       throw CommandError(kExitBadInput, "--collide-held-pairs: the CPU solvers only (cpu, cpu64)");

@@ -58,8 +58,10 @@ struct SolverFactoryOptions {
 };
 
 struct SolverRequest {
-  bool pass_timing = false;  // GPU: time every pass (timer queries, or glFinish around each where none work)
-  int threads = 0;           // CPU solvers' OpenMP threads (0 = every core; the bytes do not depend on it)
+  // Time every pass: the GPU's by timer queries, or glFinish around each where none work; the CPU's by the wall clock
+  // (CpuSolverOptions::pass_timing). Off, timings() only counts them.
+  bool pass_timing = false;
+  int threads = 0;  // CPU solvers' OpenMP threads (0 = every core; the bytes do not depend on it)
   // CPU solvers: self-collision also between the pairs the springs hold (closer than 2 x thickness at rest),
   // as CS184 does, to measure what skipping them changes (CpuSolverOptions::skip_held_pairs false).
   bool collide_held_pairs = false;

@@ -59,7 +59,8 @@ void runView(const ViewOptions& o) {
   // which costs no wait. Without GPU timers (llvmpipe), timing would drain the pipeline around every
   // dispatch, so the panel shows dispatch counts only.
   SolverFactory factory({.use_current_context = true});
-  std::unique_ptr<Solver> solver = factory.make(scene, o.solver, {.pass_timing = gl::timerQueriesWork()});
+  std::unique_ptr<Solver> solver =
+      factory.make(scene, o.solver, {.pass_timing = !isGpuSolver(o.solver) || gl::timerQueriesWork()});
   ViewerOptions options;
   options.renderer.sphere_latitudes = o.latitudes;
   options.renderer.sphere_longitudes = o.longitudes;

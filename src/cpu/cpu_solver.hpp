@@ -72,6 +72,9 @@ struct CpuSolverOptions {
   // moved point and its clearing at the next pass, which nothing else reads (pinned2 at 256^2 on one thread: 0.99
   // of the run's time without them).
   bool keep_self_corrections = false;
+  // The wall clock around each pass, for timings() (bench, the viewer); false only counts the passes, as
+  // `drape simulate` runs them: two clock reads a pass on every thread of a team.
+  bool pass_timing = true;
 };
 
 template <class T>
@@ -231,6 +234,7 @@ class CpuSolver final : public Solver {
   // substeps the list before them lasted (-1: unknown)
   static constexpr long long kSettledSubsteps = 256, kBusySubsteps = 32;
   bool adaptive_skin_ = true, wide_skin_ = true;
+  bool pass_timing_ = true;
   int skin_switches_ = 0;
   long long list_built_at_ = -1, last_list_life_ = -1;
   double shortest_spring_ = 0;  // m, the shortest structural spring's rest length
