@@ -380,8 +380,8 @@ class CollisionPairs {
                     std::uint32_t* points, std::uint32_t* slots) const;
   BuildOrder build_order_ = BuildOrder::ByCell;
   void setPoint(ScanArgs& scan, const std::vector<vec3>& x, std::size_t i) const;
-  // The list's tables in locals, for the loops that file a build's pairs (the members, reloaded after every pair a
-  // vector stores, were half of findPairsByCell's own time): f(i, j, far), far kFarBit or 0
+  // The list's tables in locals, for the loops that file a build's pairs (as members they were loaded again after
+  // every pair a vector stored, which may alias them): f(i, j, far), far kFarBit or 0
   struct Filer {
     Found* mine;                  // the finding thread's found_, assemblers() of them
     const std::uint32_t* bounds;  // assemble_bounds_
