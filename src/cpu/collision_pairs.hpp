@@ -380,19 +380,8 @@ class CollisionPairs {
                     std::uint32_t* points, std::uint32_t* slots) const;
   BuildOrder build_order_ = BuildOrder::ByCell;
   void setPoint(ScanArgs& scan, const std::vector<vec3>& x, std::size_t i) const;
-  // The list's tables in locals, for the loops that file a build's pairs (as members they were loaded again after
-  // every pair a vector stored, which may alias them): f(i, j, far), far kFarBit or 0
-  struct Filer {
-    Found* mine;                  // the finding thread's found_, assemblers() of them
-    const std::uint32_t* bounds;  // assemble_bounds_
-    bool one;                     // one share to assemble: every pair to mine[0]
-    const std::uint16_t *u, *v;   // the columns and rows, where pairs are classed by offset (by_offset_)
-    const std::uint8_t* kind;     // kind_ there, else null
-    int box;
-    const vec3* rest;  // without the table: the rest shape, or null
-    T range;
-    void operator()(std::uint32_t i, std::uint32_t j, std::uint32_t far) const;
-  };
+  // The list's tables in locals, for the loops that file a build's pairs (collision_pairs_build.cpp)
+  struct Filer;
   Filer filer(Found* mine) const;
   // |p - (the candidate at slot s of the grid's order)|^2, as glm::dot sums it
   T squaredDistance(vec3 p, std::uint32_t s) const {

@@ -68,6 +68,21 @@ int CollisionPairs<T>::scanSlots(const ScanArgs& a, std::uint32_t first, std::ui
   return count;
 }
 
+// The list's tables in locals, for the loops that file a build's pairs (as members they were loaded again after every
+// pair a vector stored, which may alias them): f(i, j, far), far kFarBit or 0
+template <class T>
+struct CollisionPairs<T>::Filer {
+  Found* mine;                  // the finding thread's found_, assemblers() of them
+  const std::uint32_t* bounds;  // assemble_bounds_
+  bool one;                     // one share to assemble: every pair to mine[0]
+  const std::uint16_t *u, *v;   // the columns and rows, where pairs are classed by offset (by_offset_)
+  const std::uint8_t* kind;     // kind_ there, else null
+  int box;
+  const vec3* rest;  // without the table: the rest shape, or null
+  T range;
+  void operator()(std::uint32_t i, std::uint32_t j, std::uint32_t far) const;
+};
+
 template <class T>
 typename CollisionPairs<T>::Filer CollisionPairs<T>::filer(Found* mine) const {
   Filer f{mine, assemble_bounds_.data(), assemblers() == 1, nullptr, nullptr, nullptr, box_, nullptr, range_};
@@ -398,33 +413,6 @@ void CollisionPairs<T>::assembleLists(std::size_t n) {
   teamBarrier();
 }
 
-// assembleLists' shares of the points, each with about as many of the last build's entries and points as the next:
-// where a cloth folds its points have the most (CS184's selfCollision on two threads: one of even shares of the
-// points took 1.5 times as long as the other). Even shares where no lists were built for as many points.
-template <class T>
-void CollisionPairs<T>::assembleBounds(std::size_t n, std::size_t shares) {
-  assemble_bounds_.assign(shares + 1, std::uint32_t(n));
-  assemble_bounds_[0] = 0;
-  // A point's cost: its entries, where the last lists were built for as many points, and itself
-  const bool last = near_.start.size() == n + 1 && far_.start.size() == n + 1;
-  const auto before = [&](std::size_t i) {
-    return (last ? std::uint64_t(near_.start[i]) + far_.start[i] : 0) + i;  // the cost of the points before i
-  };
-  for (std::size_t d = 1; d < shares; ++d) {
-    // The first point whose points before it reach share d's start (their cost only grows with it)
-    const std::uint64_t target = before(n) * d / shares;
-    std::size_t lo = 0, hi = n;
-    while (lo < hi) {
-      const std::size_t mid = lo + (hi - lo) / 2;
-      if (before(mid) < target)
-        lo = mid + 1;
-      else
-        hi = mid;
-    }
-    assemble_bounds_[d] = std::uint32_t(lo);
-  }
-}
-
 // The build's anchors (the positions it was made from, and their padded copy) and the check's bounds. In a team every
 // thread calls it, the copies split by points: on one thread of two, at 256^2, the other waited through it.
 template <class T>
@@ -469,7 +457,6 @@ template void CollisionPairs<float>::build(const std::vector<vec3>&, int);
 template void CollisionPairs<float>::prepareBuild(const std::vector<vec3>&, int);
 template void CollisionPairs<float>::sizeLists(std::size_t);
 template void CollisionPairs<float>::assembleLists(std::size_t);
-template void CollisionPairs<float>::assembleBounds(std::size_t, std::size_t);
 template void CollisionPairs<float>::finishBuild(const std::vector<vec3>&);
 template int CollisionPairs<float>::scanSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t*) const;
 template void CollisionPairs<float>::findPairs(const std::vector<vec3>&, int, long long, long long);
@@ -481,7 +468,6 @@ template void CollisionPairs<double>::build(const std::vector<vec3>&, int);
 template void CollisionPairs<double>::prepareBuild(const std::vector<vec3>&, int);
 template void CollisionPairs<double>::sizeLists(std::size_t);
 template void CollisionPairs<double>::assembleLists(std::size_t);
-template void CollisionPairs<double>::assembleBounds(std::size_t, std::size_t);
 template void CollisionPairs<double>::finishBuild(const std::vector<vec3>&);
 template int CollisionPairs<double>::scanSlots(const ScanArgs&, std::uint32_t, std::uint32_t, std::uint32_t*) const;
 template void CollisionPairs<double>::findPairs(const std::vector<vec3>&, int, long long, long long);
