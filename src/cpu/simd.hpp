@@ -116,12 +116,8 @@ struct Sse2 : LaneShuffles<Sse2> {
   static F ge(F a, F b) { return _mm_cmpge_ps(a, b); }  // false where either is NaN
   static bool any(F m) { return _mm_movemask_ps(m) != 0; }
   static int bits(F m) { return _mm_movemask_ps(m); }  // lane l's mask in bit l
-  // base + l for each bit l of `lanes`, ascending, to out[0 ...]; every lane's word may be written
-  static void storeLanes(std::uint32_t* out, int lanes, std::uint32_t base) {
-    for (int k = 0; lanes != 0; lanes &= lanes - 1, ++k)
-      out[k] = base + std::uint32_t(__builtin_ctz(unsigned(lanes)));
-  }
-  // storeLanes with `mark` or-ed into the words of the lanes that `marked` has
+  // base + l for each bit l of `lanes`, ascending, to out[0 ...], `mark` or-ed into the words of the lanes that
+  // `marked` has; every lane's word may be written
   static void storeLanesMarked(std::uint32_t* out, int lanes, std::uint32_t base, int marked, std::uint32_t mark) {
     for (int k = 0; lanes != 0; lanes &= lanes - 1, ++k) {
       const int l = __builtin_ctz(unsigned(lanes));
@@ -221,7 +217,6 @@ struct Avx2 : LaneShuffles<Avx2> {
   static F ge(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
   static bool any(F m) { return _mm256_movemask_ps(m) != 0; }
   static int bits(F m) { return _mm256_movemask_ps(m); }
-  static void storeLanes(std::uint32_t* out, int lanes, std::uint32_t base) { Sse2::storeLanes(out, lanes, base); }
   static void storeLanesMarked(std::uint32_t* out, int lanes, std::uint32_t base, int marked, std::uint32_t mark) {
     Sse2::storeLanesMarked(out, lanes, base, marked, mark);
   }
@@ -343,11 +338,6 @@ struct Avx512 : LaneShuffles<Avx512> {
   static int geBits(F a, F b) { return int(_mm512_cmp_ps_mask(a, b, _CMP_GE_OQ)); }
   // The lanes' numbers compressed in a register and stored whole: no branch a lane (the memory form of compress is
   // microcoded on Intel)
-  static void storeLanes(std::uint32_t* out, int lanes, std::uint32_t base) {
-    const __m512i numbers = _mm512_add_epi32(_mm512_set1_epi32(int(base)),
-                                             _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
-    _mm512_storeu_si512(out, _mm512_maskz_compress_epi32(__mmask16(lanes), numbers));
-  }
   static void storeLanesMarked(std::uint32_t* out, int lanes, std::uint32_t base, int marked, std::uint32_t mark) {
     const __m512i numbers = _mm512_add_epi32(_mm512_set1_epi32(int(base)),
                                              _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
