@@ -44,8 +44,8 @@ SolverFactory::~SolverFactory() = default;
 
 std::unique_ptr<Solver> SolverFactory::make(const Scene& scene, const std::string& name, SolverRequest request) {
   const MemoryStage stage(fmt::format("building the {} solver for {} points", name, scene.cloth.pointCount()));
-  CpuSolverOptions cpu{.threads = request.threads, .skip_held_pairs = !request.collide_held_pairs};
-  cpu.pass_timing = request.pass_timing;
+  CpuSolverOptions cpu{
+      .threads = request.threads, .skip_held_pairs = !request.collide_held_pairs, .pass_timing = request.pass_timing};
   if (request.team_always) cpu.team_min_points = 0;
   if (name == "cpu") return std::make_unique<CpuSolver<float>>(scene, cpu);
   if (name == "cpu64") return std::make_unique<CpuSolver<double>>(scene, cpu);

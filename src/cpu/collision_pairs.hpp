@@ -263,8 +263,8 @@ class CollisionPairs {
   int sharedRow(long long y0) const { return edge_ > 0 && y0 % edge_ != 0 ? int(y0 / edge_) : -1; }
   void makeStencil();
   struct ScanArgs {  // GridKernels' PairScanArgs in T
-    const T *x, *y, *z, *u, *v;
-    T px, py, pz, pu, pv, reach2, a2, b2, near_below, near2;
+    const T *x = nullptr, *y = nullptr, *z = nullptr, *u = nullptr, *v = nullptr;
+    T px = 0, py = 0, pz = 0, pu = 0, pv = 0, reach2 = 0, a2 = 0, b2 = 0, near_below = 0, near2 = 0;
   };
   int scanSlots(const ScanArgs& a, std::uint32_t first, std::uint32_t last, std::uint32_t* out) const;
   bool onGrid(int u, int v) const { return u >= 0 && u < w_ && v >= 0 && v < h_; }
@@ -383,10 +383,11 @@ class CollisionPairs {
   // The list's tables in locals, for the loops that file a build's pairs (collision_pairs_build.cpp)
   struct Filer;
   Filer filer(Found* mine) const;
-  // |p - (the candidate at slot s of the grid's order)|^2, as glm::dot sums it
-  T squaredDistance(vec3 p, std::uint32_t s) const {
+  // The part of the candidate at slot s of the grid's order for p: kFarBit where |p - it|^2 (as glm::dot sums it) is
+  // not under the near entries' reach, else 0 (a NaN distance is near). The scalar twin of scanCell's kFarSlot.
+  std::uint32_t farMark(vec3 p, std::uint32_t s) const {
     const T dx = p.x - sx_[s], dy = p.y - sy_[s], dz = p.z - sz_[s];
-    return dx * dx + dy * dy + dz * dz;
+    return dx * dx + dy * dy + dz * dz >= near_reach_ * near_reach_ ? kFarBit : 0;
   }
   std::vector<std::vector<std::uint32_t>> cell_found_;  // findPairsByCell's pairs of slots, per thread
   void sizeLists(std::size_t n);                        // serial: the lists sized for the pairs found

@@ -131,7 +131,6 @@ void CollisionPairs<T>::findPairs(const std::vector<vec3>& x, int t, long long l
   const MemoryStage stage("listing the self-collision candidates of " + std::to_string(x.size()) + " points");
   if (grid_.dense() && build_order_ == BuildOrder::ByCell) return findPairsByCell(t, lo, hi);
   const Filer file = filer(&found_[std::size_t(t) * assemblers()]);  // cleared by prepareBuild
-  const T near2 = near_reach_ * near_reach_;
   std::vector<std::uint32_t> slots;
   ScanArgs scan = scan_;
   const std::vector<std::uint32_t>& sorted = grid_.sorted();
@@ -145,7 +144,7 @@ void CollisionPairs<T>::findPairs(const std::vector<vec3>& x, int t, long long l
         const int found = scanSlots(scan, first, last, slots.data());
         for (int k = 0; k < found; ++k) {
           const std::uint32_t s = slots[std::size_t(k)], j = sorted[s];
-          if (grid_.inCell(j, cell)) file(std::uint32_t(i), j, squaredDistance(x[i], s) >= near2 ? kFarBit : 0);
+          if (grid_.inCell(j, cell)) file(std::uint32_t(i), j, farMark(x[i], s));
         }
       });
     } catch (const std::bad_alloc&) {
@@ -189,7 +188,7 @@ int CollisionPairs<T>::scanCellSlots(const ScanArgs& a, std::uint32_t p0, std::u
       const int found = scanSlots(at, from, range.last, slots + count);
       std::fill(points + count, points + count + found, p);
       for (std::uint32_t& s : std::span(slots + count, std::size_t(found)))
-        s |= squaredDistance(vec3(at.px, at.py, at.pz), s) >= a.near2 ? kFarBit : 0;
+        s |= farMark(vec3(at.px, at.py, at.pz), s);
       count += found;
     }
   return count;
@@ -291,21 +290,14 @@ void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
           a->resize(n + kPairScanPad);  // the pad is read by the kernels' last vectors, whose lanes there are dropped
         for (std::vector<T>* a : {&su_, &sv_})
           std::fill(a->begin() + std::ptrdiff_t(n), a->end(), T(0));
-        scan_ = ScanArgs{sx_.data(),
-                         sy_.data(),
-                         sz_.data(),
-                         su_.data(),
-                         sv_.data(),
-                         0,
-                         0,
-                         0,
-                         0,
-                         0,
-                         reach * reach,
-                         0,
-                         0,
-                         T(-1),
-                         near_reach_ * near_reach_};
+        scan_ = ScanArgs{.x = sx_.data(),
+                         .y = sy_.data(),
+                         .z = sz_.data(),
+                         .u = su_.data(),
+                         .v = sv_.data(),
+                         .reach2 = reach * reach,
+                         .near_below = T(-1),
+                         .near2 = near_reach_ * near_reach_};
         if (by_offset_) {
           scan_.a2 = a2_;
           scan_.b2 = b2_;
