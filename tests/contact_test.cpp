@@ -396,6 +396,49 @@ TEST(HeldPairs, AFineClothListsNoPairTheSpringsHold) {
   EXPECT_NEAR(held.closest, 1.0 / 99, 1e-9);
 }
 
+// heldPairsAtRest against every pair tested: a fine cloth (the grid's dense cells, a hundred points a cell), a
+// cloud spread wide (hashed buckets, whose cells share buckets) and a few points (runs of one), with exact counts.
+TEST(HeldPairs, CountEveryPairCloserThanTheRange) {
+  const auto brute = [](const std::vector<dvec3>& p, double range) {
+    HeldPairs h;
+    double closest2 = range * range;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      for (std::size_t j = i + 1; j < p.size(); ++j) {
+        const dvec3 d = p[i] - p[j];
+        const double d2 = d.x * d.x + d.y * d.y + d.z * d.z;
+        if (d2 < range * range) {
+          ++h.count;
+          closest2 = std::min(closest2, d2);
+        }
+      }
+    h.closest = h.count ? std::sqrt(closest2) : 0.0;
+    return h;
+  };
+  Scene fine = cs184File("pinned2.json");
+  fine.cloth.num_width_points = 61;
+  fine.cloth.num_height_points = 47;
+  fine.cloth.orientation = Orientation::Vertical;  // the points' small offsets off the plane
+  std::vector<dvec3> cloud;
+  std::uint32_t seed = 12345;
+  const auto next = [&seed] {
+    seed = seed * 1664525u + 1013904223u;
+    return double(seed >> 8) / double(1u << 24);
+  };
+  for (int i = 0; i < 3001; ++i)
+    cloud.push_back(i % 3 == 0 ? dvec3(next(), next(), next()) * 40.0 : dvec3(next(), next(), next()) * 0.3);
+  const std::vector<std::pair<std::vector<dvec3>, double>> cases = {
+      {buildTopology(fine.cloth).initial_positions, 2 * fine.cloth.thickness * 3},
+      {cloud, 0.02},
+      {{dvec3(0), dvec3(0.01, 0, 0), dvec3(0, 0.03, 0)}, 0.02},
+  };
+  for (const auto& [points, range] : cases) {
+    const HeldPairs want = brute(points, range), got = heldPairsAtRest(points, range);
+    EXPECT_GT(want.count, 0u) << points.size();
+    EXPECT_EQ(got.count, want.count) << points.size();
+    EXPECT_EQ(got.closest, want.closest) << points.size();
+  }
+}
+
 // `drape simulate --collide-held-pairs` (the command that shows the CS184 files' bytes unchanged): the factory
 // hands it to the CPU solvers, whose result it changes where pairs are held, and refuses it for the GPU.
 TEST(HeldPairs, TheFactoryCollidesThemWhenAsked) {
