@@ -14,6 +14,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace drape {
@@ -210,6 +211,72 @@ TEST(ContactKernels, TheTileComparisonAnswersAsTheScalarOne) {
       EXPECT_TRUE(x87Usable()) << "the tile comparison left the x87 registers to MMX";
     }
   }
+}
+
+// filePairs against the build's rule written out: each slot's point, the pair passed over where its offset lies in
+// the box and the table does not list it, else {lower, upper | far} to the share of its lower end, in order. Random
+// pairs, a third of them offsets in the box (so every kind is met), far marks, a split through the points or past
+// them all, and counts that do not fill the last vector.
+TEST(ContactKernels, FilePairsKeepsWhatTheBuildsRuleKeepsInOrder) {
+  constexpr int kW = 37, kH = 29, kBox = 3, kSide = 2 * kBox + 1;
+  const std::uint32_t n = kW * kH;
+  std::mt19937 rng(5);
+  std::vector<std::uint32_t> sorted(n), uv(n);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    sorted[i] = i;
+    uv[i] = (i % kW) | (i / kW) << 16;
+  }
+  std::shuffle(sorted.begin(), sorted.end(), rng);
+  std::vector<std::uint32_t> slot_of(n);
+  for (std::uint32_t s = 0; s < n; ++s)
+    slot_of[sorted[s]] = s;
+  std::vector<std::int32_t> kind(kSide * kSide);
+  for (std::int32_t& k : kind)
+    k = std::int32_t(rng() % 3);  // list, held, stencil
+  std::uniform_int_distribution<std::uint32_t> any(0, n - 1);
+  std::uniform_int_distribution<int> near(-kBox - 1, kBox + 1);
+  std::vector<std::uint32_t> points, slots;
+  for (int k = 0; k < 1000; ++k) {
+    std::uint32_t i = any(rng), j = any(rng);
+    if (k % 3 == 0) {  // an offset in (or just off) the box, on the grid
+      const int u = std::clamp(int(i % kW) + near(rng), 0, kW - 1), v = std::clamp(int(i / kW) + near(rng), 0, kH - 1);
+      j = std::uint32_t(v * kW + u);
+    }
+    points.push_back(slot_of[i]);
+    slots.push_back(slot_of[j] | (rng() % 2 ? kFarSlot : 0));
+  }
+  for (const int count : {0, 1, 15, 16, 17, 999, 1000})
+    for (const std::uint32_t split : {n / 3, ~std::uint32_t(0)}) {
+      std::vector<FiledPair> expected[2];
+      for (int k = 0; k < count; ++k) {
+        const std::uint32_t i = sorted[points[std::size_t(k)]], j = sorted[slots[std::size_t(k)] & ~kFarSlot];
+        const int du = int(j % kW) - int(i % kW), dv = int(j / kW) - int(i / kW);
+        if (std::abs(du) <= kBox && std::abs(dv) <= kBox && kind[std::size_t((dv + kBox) * kSide + du + kBox)] != 0)
+          continue;
+        const FiledPair pair{std::min(i, j), std::max(i, j) | (slots[std::size_t(k)] & kFarSlot)};
+        expected[pair.lower >= split].push_back(pair);
+      }
+      if (split > n) {
+        ASSERT_TRUE(expected[1].empty());
+      }
+      for (const GridKernels* kern : kernelSets()) {
+        SCOPED_TRACE(std::string(kern->name) + " count " + std::to_string(count) + " split " + std::to_string(split));
+        const PairFileArgs args{sorted.data(), uv.data(), kind.data(), kBox, split};
+        std::vector<FiledPair> got[2];
+        for (std::vector<FiledPair>& g : got)
+          g.assign(std::size_t(count) + kPairScanPad, FiledPair{7, 7});
+        FiledPair* const out[2] = {got[0].data(), split > n ? nullptr : got[1].data()};
+        int counts[2] = {-1, -1};
+        kern->filePairs(args, points.data(), slots.data(), count, out, counts);
+        for (int d = 0; d < 2; ++d) {
+          ASSERT_EQ(counts[d], int(expected[d].size())) << "share " << d;
+          for (std::size_t k = 0; k < expected[d].size(); ++k) {
+            EXPECT_EQ(got[d][k].lower, expected[d][k].lower) << "share " << d << " pair " << k;
+            EXPECT_EQ(got[d][k].upper, expected[d][k].upper) << "share " << d << " pair " << k;
+          }
+        }
+      }
+    }
 }
 
 }  // namespace

@@ -36,9 +36,11 @@ void CollisionPairs<T>::setGrid(int w, int h) {
   const std::size_t n = std::size_t(w) * std::size_t(h);
   u_.resize(n);
   v_.resize(n);
+  uv_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     u_[i] = std::uint16_t(i % std::size_t(w));
     v_[i] = std::uint16_t(i / std::size_t(w));
+    uv_[i] = std::uint32_t(u_[i]) | std::uint32_t(v_[i]) << 16;
   }
   stencil_range_ = stencil_margin_ = -1;
   tiled_ = std::size_t(-1);
@@ -61,6 +63,7 @@ void CollisionPairs<T>::makeStencil() {
   dv_.clear();
   mixed_.clear();
   kind_.clear();
+  kind_words_.clear();
   forward_bits_ = 0;
   box_ = -1;
   stencil_range_ = range_;
@@ -105,6 +108,7 @@ void CollisionPairs<T>::makeStencil() {
         mixed_.push_back(straddles[k]);
       }
     }
+  kind_words_.assign(kind_.begin(), kind_.end());
   // What scanPairs passes over without a look at the table: the offsets held or on the stencil are exactly
   // those under reach + slack, less a margin for the float arithmetic of the nominal distance.
   a2_ = T(glm::dot(a, a));

@@ -273,9 +273,7 @@ class CollisionPairs {
   enum OffsetKind : std::uint8_t { kList, kHeld, kStencil };
 
   // A pair as the build found it: its lower end, and its upper end with kFarBit set where it is a far entry
-  struct Pair {
-    std::uint32_t lower, upper;
-  };
+  using Pair = FiledPair;
   static constexpr std::uint32_t kFarBit = kFarSlot;  // as scanCell marks a far candidate's slot
   HashGrid<T> grid_;
   // The pairs thread t found whose lower ends are in the points [assemble_bounds_[d], assemble_bounds_[d + 1]), which
@@ -373,6 +371,8 @@ class CollisionPairs {
   int w_ = 0, h_ = 0;                 // the grid, or 0 x 0
   std::vector<std::uint16_t> u_, v_;  // each point's grid column and row
   std::vector<std::uint8_t> kind_;    // OffsetKind per offset of the box [-box_, box_]^2
+  std::vector<std::uint32_t> uv_;     // u_ | v_ << 16, and kind_ as words, for GridKernels::filePairs' gathers
+  std::vector<std::int32_t> kind_words_;
   void prepareBuild(const std::vector<vec3>& x, int threads);
   void findPairs(const std::vector<vec3>& x, int thread, long long first, long long last);
   void findPairsByCell(int thread, long long first, long long last);
@@ -389,8 +389,10 @@ class CollisionPairs {
     const T dx = p.x - sx_[s], dy = p.y - sy_[s], dz = p.z - sz_[s];
     return dx * dx + dy * dy + dz * dz >= near_reach_ * near_reach_ ? kFarBit : 0;
   }
-  std::vector<std::vector<std::uint32_t>> cell_found_;  // findPairsByCell's pairs of slots, per thread
-  void sizeLists(std::size_t n);                        // serial: the lists sized for the pairs found
+  // findPairsByCell's pairs of slots, per thread, as scanCell writes them: a batch of cells' at a time
+  std::vector<std::vector<std::uint32_t>> cell_points_, cell_slots_;
+  void fileFound(const Filer& file, const std::uint32_t* points, const std::uint32_t* slots, std::size_t count) const;
+  void sizeLists(std::size_t n);  // serial: the lists sized for the pairs found
   void assembleLists(std::size_t n);
   void assembleBounds(std::size_t n, std::size_t shares);  // serial: assemble_bounds_
   void finishBuild(const std::vector<vec3>& x);

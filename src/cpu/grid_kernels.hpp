@@ -139,6 +139,20 @@ struct CellRange {
 };
 inline constexpr int kCellRanges = 5;  // a cell's forward ranges at most (HashGrid::forEachForwardRange)
 
+// A self-collision pair as a build files it (CollisionPairs::Pair): its lower end, and its upper end with kFarSlot set
+// where it is a far entry.
+struct FiledPair {
+  std::uint32_t lower, upper;
+};
+// GridKernels::filePairs' tables, of a grid cloth's build
+struct PairFileArgs {
+  const std::uint32_t* sorted;  // the point at each slot of the build's grid order
+  const std::uint32_t* uv;      // each point's column | row << 16
+  const std::int32_t* kind;  // CollisionPairs::OffsetKind of each offset (du, dv) of the box [-box, box]^2, row by row
+  int box;
+  std::uint32_t split;  // a pair whose lower end is under split goes to the first output, the others to the second
+};
+
 // A self-collision pair within range, as GridKernels::pairTerms finds it: physics::selfCollisionCorrections
 // from both ends and the cellOrder of each end's partner (CollisionPairs' sum order).
 struct PairTermOut {
@@ -293,6 +307,12 @@ struct GridKernels {
   // CS184's selfCollision) and a range a few candidates, and a call a range cost 47 ns.
   int (*scanCell)(const PairScanArgs&, std::uint32_t p0, std::uint32_t p1, const CellRange* ranges, int count,
                   std::uint32_t* points, std::uint32_t* slots);
+  // scanCell's pairs of slots, count of them, filed as the build keeps them: each slot's point, the pair passed over
+  // where its offset lies in the box and is not the list's there (held at rest, or the stencil's), else written as
+  // {lower, upper | far} to out[0] or out[1] (PairFileArgs::split), in the order given; how many to each in
+  // counts. Whole vectors are stored: each output needs room for count + kPairScanPad pairs.
+  void (*filePairs)(const PairFileArgs&, const std::uint32_t* points, const std::uint32_t* slots, int count,
+                    FiledPair* const out[2], int counts[2]);
   // CpuSolver::collide on the points [first, last) without meshes: each sphere, then each plane, as
   // physics::collideSphere and collidePlane compute them, lane by lane. Returns where it stopped: the last
   // points, fewer than a vector, are the caller's.

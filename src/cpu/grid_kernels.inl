@@ -392,6 +392,7 @@ struct Kernels : Lanes<V> {
             &StencilKernels<V>::stencilPairs,
             &Contact::scanPairs,
             &Contact::scanCell,
+            &Contact::filePairs,
             &Contact::collideObjects,
             &Contact::collideRows,
             &Contact::tileBoxes,

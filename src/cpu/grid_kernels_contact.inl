@@ -399,6 +399,25 @@ struct ContactKernels : Lanes<V> {
       count += scanRange(a, test, p0, p1, ranges[r], points + count, slots + count);
     return count;
   }
+  // One pair at a time, without a branch on what becomes of it (which end is lower, whether it is kept, and where, are
+  // as likely as not): the instruction sets without a compress (AVX-512's own: grid_kernels_avx512.cpp).
+  static void filePairs(const PairFileArgs& a, const std::uint32_t* points, const std::uint32_t* slots, int count,
+                        FiledPair* const out[2], int counts[2]) {
+    const int side = 2 * a.box + 1;
+    int n[2] = {0, 0};
+    for (int k = 0; k < count; ++k) {
+      const std::uint32_t i = a.sorted[points[k]], j = a.sorted[slots[k] & ~kFarSlot], far = slots[k] & kFarSlot;
+      const int du = int(a.uv[j] & 0xffff) - int(a.uv[i] & 0xffff), dv = int(a.uv[j] >> 16) - int(a.uv[i] >> 16);
+      const bool in_box = du >= -a.box && du <= a.box && dv >= -a.box && dv <= a.box;
+      const bool keep = !in_box || a.kind[in_box ? (dv + a.box) * side + du + a.box : 0] == 0;
+      const FiledPair pair{std::min(i, j), std::max(i, j) | far};
+      const int d = pair.lower >= a.split;
+      out[d][n[d]] = pair;
+      n[d] += keep;
+    }
+    counts[0] = n[0];
+    counts[1] = n[1];
+  }
   static int scanRange(const PairScanArgs& a, const ScanTest& test, std::uint32_t p0, std::uint32_t p1,
                        const CellRange& range, std::uint32_t* points, std::uint32_t* slots) {
     // The arrays and the range in locals: the stores below may alias anything, and the pointers were loaded again for
