@@ -34,14 +34,9 @@ void CollisionPairs<T>::setGrid(int w, int h) {
   w_ = w;
   h_ = h;
   const std::size_t n = std::size_t(w) * std::size_t(h);
-  u_.resize(n);
-  v_.resize(n);
   uv_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    u_[i] = std::uint16_t(i % std::size_t(w));
-    v_[i] = std::uint16_t(i / std::size_t(w));
-    uv_[i] = std::uint32_t(u_[i]) | std::uint32_t(v_[i]) << 16;
-  }
+  for (std::size_t i = 0; i < n; ++i)
+    uv_[i] = std::uint32_t(i % std::size_t(w)) | std::uint32_t(i / std::size_t(w)) << 16;
   stencil_range_ = stencil_margin_ = -1;
   tiled_ = std::size_t(-1);
   built_ = false;
@@ -63,7 +58,6 @@ void CollisionPairs<T>::makeStencil() {
   dv_.clear();
   mixed_.clear();
   kind_.clear();
-  kind_words_.clear();
   forward_bits_ = 0;
   box_ = -1;
   stencil_range_ = range_;
@@ -108,7 +102,6 @@ void CollisionPairs<T>::makeStencil() {
         mixed_.push_back(straddles[k]);
       }
     }
-  kind_words_.assign(kind_.begin(), kind_.end());
   // What scanPairs passes over without a look at the table: the offsets held or on the stencil are exactly
   // those under reach + slack, less a margin for the float arithmetic of the nominal distance.
   a2_ = T(glm::dot(a, a));
@@ -137,7 +130,7 @@ void CollisionPairs<T>::makeStencil() {
 
 template <class T>
 StencilMask CollisionPairs<T>::stencilMask(const std::vector<vec3>& x, std::size_t i) const {
-  const int u = u_[i], v = v_[i];
+  const int u = column(i), v = row(i);
   const T range2 = range_ * range_;
   StencilMask mask = 0;
   for (std::size_t k = 0; k < stencil_.size(); ++k) {

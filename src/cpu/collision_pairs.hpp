@@ -368,11 +368,11 @@ class CollisionPairs {
   bool squares_used_ = false;  // the last substep's stencil passed over what the squares ruled out
   void activeOffsets(long long first, long long last);
   std::vector<vec3> rest_;
-  int w_ = 0, h_ = 0;                 // the grid, or 0 x 0
-  std::vector<std::uint16_t> u_, v_;  // each point's grid column and row
-  std::vector<std::uint8_t> kind_;    // OffsetKind per offset of the box [-box_, box_]^2
-  std::vector<std::uint32_t> uv_;     // u_ | v_ << 16, and kind_ as words, for GridKernels::filePairs' gathers
-  std::vector<std::int32_t> kind_words_;
+  int w_ = 0, h_ = 0;               // the grid, or 0 x 0
+  std::vector<std::uint32_t> uv_;   // each point's grid column | row << 16 (words: GridKernels::filePairs gathers them)
+  std::vector<std::int32_t> kind_;  // OffsetKind per offset of the box [-box_, box_]^2, row by row
+  int column(std::size_t i) const { return int(uv_[i] & 0xffff); }
+  int row(std::size_t i) const { return int(uv_[i] >> 16); }
   void prepareBuild(const std::vector<vec3>& x, int threads);
   void findPairs(const std::vector<vec3>& x, int thread, long long first, long long last);
   void findPairsByCell(int thread, long long first, long long last);

@@ -93,7 +93,7 @@ void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
         // A pair's part rides in its upper end's top bit (Pair)
         if (n > kFarBit) throw std::length_error("self-collision lists take at most 2^31 points");
         near_reach_ = range_ + T(0.5) * margin_;
-        by_offset_ = box_ >= 0 && u_.size() == n;
+        by_offset_ = box_ >= 0 && uv_.size() == n;
         for (std::vector<T>* a : {&sx_, &sy_, &sz_, &su_, &sv_})
           a->resize(n + kPairScanPad);  // the pad is read by the kernels' last vectors, whose lanes there are dropped
         for (std::vector<T>* a : {&su_, &sv_})
@@ -142,8 +142,8 @@ void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
     sx_[s] = x[j].x;
     sy_[s] = x[j].y;
     sz_[s] = x[j].z;
-    su_[s] = by_offset_ ? T(u_[j]) : T(0);
-    sv_[s] = by_offset_ ? T(v_[j]) : T(0);
+    su_[s] = by_offset_ ? T(column(j)) : T(0);
+    sv_[s] = by_offset_ ? T(row(j)) : T(0);
   }
   teamBarrier();
 }

@@ -308,7 +308,7 @@ void CollisionPairs<T>::makeTiles(std::size_t n) {
   runs_.clear();
   tiled_ = n;
   edge_ = 0;
-  if (w_ > 0 && u_.size() == n) {  // squares of the grid, each row of a square a run
+  if (w_ > 0 && uv_.size() == n) {  // squares of the grid, each row of a square a run
     const int edge =
         std::max({kTileEdge, (w_ + kTilesAcross - 1) / kTilesAcross, (h_ + kTilesAcross - 1) / kTilesAcross});
     const int across = (w_ + edge - 1) / edge;

@@ -41,8 +41,8 @@ struct CollisionPairs<T>::Filer {
   Found* mine;                  // the finding thread's found_, assemblers() of them
   const std::uint32_t* bounds;  // assemble_bounds_
   bool one;                     // one share to assemble: every pair to mine[0]
-  const std::uint16_t *u, *v;   // the columns and rows, where pairs are classed by offset (by_offset_)
-  const std::uint8_t* kind;     // kind_ there, else null
+  const std::uint32_t* uv;      // the columns and rows, where pairs are classed by offset (by_offset_)
+  const std::int32_t* kind;     // kind_ there, else null
   int box;
   const vec3* rest;  // without the table: the rest shape, or null
   T range;
@@ -51,10 +51,9 @@ struct CollisionPairs<T>::Filer {
 
 template <class T>
 typename CollisionPairs<T>::Filer CollisionPairs<T>::filer(Found* mine) const {
-  Filer f{mine, assemble_bounds_.data(), assemblers() == 1, nullptr, nullptr, nullptr, box_, nullptr, range_};
+  Filer f{mine, assemble_bounds_.data(), assemblers() == 1, nullptr, nullptr, box_, nullptr, range_};
   if (by_offset_) {
-    f.u = u_.data();
-    f.v = v_.data();
+    f.uv = uv_.data();
     f.kind = kind_.data();
   } else if (!rest_.empty()) {
     f.rest = rest_.data();
@@ -80,7 +79,7 @@ template <class T>
     mine[d].value.push_back(pair);
   };
   if (kind) {
-    const int du = int(u[j]) - int(u[i]), dv = int(v[j]) - int(v[i]);
+    const int du = int(uv[j] & 0xffff) - int(uv[i] & 0xffff), dv = int(uv[j] >> 16) - int(uv[i] >> 16);
     if (du < -box || du > box || dv < -box || dv > box) return keep();
     const int side = 2 * box + 1;
     if (kind[std::size_t((dv + box) * side + du + box)] == kList) keep();  // else held, or on the stencil
@@ -125,8 +124,8 @@ void CollisionPairs<T>::setPoint(ScanArgs& scan, const std::vector<vec3>& x, std
   scan.py = x[i].y;
   scan.pz = x[i].z;
   if (by_offset_) {
-    scan.pu = T(u_[i]);
-    scan.pv = T(v_[i]);
+    scan.pu = T(column(i));
+    scan.pv = T(row(i));
   }
 }
 
@@ -219,7 +218,7 @@ void CollisionPairs<T>::fileFound(const Filer& file, const std::uint32_t* points
   const std::vector<std::uint32_t>& sorted = grid_.sorted();
   if constexpr (std::is_same_v<T, float>)
     if (kernels_ && file.kind && assemblers() <= 2) {
-      const PairFileArgs args{sorted.data(), uv_.data(), kind_words_.data(), box_,
+      const PairFileArgs args{sorted.data(), uv_.data(), kind_.data(), box_,
                               file.one ? ~std::uint32_t(0) : file.bounds[1]};
       FiledPair* out[2] = {nullptr, nullptr};  // one share: no lower end reaches the split
       std::size_t before[2];
