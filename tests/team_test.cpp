@@ -1,7 +1,6 @@
 // A substep run by a team of threads gives one thread's bytes in every bundled scene, with every integrator,
-// in float and double; and the team trial (cpu/team_trial.hpp) that decides whether a cloth below
-// kTeamMinPoints gets a team picks the faster way by its measurements, probes again, and follows the
-// machine when it changes.
+// in float and double; the cloths that get a team trial (cpu/team_trial.hpp, its decisions in team_trial_test.cpp)
+// keep their bytes and the team's shares of the work whichever way a substep runs.
 #include "app/solver_factory.hpp"
 #include "cpu/cpu_solver.hpp"
 #include "cpu/team_trial.hpp"
@@ -158,6 +157,30 @@ TEST(TeamBytesContact, AListBuiltOnOneThreadAfterTheTeamHoldsOnlyItsOwnPairs) {
   EXPECT_TRUE(sameBytes(run.one.positions(), run.team.positions()));
 }
 
+// A trial's probe runs a few substeps on one thread between the team's: the team's shares of self-collision's search,
+// finds and sums, which followed its times, are where it left them when it comes back (even again, they took a team
+// about 50 substeps to find back after each probe).
+TEST(TeamBytesContact, TheTeamsSharesOutlastASubstepOnOneThread) {
+  OneThreadAndTeam run;
+  for (int f = 0; f < 45; ++f)
+    run.stepFrame();
+  const auto n = (long long)run.team.positions().size();
+  const std::vector<long long> sums = run.team.pairShares(), find = run.team.findShares();
+  const std::string said = describeThreads(run.team);
+  ASSERT_EQ(sums.size(), 3u);
+  ASSERT_NE(sums[1], n / 2) << "the shares have followed the times";
+  // The same state again makes the next pass rebuild its lists, outside the team: the build and the pass on one thread
+  const std::vector<glm::dvec3> x(run.one.positions().begin(), run.one.positions().end()),
+      v(run.one.displacements().begin(), run.one.displacements().end());
+  run.team.setState(x, v);
+  run.team.selfCollide();
+  EXPECT_EQ(run.team.pairShares(), sums);
+  EXPECT_EQ(run.team.findShares(), find);
+  EXPECT_EQ(describeThreads(run.team).substr(said.find("each thread's share")),
+            said.substr(said.find("each thread's share")))
+      << said;
+}
+
 // Which thread finds and sums a point's pairs moves with the work (balanceShares): the bytes must not. Shares as
 // uneven as the balance allows, either way round, through the fold.
 TEST(TeamBytesContact, UnevenPairSharesGiveOneThreadsBytes) {
@@ -255,202 +278,6 @@ TEST(SpreadTeam, MovesEachThreadOnceAndKeepsTheMask) {
   CPU_ZERO(&after);
   ASSERT_EQ(sched_getaffinity(0, sizeof after, &after), 0);
   EXPECT_TRUE(CPU_EQUAL(&before, &after)) << "the calling thread keeps every processor it had";
-}
-
-// What a trial sees when one way takes `solo` seconds a substep and the other `team`: it runs n substeps
-// and returns how many of them ran on the team.
-long long runTrial(TeamTrial& trial, long long n, double solo, double team) {
-  long long on_team = 0;
-  for (long long s = 0; s < n; ++s) {
-    const bool use = trial.useTeam();
-    on_team += use;
-    trial.record(use ? team : solo);
-  }
-  return on_team;
-}
-
-TEST(TeamTrial, KeepsTheTeamWhereItIsFaster) {
-  TeamTrial trial;
-  const long long n = 3000, on_team = runTrial(trial, n, 1.0, 0.75);
-  EXPECT_TRUE(trial.useTeam());
-  // Only the first substeps and the probes of one thread run alone.
-  EXPECT_GT(on_team, n - 100);
-  EXPECT_NEAR(trial.teamOverSolo(), 0.75, 1e-12);
-}
-
-TEST(TeamTrial, DropsTheTeamWhereItIsSlowerAndProbesItRarely) {
-  TeamTrial trial;
-  // A team twelve times slower: the 2-core machine with another job on a core.
-  const long long n = 3000, on_team = runTrial(trial, n, 1.0, 12.0);
-  EXPECT_FALSE(trial.useTeam());
-  EXPECT_GT(on_team, 0);
-  // A probe that has lost stops: a few substeps each, not kSamples.
-  EXPECT_LT(on_team, 2 * 4);
-  // What the probes cost, over the run's time: within kProbeShare once the run is long.
-  const long long later = runTrial(trial, 20000, 1.0, 12.0);
-  EXPECT_LT(double(later) * 11.0, 1.5 * TeamTrial::kProbeShare * 20000.0);
-}
-
-TEST(TeamTrial, AThousandTimesSlowerCostsLittleMoreThanTwelve) {
-  TeamTrial trial;
-  // Busy cores: each barrier waits a time slice. The intervals between probes grow with what they lost.
-  const long long n = 200000, on_team = runTrial(trial, n, 1.0, 1000.0);
-  EXPECT_FALSE(trial.useTeam());
-  EXPECT_LT(double(on_team) * 999.0, 3 * TeamTrial::kProbeShare * double(n) + 3 * 1000.0);
-}
-
-TEST(TeamTrial, ASubstepThousandsOfTimesSlowerEndsTheProbeAtOnce) {
-  TeamTrial trial;
-  // The run's first team substep also starts the team's threads (the scheduler may hold one back for a time
-  // slice): it does not end the first probe alone; the next does.
-  EXPECT_EQ(runTrial(trial, 200, 1.0, 1600.0), 2) << "two substeps on the team, not three";
-  EXPECT_FALSE(trial.useTeam());
-  EXPECT_DOUBLE_EQ(trial.teamOverSolo(), 1600.0) << "what the second substep measured";
-  // A later probe ends at its first such substep.
-  EXPECT_EQ(runTrial(trial, 200000, 1.0, 1600.0), 1) << "one substep on the team, not two";
-  TeamTrial quiet;
-  // A substep interrupted for 50 times its time, on a team that is faster: not enough to end the probe.
-  for (int s = 0; s < 200; ++s) {
-    const bool use = quiet.useTeam();
-    quiet.record(use ? (s == TeamTrial::kSamples ? 50.0 : 0.75) : 1.0);
-  }
-  EXPECT_TRUE(quiet.useTeam());
-}
-
-TEST(TeamTrial, AFirstTeamSubstepThatWaitedATimeSliceDoesNotDecide) {
-  TeamTrial trial;
-  // The team is faster, but its very first substep waited 300 times one thread's substep for its threads.
-  bool first = true;
-  for (int s = 0; s < 200; ++s) {
-    const bool use = trial.useTeam();
-    trial.record(use ? (first ? 300.0 : 0.75) : 1.0);
-    first = first && !use;
-  }
-  EXPECT_TRUE(trial.useTeam());
-}
-
-TEST(TeamTrial, AStalledStartDoesNotPostponeTheNextProbe) {
-  TeamTrial trial;
-  // The first probe: the team's threads start late (100 substeps' time), then it runs as fast as one thread
-  // (the cloth still falling, little to share): a loss, but one that cost nothing beyond the start.
-  bool first = true;
-  for (int s = 0; s < 2 * TeamTrial::kSamples + 8; ++s) {
-    const bool use = trial.useTeam();
-    trial.record(use ? (first ? 100.0 : 1.0) : 1.0);
-    first = first && !use;
-  }
-  ASSERT_FALSE(trial.useTeam());
-  // The cloth folds and the team pays: it is tried again at the shortest wait.
-  runTrial(trial, 3 * TeamTrial::kMinInterval, 1.0, 0.75);
-  EXPECT_TRUE(trial.useTeam());
-}
-
-TEST(TeamTrial, FollowsTheMachineWhenItChanges) {
-  TeamTrial trial;
-  runTrial(trial, 3000, 1.0, 12.0);  // busy: one thread
-  ASSERT_FALSE(trial.useTeam());
-  // Quiet again: the team is back at the next probe.
-  const long long quiet = runTrial(trial, 10000, 1.0, 0.75);
-  EXPECT_TRUE(trial.useTeam());
-  EXPECT_GT(quiet, 10000 - 4000);
-  // Busy again: noticed within two windows of kMinInterval substeps, not at the next scheduled probe.
-  runTrial(trial, 2 * TeamTrial::kMinInterval + TeamTrial::kSamples + 2, 1.0, 3.0);
-  EXPECT_FALSE(trial.useTeam());
-}
-
-TEST(TeamTrial, AMarginSmallerThanTheHysteresisDoesNotFlip) {
-  TeamTrial trial;
-  runTrial(trial, 1000, 1.0, 0.8);
-  ASSERT_TRUE(trial.useTeam());
-  // One thread now measures 2.5% faster than the team: not enough to switch back and forth on noise.
-  runTrial(trial, 10000, 0.78, 0.8);
-  EXPECT_TRUE(trial.useTeam());
-}
-
-TEST(TeamTrial, OneOutlierDoesNotDecide) {
-  TeamTrial trial;
-  // The team is faster, but one substep of its first probe is interrupted (a time slice lost): its slowest
-  // substep is not counted.
-  for (int s = 0; s < 200; ++s) {
-    const bool use = trial.useTeam();
-    trial.record(use ? (s == TeamTrial::kSamples + 5 ? 50.0 : 0.75) : 1.0);
-  }
-  EXPECT_TRUE(trial.useTeam());
-}
-
-TEST(TeamTrial, ACloseLossIsTriedAgainSoon) {
-  TeamTrial trial;
-  // The first probe finds the team 2% slower (a few noisy substeps; a loss all the same)...
-  runTrial(trial, 2 * TeamTrial::kSamples + 8, 1.0, 1.02);
-  ASSERT_FALSE(trial.useTeam());
-  // ...and it costs 2% of a probe, so the next comes after the shortest wait, not after 50 probes' time.
-  runTrial(trial, 3 * TeamTrial::kMinInterval, 1.0, 0.75);
-  EXPECT_TRUE(trial.useTeam());
-}
-
-// Every 12th substep also rebuilds (irregular), at 3 times a regular one's work either way: the trial compares the
-// regular ones, so each probe measures the team at what it takes on them.
-TEST(TeamTrial, SubstepsWithAJobOfTheirOwnAreLeftOutOfTheComparison) {
-  TeamTrial trial;
-  std::vector<double> ratios;
-  long long on_team = 0;
-  for (long long s = 0; s < 3000; ++s) {
-    const bool use = trial.useTeam(), regular = s % 12 != 5;
-    on_team += use;
-    const double work = regular ? 1.0 : 3.0;
-    trial.record(work * (use ? 0.75 : 1.0), regular);
-    if (ratios.empty() || trial.teamOverSolo() != ratios.back()) ratios.push_back(trial.teamOverSolo());
-  }
-  EXPECT_TRUE(trial.useTeam());
-  EXPECT_GT(on_team, 3000 - 100);
-  // Counting the rebuilds, a probe of 16 substeps (its slowest left out) against the mean of a longer run puts the
-  // team at 0.74-0.88 of one thread's time, by where the rebuilds fall
-  for (const double r : ratios) {
-    if (!std::isnan(r)) {
-      EXPECT_NEAR(r, 0.75, 1e-12);
-    }
-  }
-  // Substeps that are all irregular count: the probes end and decide as before
-  TeamTrial busy;
-  for (long long s = 0; s < 1000; ++s) {
-    const bool use = busy.useTeam();
-    busy.record(use ? 0.75 : 1.0, false);
-  }
-  EXPECT_TRUE(busy.useTeam());
-  EXPECT_NEAR(busy.teamOverSolo(), 0.75, 1e-12);
-}
-
-// The processors' idle time between two readings of /proc/stat, as the room for a team is judged.
-TEST(TeamTrial, IdleProcessorsBetweenTwoReadings) {
-  EXPECT_DOUBLE_EQ(idleProcessors({100, 1000}, {300, 1400}, 2, 4), 1.0) << "half of two processors' ticks idle";
-  EXPECT_DOUBLE_EQ(idleProcessors({100, 1000}, {100, 1400}, 2, 4), 0.0);
-  EXPECT_TRUE(std::isnan(idleProcessors({100, 1000}, {102, 1003}, 2, 4))) << "three ticks say little";
-  EXPECT_TRUE(std::isnan(idleProcessors({100, 1000}, {90, 1400}, 2, 4))) << "not a later reading";
-  EXPECT_TRUE(std::isnan(idleProcessors({100, 1000}, {900, 1400}, 2, 4))) << "more idle than in all";
-}
-
-// The tasks runnable now, as the room for a team is judged before the ticks say anything
-TEST(TeamTrial, TheTasksRunnableNowFromProcLoadavg) {
-  EXPECT_EQ(runnableTasks("1.51 1.39 1.38 1/109 29822"), 1);
-  EXPECT_EQ(runnableTasks("0.00 0.01 0.05 12/1204 7\n"), 12);
-  EXPECT_EQ(runnableTasks("1.51 1.39 1.38 0/109 29822"), -1) << "the caller is running";
-  EXPECT_EQ(runnableTasks("1.51 1.39 1.38 3/2 29822"), -1);
-  EXPECT_EQ(runnableTasks("1.51 1.39 1.38"), -1);
-  EXPECT_EQ(runnableTasks(""), -1);
-  // On two processors a team of two has room while the caller runs alone, not beside another task
-  EXPECT_TRUE(roomAmongRunnable(1, 2, 2));
-  EXPECT_FALSE(roomAmongRunnable(2, 2, 2));
-  EXPECT_TRUE(roomAmongRunnable(2, 4, 3));
-  EXPECT_FALSE(roomAmongRunnable(3, 4, 3));
-}
-
-TEST(TeamTrial, NoCoreForTheTeamNoProbe) {
-  bool room = false;
-  TeamTrial trial([&] { return room; });
-  EXPECT_EQ(runTrial(trial, 5000, 1.0, 0.75), 0) << "the machine had no core for the team: never tried";
-  room = true;
-  runTrial(trial, 2 * TeamTrial::kMinInterval + TeamTrial::kSamples + 2, 1.0, 0.75);
-  EXPECT_TRUE(trial.useTeam());
 }
 
 // Which cloths get a trial: from kTeamTrialMinPoints to kTeamMinPoints, with more than one thread; and

@@ -119,8 +119,9 @@ void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
         cell_slots_.resize(cell_points_.size());
         for (Found& part : found_)
           part.value.clear();
+        // Even at first; one thread (the trial's probe) leaves the team's where they were
         if (const auto team = std::size_t(teamSize());
-            search_bounds_.size() != team + 1 || search_bounds_.back() != (long long)n) {  // even at first
+            team > 1 && (search_bounds_.size() != team + 1 || search_bounds_.back() != (long long)n)) {
           search_bounds_.resize(team + 1);
           for (std::size_t t = 0; t <= team; ++t)
             search_bounds_[t] = evenShare((long long)n, (long long)t, (long long)team);

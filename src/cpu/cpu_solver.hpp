@@ -274,7 +274,9 @@ class CpuSolver final : public Solver {
     std::exception_ptr failure;
     long long summed = 0;  // terms summed this substep
   };
-  std::vector<PairScratch> pair_scratch_;
+  std::vector<PairScratch> pair_scratch_;  // only grown: a team's, kept while the trial runs a probe on one thread
+  int pair_team_ = 1;                      // how many of them this substep's threads use
+  std::span<PairScratch> teamScratch() { return {pair_scratch_.data(), std::size_t(pair_team_)}; }
   // In a team, thread t sums the terms of points [pair_bounds_[t], pair_bounds_[t + 1]) and finds the pairs whose
   // lower ends are in [find_bounds_[t], find_bounds_[t + 1]) (on a grid path, whole rows of it), or in a substep
   // that built the lists in [built_find_bounds_[t], ...) (on a grid path, whole rows of the stencil's squares: that

@@ -56,18 +56,23 @@ void CpuSolver<T>::selfCollide() {
       if (!padded) near_.resize(x_.size());  // a grid path lists the stencil's pairs instead
       first_term_.resize(x_.size(), -1);
       const int team = teamSize();
-      // A scratch given up (the trial's one thread after a team) takes the corrections its points kept with it
+      // A scratch given up (the trial's one thread after a team) takes the corrections its points kept with it, and
+      // keeps its arrays for the team's return (grown again from nothing, they were reallocated over its first
+      // substeps)
       for (std::size_t t = std::size_t(team); t < pair_scratch_.size(); ++t)
         clearSelfCorrections(pair_scratch_[t]);
-      pair_scratch_.resize(std::size_t(team));
-      for (PairScratch& scratch : pair_scratch_) {
-        scratch.to.resize(std::size_t(team));
+      if (pair_scratch_.size() < std::size_t(team)) pair_scratch_.resize(std::size_t(team));
+      pair_team_ = team;
+      for (PairScratch& scratch : teamScratch()) {
+        if (scratch.to.size() < std::size_t(team)) scratch.to.resize(std::size_t(team));
         scratch.sent.assign(std::size_t(team), 0);
         scratch.failure = nullptr;  // a failed substep's, rethrown by step()
       }
-      // Each thread's shares of the pairs: every other pass's at first (pointShare)
+      // Each thread's shares of the pairs: every other pass's at first (pointShare). One thread (the trial's probe)
+      // leaves the team's where they were: even again, they took a selfCollision team ~50 substeps to find its
+      // shares back after each probe.
       const long long n = (long long)x_.size();
-      if (pair_bounds_.size() != std::size_t(team) + 1 || pair_bounds_.back() != n) {
+      if (team > 1 && (pair_bounds_.size() != std::size_t(team) + 1 || pair_bounds_.back() != n)) {
         pair_shares_fixed_ = false;
         pair_bounds_.resize(std::size_t(team) + 1);
         for (int t = 0; t < team; ++t)
@@ -75,7 +80,7 @@ void CpuSolver<T>::selfCollide() {
         find_bounds_ = built_find_bounds_ = pair_bounds_;
         pair_per_point_.clear();
       }
-      if (pair_per_point_.size() != std::size_t(team)) {
+      if (team > 1 && pair_per_point_.size() != std::size_t(team)) {
         for (std::vector<double>* seconds : {&pair_seconds_, &find_seconds_})
           seconds->assign(std::size_t(team), 0);
         for (std::vector<double>* per_point : {&pair_per_point_, &find_per_point_, &built_find_per_point_})
@@ -174,16 +179,17 @@ void CpuSolver<T>::selfCollide() {
   }
   teamBarrier();
   // Every thread reads the same flags after the barrier, so all take the same way (and pass the same barriers).
-  if (std::any_of(pair_scratch_.begin(), pair_scratch_.end(), [](const PairScratch& s) { return bool(s.failure); })) {
+  const std::span<PairScratch> scratches = teamScratch();
+  if (std::any_of(scratches.begin(), scratches.end(), [](const PairScratch& s) { return bool(s.failure); })) {
     teamSingle([&] {
-      for (PairScratch& s : pair_scratch_)
+      for (PairScratch& s : scratches)
         if (s.failure && !failure_) failure_ = s.failure;
     });
     return;
   }
   // No thread reads these again before the next substep's first teamSingle: one thread takes them, no barrier.
   if (thread == 0) {
-    for (const PairScratch& s : pair_scratch_)
+    for (const PairScratch& s : scratches)
       pair_terms_ += s.summed;  // pairs in range, counted from both ends for `drape simulate -v`
     pairs_.setPaddedPositions(nullptr, nullptr, nullptr, nullptr);  // they change before the next substep's
     if (team) balancePairShares(built);
@@ -221,7 +227,7 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool flagged, T thic
   try {
     // Either end may be in another thread's share of the sums. A term of this thread's own share is linked to its
     // point's at once (linkTerm), as sumPairTerms links the others' after the barrier: no copy of it in between.
-    const bool alone = mine.to.size() == 1;
+    const bool alone = pair_team_ == 1;
     const std::size_t self = std::size_t(&mine - pair_scratch_.data());
     const auto send = [&](std::size_t to, std::uint32_t i, std::uint32_t j, int order, vec3 c) {
       if (c == vec3(0) || topo_.pinned[i]) return;
@@ -345,13 +351,13 @@ long long CpuSolver<T>::sumPairTerms(int thread, T steps, PairScratch& mine) {
     // Linked by point without a branch on whether the point is new (half the terms are, unpredictably): the
     // arrays are sized for every term first, and only grown.
     std::size_t total = mine.linked;
-    for (const PairScratch& part : pair_scratch_)
+    for (const PairScratch& part : teamScratch())
       total += part.sent[std::size_t(thread)];
     if (mine.terms.size() < total) mine.terms.resize(total);
     if (mine.touched.size() < total) mine.touched.resize(total);
     // Reserved here, so that nothing below can throw: a failure leaves every point of the share where it was.
     if (mine.chain.capacity() < total) mine.chain.reserve(total);
-    for (const PairScratch& part : pair_scratch_)
+    for (const PairScratch& part : teamScratch())
       for (const FoundTerm& f : std::span(part.to[std::size_t(thread)].data(), part.sent[std::size_t(thread)]))
         linkTerm(mine, f.i, f.j, f.order, f.c);
     PairTerm* const terms = mine.terms.data();

@@ -3,6 +3,7 @@
 
 #include <omp.h>
 #include <sched.h>
+#include <sys/resource.h>
 
 #include <atomic>
 #include <chrono>
@@ -96,6 +97,11 @@ bool spreadTeam(int team) {
       sched_yield();
   }
   return moved.load() == team;
+}
+
+long long processPreemptions() {
+  rusage usage{};
+  return getrusage(RUSAGE_SELF, &usage) == 0 ? (long long)usage.ru_nivcsw : 0;
 }
 
 std::function<bool()> machineRoom(int team) {

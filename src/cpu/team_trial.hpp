@@ -50,6 +50,10 @@ inline bool roomAmongRunnable(int runnable, int processors, int team) {
 // until a few ticks have passed, whether the 1-minute load average or the tasks runnable now (roomAmongRunnable) do.
 std::function<bool()> machineRoom(int team);
 
+// The times this process's threads have been preempted so far (getrusage's involuntary context switches): what tells
+// a team that another job took a core from one whose substeps grew with its work (cpu/team_trial.cpp).
+long long processPreemptions();
+
 // Moves each thread of an OpenMP team of `team` to a processor of its own once, then lets the scheduler place it
 // again (cpu/team_trial.cpp). A new thread starts on the core of the thread that made it, and while that one
 // spins at the region's barrier the scheduler moves the newcomer only at its next balance: the first team substep
@@ -66,9 +70,20 @@ class TeamTrial {
   // The other way must take at most this fraction of the current way's time to be taken: noise of a few
   // percent does not flip the choice back and forth.
   static constexpr double kHysteresis = 0.95;
-  // A team whose last kMinInterval substeps took this many times what it measured is probed against one
-  // thread at once.
+  // One thread must take at most this fraction of a team's time to replace it. A team back from a probe of one
+  // thread takes about a hundred substeps to regain its speed (CS184's selfCollision: 9% slower over the first 20,
+  // 4% over the next 40), and on a shared machine a core slowed for 100-250 substeps made a team as slow as one
+  // thread: one thread won such probes by a few percent and kept the run for up to 2,000 substeps after the team
+  // was fast again. A team that has gone that much slower (a core taken) still loses at once.
+  static constexpr double kLeaveTeam = 0.85;
+  // A team whose last kMinInterval substeps took this many times what it measured, and whose threads were
+  // preempted meanwhile, is probed against one thread at once.
   static constexpr double kSlowdown = 1.5;
+  // A probe whose first substeps (kClearAfter of them, the slowest left out) took this many times the current way's
+  // mean has lost: the rest of it could not bring it under kHysteresis or kLeaveTeam. A one-thread probe of a team at
+  // 0.6 of its time ran 11 substeps before the sum said so.
+  static constexpr double kClearLoss = 1.25;
+  static constexpr int kClearAfter = 4;
   // One substep of a probe this many times the current way's mean ends it, lost: a team whose barriers each
   // wait for a time slice (both cores busy) takes a thousand times one thread's substep, 0.1 s at 50 x 50,
   // and a second such substep would double the probe's cost. An interrupted substep on a quiet machine (a
@@ -77,7 +92,11 @@ class TeamTrial {
 
   // `room`: whether the machine has a core for each of the team's other threads now (asked before a probe
   // of the team, not every substep).
-  explicit TeamTrial(std::function<bool()> room = [] { return true; }) : room_(std::move(room)) {}
+  // `preemptions`: the times the process's threads have been preempted so far (processPreemptions), or none where
+  // a slowdown is to be taken for a lost core whatever the cause.
+  explicit TeamTrial(
+      std::function<bool()> room = [] { return true; }, std::function<long long()> preemptions = nullptr)
+      : room_(std::move(room)), preemptions_(std::move(preemptions)) {}
 
   bool useTeam() const { return probing_ ? !team_ : team_; }
 
@@ -96,26 +115,45 @@ class TeamTrial {
       // Means, not medians: a team's time on a busy machine is mostly short substeps and a few that wait a
       // whole time slice, and those few are the cost.
       if (!first_ && counted) {  // the very first substep builds what the run keeps (lists, caches)
-        sum_ += seconds;
-        ++count_;
+        // The mean of this way's substeps since the last probe, the last kMinInterval weighing most: the machine's
+        // state changes (a team took one thread's time for hundreds of substeps, then 0.6 of it again), and a probe
+        // after such a stretch measured one thread against it, won, and kept it for 146 substeps.
+        mean_ += (seconds - mean_) / double(std::min(++count_, kMinInterval));
+        if (window_count_ == 0 && preemptions_) window_preemptions_ = preemptions_();
         window_sum_ += seconds;
         if (++window_count_ == kMinInterval) {
-          // A team that has become much slower than it measured (another job took a core) tries one thread
-          // now rather than at its next probe; one thread is never that costly to try.
-          if (team_ && window_sum_ / double(kMinInterval) > kSlowdown * typical_) countdown_ = 1;
+          // A team that has become much slower than it measured because another job took a core (its threads
+          // were preempted) tries one thread now rather than at its next probe; one thread is never that costly
+          // to try. A team slowed by its work alone (a cloth that folds: CS184's selfCollision's team takes 18 us
+          // a substep at first and 40-60 late in the run) ran as fast as it could, and one thread would have slowed
+          // as much: its time becomes the measure. Either way the window's mean is the team's time now, which a
+          // probe measures one thread against.
+          if (team_ && window_sum_ / double(kMinInterval) > kSlowdown * typical_) {
+            if (!preemptions_ || preemptions_() > window_preemptions_)
+              countdown_ = 1;
+            else
+              typical_ = window_sum_ / double(kMinInterval);
+            mean_ = window_sum_ / double(kMinInterval);
+            count_ = kMinInterval;
+          }
           window_sum_ = 0;
           window_count_ = 0;
         }
       }
       first_ = false;
       if (--countdown_ > 0) return;
-      if (team_ || room_())
+      if (team_ || room_()) {
         startProbe();
-      else
-        countdown_ = interval_;  // no core for a team now: run alone, ask again later
+        refused_ = 0;
+        return;
+      }
+      // No core for a team now: run alone and ask again, soon at first (the machine is often busy only for a
+      // moment: run after another program, CS184's selfCollision was refused at substep 16 in 6 runs of 30 and had
+      // its team at 80 or 144), then at the probes' interval.
+      countdown_ = std::min(interval_, (long long)kSamples << std::min(refused_++, 16));
       return;
     }
-    const double current = count_ > 0 ? sum_ / double(count_) : seconds;
+    const double current = count_ > 0 ? mean_ : seconds;
     if (!counted && seconds <= kAbsurd * current) return;  // an absurd one counts: the machine stalled
     probe_sum_ += seconds;
     probe_max_ = std::max(probe_max_, seconds);
@@ -123,11 +161,14 @@ class TeamTrial {
     // The probe's time less its slowest substep (the first, where a team's threads wake, or one interrupted)
     // is what decides; once it exceeds what kSamples substeps may take to win, the other way has lost,
     // however the rest would go.
-    const double limit = kHysteresis * current * double(kSamples);
+    const double needed = team_ ? kLeaveTeam : kHysteresis;  // the other way's time over this way's, to win
+    const double limit = needed * current * double(kSamples);
     // The team's first substep of the run also starts its threads, which the scheduler may leave on one
     // core for a time slice before it spreads them: that one alone does not end the probe.
     const bool starting = !team_ && !team_tried_ && probe_runs_ == 1;
-    const bool lost = probe_sum_ - probe_max_ > limit || (seconds > kAbsurd * current && !starting);
+    const bool clear =
+        probe_runs_ > kClearAfter && probe_sum_ - probe_max_ > kClearLoss * current * double(probe_runs_ - 1);
+    const bool lost = clear || probe_sum_ - probe_max_ > limit || (seconds > kAbsurd * current && !starting);
     if (!lost && probe_runs_ < kSamples + 1) return;
     team_tried_ = team_tried_ || !team_;
     // (A probe stopped at its first substep has only that one to say how long the other way takes.)
@@ -135,7 +176,7 @@ class TeamTrial {
     const double ratio = other / current;  // the other way's time over this way's
     team_over_solo_ = team_ ? 1 / ratio : ratio;
     probing_ = false;
-    if (!lost && ratio <= kHysteresis) {
+    if (!lost && ratio <= needed) {
       team_ = !team_;
       typical_ = other;
       interval_ = kMinInterval;
@@ -146,11 +187,14 @@ class TeamTrial {
       // substep (a team's first one may wait a time slice for its threads to start, once a run). A close loss
       // costs little and is soon tried again (the two ways' means are noisy over a few substeps); a team
       // that waited for time slices, seldom.
-      const double cost = std::max(other - current, 0.0) * double(probe_runs_) / (kProbeShare * current);
+      // A clear loss, stopped early, is reckoned at the length the sum would have run to: stopping early saves the
+      // probe's substeps, not the switches to the other way and back, which a probe as often would add.
+      const double runs = clear ? std::max(double(probe_runs_), limit / other + 1) : double(probe_runs_);
+      const double cost = std::max(other - current, 0.0) * runs / (kProbeShare * current);
       interval_ = (long long)std::min(double(kMaxInterval), std::max(2.0 * double(interval_), cost));
     }
     countdown_ = interval_;
-    sum_ = window_sum_ = 0;
+    mean_ = window_sum_ = 0;
     count_ = window_count_ = 0;
     tally_ = {};
   }
@@ -166,13 +210,16 @@ class TeamTrial {
   }
 
   std::function<bool()> room_;
+  std::function<long long()> preemptions_;
+  long long window_preemptions_ = 0;  // preemptions_() at the window's start
   bool team_ = false;  // the way substeps run between probes: one thread until the team has measured faster
   bool probing_ = false;
   bool team_tried_ = false;  // whether a probe of the team has finished
   bool first_ = true;
   long long interval_ = kMinInterval;
   long long countdown_ = kSamples;  // the first probe: as soon as one thread has a mean
-  double sum_ = 0;                  // this way's time since the last probe, over count_ substeps
+  int refused_ = 0;                 // asks for room refused in a row
+  double mean_ = 0;                 // this way's time a substep since the last probe (over count_ substeps; see record)
   long long count_ = 0;
   double typical_ = 0;     // this way's time a substep when it was last measured against the other
   double window_sum_ = 0;  // over the last window_count_ substeps (up to kMinInterval)
