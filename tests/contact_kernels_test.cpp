@@ -35,11 +35,48 @@ bool sameBits(vec3 a, const float b[3]) {
   return std::memcmp(&a.x, b, 3 * sizeof(float)) == 0;
 }
 
+// pairTerms' entries [0, a.size()) against physics::selfCollisionCorrections and cellOrder; returns the pairs in range
+// and counts those whose distance is NaN and those whose cells are not neighbours.
+int expectScalarTerms(const GridKernels& kern, const std::vector<vec3>& x, const std::vector<std::uint32_t>& a,
+                      const std::vector<std::uint32_t>& b, float thickness, int& nans, int& far_cells) {
+  const float inv_range = 1 / (2 * thickness);
+  std::vector<PairTermOut> out(a.size());
+  const int found = kern.pairTerms(&x.data()->x, x.size(), a.data(), b.data(), 0, std::uint32_t(a.size()), thickness,
+                                   inv_range, out.data());
+  int expected = 0;
+  nans = far_cells = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    const vec3 xi = x[a[k]], xj = x[b[k]];
+    vec3 ci, cj;
+    if (!physics::selfCollisionCorrections(xi, xj, thickness, ci, cj)) continue;
+    if (expected >= found) {
+      ADD_FAILURE() << "entry " << k << " in range is missing";
+      return found;
+    }
+    const PairTermOut& o = out[std::size_t(expected++)];
+    EXPECT_EQ(o.k, k);
+    const vec3 d = xi - xj;
+    if (!(glm::dot(d, d) == glm::dot(d, d))) {
+      EXPECT_EQ(o.order_i, -2) << k;
+      ++nans;
+      continue;
+    }
+    EXPECT_TRUE(sameBits(ci, o.ci)) << k;
+    EXPECT_TRUE(sameBits(cj, o.cj)) << k;
+    const glm::ivec3 cell_i = HashGrid<float>::cellOf(xi, inv_range), cell_j = HashGrid<float>::cellOf(xj, inv_range);
+    EXPECT_EQ(o.order_i, cellOrder(cell_i, cell_j)) << k;
+    EXPECT_EQ(o.order_j, cellOrder(cell_j, cell_i)) << k;
+    far_cells += o.order_i < 0;
+  }
+  EXPECT_EQ(found, expected);
+  return expected;
+}
+
 // Pairs around the contact distance, and the cases the kernel must treat as the scalar code does: a point on
 // itself (distance 0), a pair exactly at the range, equal coordinates (the sign of a zero term), cells far
 // apart or beyond the clamp of HashGrid::cellOf, negative coordinates on cell boundaries, and NaN.
 TEST(ContactKernels, PairTermsAreTheScalarTermsAndOrders) {
-  const float thickness = 0.0095f, range = 2 * thickness, inv_range = 1 / range;
+  const float thickness = 0.0095f, range = 2 * thickness;
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> coord(-0.5f, 0.5f), offset(-1.2f * range, 1.2f * range);
   std::vector<vec3> x;
@@ -63,37 +100,51 @@ TEST(ContactKernels, PairTermsAreTheScalarTermsAndOrders) {
   add(vec3(-huge, 0, 0), vec3(-huge, 0, range * 0.5f));
   add(vec3(nan, 0, 0), vec3(0.0f));
   add(vec3(0.0f), vec3(0, nan, 0));
-  std::vector<PairTermOut> out(a.size());
   for (const GridKernels* kern : kernelSets()) {
     SCOPED_TRACE(kern->name);
-    const int found =
-        kern->pairTerms(&x.data()->x, a.data(), b.data(), 0, std::uint32_t(a.size()), thickness, inv_range, out.data());
-    int expected = 0, nans = 0, far_cells = 0;
-    for (std::size_t k = 0; k < a.size(); ++k) {
-      const vec3 xi = x[a[k]], xj = x[b[k]];
-      vec3 ci, cj;
-      if (!physics::selfCollisionCorrections(xi, xj, thickness, ci, cj)) continue;
-      ASSERT_LT(expected, found);
-      const PairTermOut& o = out[std::size_t(expected++)];
-      ASSERT_EQ(o.k, k);
-      const vec3 d = xi - xj;
-      if (!(glm::dot(d, d) == glm::dot(d, d))) {
-        EXPECT_EQ(o.order_i, -2) << k;
-        ++nans;
-        continue;
-      }
-      EXPECT_TRUE(sameBits(ci, o.ci)) << k;
-      EXPECT_TRUE(sameBits(cj, o.cj)) << k;
-      const glm::ivec3 cell_i = HashGrid<float>::cellOf(xi, inv_range), cell_j = HashGrid<float>::cellOf(xj, inv_range);
-      EXPECT_EQ(o.order_i, cellOrder(cell_i, cell_j)) << k;
-      EXPECT_EQ(o.order_j, cellOrder(cell_j, cell_i)) << k;
-      far_cells += o.order_i < 0;
-    }
-    EXPECT_EQ(found, expected);
+    int nans = 0, far_cells = 0;
+    const int expected = expectScalarTerms(*kern, x, a, b, thickness, nans, far_cells);
     EXPECT_EQ(nans, 2);
     EXPECT_GT(expected, 500);  // the random pairs put a good share in range
-    EXPECT_GT(found - far_cells, 500);
+    EXPECT_GT(expected - far_cells, 500);
     EXPECT_TRUE(x87Usable()) << "pairTerms left the x87 registers to MMX";
+  }
+}
+
+// A list as the lists hold it: by owner, ascending, a few partners each, so that a vector's owners lie within a few
+// points of its first (Avx512::loadVec3Near loads them whole where they lie within kNear and inside the array):
+// spans of 9 and 10 points, a vector whose owners end at the array's last point, and the whole lanes' gather of the
+// partners (gatherVec3Whole) with tails of every length.
+TEST(ContactKernels, PairTermsOfAListByOwner) {
+  const float thickness = 0.02f;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> coord(0.0f, 0.06f);
+  std::vector<vec3> x(300);
+  for (vec3& p : x)
+    p = vec3(coord(rng), coord(rng), coord(rng));
+  const auto n = std::uint32_t(x.size());
+  std::vector<std::uint32_t> a, b;
+  const auto entry = [&](std::uint32_t i, std::uint32_t j) {
+    a.push_back(i);
+    b.push_back(j);
+  };
+  for (std::uint32_t i = 0; i < n; ++i)
+    for (auto e = std::uint32_t(rng() % 5); e > 0; --e)
+      entry(i, std::uint32_t(rng() % n));
+  for (const std::uint32_t span : {9u, 10u})  // sixteen entries from owner 100 to 100 + span
+    for (std::uint32_t l = 0; l < 16; ++l)
+      entry(100 + l * span / 15, std::uint32_t(rng() % n));
+  for (std::uint32_t l = 0; l < 16; ++l)  // the last vector's owners end at the last point
+    entry(n - 1 - (15 - l) / 4, std::uint32_t(rng() % n));
+  for (const GridKernels* kern : kernelSets()) {
+    SCOPED_TRACE(kern->name);
+    for (std::size_t tail = 0; tail < 16; ++tail) {  // every count of lanes in the last vector
+      const std::vector<std::uint32_t> a_part(a.begin(), a.end() - std::ptrdiff_t(tail)),
+          b_part(b.begin(), b.end() - std::ptrdiff_t(tail));
+      int nans = 0, far_cells = 0;
+      EXPECT_GT(expectScalarTerms(*kern, x, a_part, b_part, thickness, nans, far_cells), 100);
+      EXPECT_EQ(nans, 0);
+    }
   }
 }
 

@@ -263,7 +263,8 @@ void CpuSolver<T>::findPairHits(long long lo, long long hi, bool flagged, T thic
         const auto take = [&](const std::uint32_t* a, const std::uint32_t* b, std::uint32_t from, std::uint32_t to) {
           // Grown, never shrunk: a resize from the stencil's few to the list's many would zero them every substep
           if (mine.hits.size() < to - from) mine.hits.resize(to - from);
-          const int found = kernels_->pairTerms(&x_.data()->x, a, b, from, to, thickness, inv_range, mine.hits.data());
+          const int found =
+              kernels_->pairTerms(&x_.data()->x, x_.size(), a, b, from, to, thickness, inv_range, mine.hits.data());
           for (int s = 0; s < found; ++s) {
             const PairTermOut& h = mine.hits[std::size_t(s)];
             const std::uint32_t i = a[h.k], j = b[h.k];

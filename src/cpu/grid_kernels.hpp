@@ -287,10 +287,10 @@ struct GridKernels {
   bool (*healthyRows)(const GridHealthArgs&, int y0, int y1);
   // The entries k in [first, last) whose pair {owner[k], partner[k]} is within self-collision range, by the
   // test of physics::selfCollisionCorrection (a NaN distance counts, as there), with both ends' terms and cell
-  // orders (PairTermOut), written to out in ascending k; their count returned. x is the vec3 array seen as
-  // floats; inv_range: 1 / (2 thickness), the grid of cellOrder. Not grid-specific.
-  int (*pairTerms)(const float* x, const std::uint32_t* owner, const std::uint32_t* partner, std::uint32_t first,
-                   std::uint32_t last, float thickness, float inv_range, PairTermOut* out);
+  // orders (PairTermOut), written to out in ascending k; their count returned. x is the vec3 array of `points`
+  // seen as floats; inv_range: 1 / (2 thickness), the grid of cellOrder. Not grid-specific.
+  int (*pairTerms)(const float* x, std::size_t points, const std::uint32_t* owner, const std::uint32_t* partner,
+                   std::uint32_t first, std::uint32_t last, float thickness, float inv_range, PairTermOut* out);
   // Self-collision's stencil (cpu/collision_pairs.hpp) from the points of rows [y0, y1): the pairs whose partner
   // lies on the grid, is not held at rest, and is within range, written to lower and upper (see GridStencilArgs);
   // their count returned.

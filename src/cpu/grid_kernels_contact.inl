@@ -58,16 +58,21 @@ struct ContactKernels : Lanes<V> {
     }
   }
 
-  static int pairTerms(const float* x, const std::uint32_t* owner, const std::uint32_t* partner, std::uint32_t first,
-                       std::uint32_t last, float thickness, float inv_range, PairTermOut* out) {
+  static int pairTerms(const float* x, std::size_t points, const std::uint32_t* owner, const std::uint32_t* partner,
+                       std::uint32_t first, std::uint32_t last, float thickness, float inv_range, PairTermOut* out) {
     const float range = 2.0f * thickness;  // as physics::selfCollisionCorrections computes it
     const F range2 = V::set1(range * range), zero = V::set1(0.0f), one = V::set1(1.0f), inv = V::set1(inv_range);
     int count = 0;
     for (std::uint32_t k = first; k < last; k += kW) {
       const int lanes = int(last - k < std::uint32_t(kW) ? last - k : std::uint32_t(kW));
       F ix, iy, iz, jx, jy, jz, live;
-      V::gatherVec3(x, owner + k, lanes, ix, iy, iz, live);
-      V::gatherVec3(x, partner + k, lanes, jx, jy, jz, live);
+      // A list's owners are sorted and close together: loaded whole where the set can (the partners' gather sets live)
+      if (lanes != kW || !V::loadVec3Near(x, owner + k, points, ix, iy, iz))
+        V::gatherVec3(x, owner + k, lanes, ix, iy, iz, live);
+      if (lanes == kW)
+        V::gatherVec3Whole(x, partner + k, jx, jy, jz, live);
+      else
+        V::gatherVec3(x, partner + k, lanes, jx, jy, jz, live);
       const F dx = V::sub(ix, jx), dy = V::sub(iy, jy), dz = V::sub(iz, jz);
       const F dist2 = V::add(V::add(V::mul(dx, dx), V::mul(dy, dy)), V::mul(dz, dz));
       const int live_bits = (1 << lanes) - 1;
