@@ -72,9 +72,10 @@ class TeamTrial {
   static constexpr double kHysteresis = 0.95;
   // One thread must take at most this fraction of a team's time to replace it. A team back from a probe of one
   // thread takes about a hundred substeps to regain its speed (CS184's selfCollision: 9% slower over the first 20,
-  // 4% over the next 40), and on a shared machine a core slowed for 100-250 substeps made a team as slow as one
-  // thread: one thread won such probes by a few percent and kept the run for up to 2,000 substeps after the team
-  // was fast again. A team that has gone that much slower (a core taken) still loses at once.
+  // 4% over the next 40), and on a shared machine one thread's passes slowed by half for 100-250 substeps at a time
+  // (the other's not), which made a team as slow as one thread: one thread won such probes by a few percent and,
+  // each later probe of the team a close loss, kept runs for up to 2,000 substeps after the team was fast again. A
+  // team that has gone that much slower (a core taken) still loses at once.
   static constexpr double kLeaveTeam = 0.85;
   // A team whose last kMinInterval substeps took this many times what it measured, and whose threads were
   // preempted meanwhile, is probed against one thread at once.
