@@ -85,6 +85,10 @@ class TeamTrial {
   // 0.6 of its time ran 11 substeps before the sum said so.
   static constexpr double kClearLoss = 1.25;
   static constexpr int kClearAfter = 4;
+  // What a probe of one thread costs a team beyond its own substeps, in the team's substeps: the caches' lines
+  // moved to one core and back, and the team's hundred substeps of settling after it (9% slower over the first 20
+  // on CS184's selfCollision, 4-5% over the next 60). Reckoned into the wait for the next probe.
+  static constexpr double kLeaveCost = 6;
   // One substep of a probe this many times the current way's mean ends it, lost: a team whose barriers each
   // wait for a time slice (both cores busy) takes a thousand times one thread's substep, 0.1 s at 50 x 50,
   // and a second such substep would double the probe's cost. An interrupted substep on a quiet machine (a
@@ -191,7 +195,8 @@ class TeamTrial {
       // A clear loss, stopped early, is reckoned at the length the sum would have run to: stopping early saves the
       // probe's substeps, not the switches to the other way and back, which a probe as often would add.
       const double runs = clear ? std::max(double(probe_runs_), limit / other + 1) : double(probe_runs_);
-      const double cost = std::max(other - current, 0.0) * runs / (kProbeShare * current);
+      const double cost =
+          (std::max(other - current, 0.0) * runs + (team_ ? kLeaveCost * current : 0.0)) / (kProbeShare * current);
       interval_ = (long long)std::min(double(kMaxInterval), std::max(2.0 * double(interval_), cost));
     }
     countdown_ = interval_;
