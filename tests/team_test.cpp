@@ -158,8 +158,8 @@ TEST(TeamBytesContact, AListBuiltOnOneThreadAfterTheTeamHoldsOnlyItsOwnPairs) {
 }
 
 // A trial's probe runs a few substeps on one thread between the team's: the team's shares of self-collision's search,
-// finds and sums, which followed its times, are where it left them when it comes back (even again, they took a team
-// about 50 substeps to find back after each probe).
+// finds and sums, which followed its times, are where it left them when it comes back (reset to even, they started
+// over after each probe).
 TEST(TeamBytesContact, TheTeamsSharesOutlastASubstepOnOneThread) {
   OneThreadAndTeam run;
   for (int f = 0; f < 45; ++f)
