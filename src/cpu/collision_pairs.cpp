@@ -130,7 +130,7 @@ void CollisionPairs<T>::makeStencil() {
 
 template <class T>
 StencilMask CollisionPairs<T>::stencilMask(const std::vector<vec3>& x, std::size_t i) const {
-  const int u = column(i), v = row(i);
+  const int u = columnOf(uv_[i]), v = rowOf(uv_[i]);
   const T range2 = range_ * range_;
   StencilMask mask = 0;
   for (std::size_t k = 0; k < stencil_.size(); ++k) {

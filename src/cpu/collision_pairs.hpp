@@ -371,8 +371,8 @@ class CollisionPairs {
   int w_ = 0, h_ = 0;               // the grid, or 0 x 0
   std::vector<std::uint32_t> uv_;   // each point's grid column | row << 16 (words: GridKernels::filePairs gathers them)
   std::vector<std::int32_t> kind_;  // OffsetKind per offset of the box [-box_, box_]^2, row by row
-  int column(std::size_t i) const { return int(uv_[i] & 0xffff); }
-  int row(std::size_t i) const { return int(uv_[i] >> 16); }
+  static int columnOf(std::uint32_t uv) { return int(uv & 0xffff); }  // of a uv_ word
+  static int rowOf(std::uint32_t uv) { return int(uv >> 16); }
   void prepareBuild(const std::vector<vec3>& x, int threads);
   void findPairs(const std::vector<vec3>& x, int thread, long long first, long long last);
   void findPairsByCell(int thread, long long first, long long last);

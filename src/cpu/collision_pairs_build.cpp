@@ -143,8 +143,8 @@ void CollisionPairs<T>::prepareBuild(const std::vector<vec3>& x, int threads) {
     sx_[s] = x[j].x;
     sy_[s] = x[j].y;
     sz_[s] = x[j].z;
-    su_[s] = by_offset_ ? T(column(j)) : T(0);
-    sv_[s] = by_offset_ ? T(row(j)) : T(0);
+    su_[s] = by_offset_ ? T(columnOf(uv_[j])) : T(0);
+    sv_[s] = by_offset_ ? T(rowOf(uv_[j])) : T(0);
   }
   teamBarrier();
 }

@@ -79,7 +79,7 @@ template <class T>
     mine[d].value.push_back(pair);
   };
   if (kind) {
-    const int du = int(uv[j] & 0xffff) - int(uv[i] & 0xffff), dv = int(uv[j] >> 16) - int(uv[i] >> 16);
+    const int du = columnOf(uv[j]) - columnOf(uv[i]), dv = rowOf(uv[j]) - rowOf(uv[i]);
     if (du < -box || du > box || dv < -box || dv > box) return keep();
     const int side = 2 * box + 1;
     if (kind[std::size_t((dv + box) * side + du + box)] == kList) keep();  // else held, or on the stencil
@@ -124,8 +124,8 @@ void CollisionPairs<T>::setPoint(ScanArgs& scan, const std::vector<vec3>& x, std
   scan.py = x[i].y;
   scan.pz = x[i].z;
   if (by_offset_) {
-    scan.pu = T(column(i));
-    scan.pv = T(row(i));
+    scan.pu = T(columnOf(uv_[i]));
+    scan.pv = T(rowOf(uv_[i]));
   }
 }
 

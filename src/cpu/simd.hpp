@@ -402,7 +402,7 @@ struct Avx512 : LaneShuffles<Avx512> {
   static constexpr std::uint32_t kNear = 10;
   static bool loadVec3Near(const float* x, const std::uint32_t* idx, std::size_t points, F& gx, F& gy, F& gz) {
     const std::uint32_t first = idx[0];
-    if (std::size_t(first) + 11 > points) return false;  // the 32 floats read, not only the 30 used, inside x
+    if (3 * std::size_t(first) + 32 > 3 * points) return false;  // the two loads' 32 floats, not only those used
     const __m512i from = _mm512_sub_epi32(_mm512_loadu_si512(idx), _mm512_set1_epi32(int(first)));
     if (_mm512_cmpgt_epu32_mask(from, _mm512_set1_epi32(int(kNear - 1))) != 0) return false;
     const __m512i at = _mm512_add_epi32(from, _mm512_add_epi32(from, from)), one = _mm512_set1_epi32(1);
