@@ -122,15 +122,30 @@ TEST(TeamTrial, ASlowdownWithoutPreemptionsIsTheWork) {
   long long preempted = 0;
   TeamTrial undisturbed([] { return true; }, [] { return 0LL; });
   TeamTrial preempting([] { return true; }, [&] { return ++preempted; });
-  // Probes of one thread after the first fall at substeps 96, 587, 1564 and 3513 on this run
+  // A team at 0.75 of one thread's time is decisive (kDecisive): no probe of one thread after the first
   for (TeamTrial* trial : {&undisturbed, &preempting})
-    ASSERT_EQ(runTrial(*trial, 1600, 1.0, 0.75), 1600 - TeamTrial::kSamples - 3 * (TeamTrial::kClearAfter + 1));
+    ASSERT_EQ(runTrial(*trial, 1600, 1.0, 0.75), 1600 - TeamTrial::kSamples);
   // The work doubles: two windows of kMinInterval substeps on the team at twice its time.
   const long long n = 2 * TeamTrial::kMinInterval + 2;
   EXPECT_EQ(runTrial(undisturbed, n, 2.0, 1.5), n) << "no probe: the team ran as fast as it could";
   EXPECT_EQ(runTrial(preempting, n, 2.0, 1.5), n - (TeamTrial::kClearAfter + 1)) << "a probe, lost";
   EXPECT_TRUE(undisturbed.useTeam());
   EXPECT_TRUE(preempting.useTeam());
+}
+
+// A team at kDecisive of one thread's time or less is not probed against one thread again until it slows by
+// kSlowdown (each probe cost CS184's selfCollision's team its settling, and one thread never won one on a quiet
+// machine); a team that won by less is probed as before.
+TEST(TeamTrial, ADecisiveTeamIsProbedOnlyOnceItSlows) {
+  TeamTrial decisive, close;
+  const long long n = 3000;
+  EXPECT_EQ(runTrial(decisive, n, 1.0, 0.75), n - TeamTrial::kSamples);
+  // At 0.81 one thread takes 1.23 of the team's time, under kClearLoss: each of three probes runs until its sum less
+  // its slowest passes kLeaveTeam x kSamples x 0.81 = 11.0 (13 substeps)
+  EXPECT_EQ(runTrial(close, 1600, 1.0, 0.81), 1600 - TeamTrial::kSamples - 3 * 13);
+  // Twice as slow (a core taken): the window's check probes it at once, and one thread wins
+  runTrial(decisive, 2 * TeamTrial::kMinInterval + TeamTrial::kSamples + 2, 1.0, 2.0);
+  EXPECT_FALSE(decisive.useTeam());
 }
 
 // A probe that has clearly lost stops after kClearAfter substeps and its slowest (a team at 0.6 of one thread's time:

@@ -77,6 +77,9 @@ class TeamTrial {
   // each later probe of the team a close loss, kept runs for up to 2,000 substeps after the team was fast again. A
   // team that has gone that much slower (a core taken) still loses at once.
   static constexpr double kLeaveTeam = 0.85;
+  // A team measured at this fraction of one thread's time or less is probed against one thread again only once it
+  // has slowed by kSlowdown (record).
+  static constexpr double kDecisive = 0.8;
   // A team whose last kMinInterval substeps took this many times what it measured, and whose threads were
   // preempted meanwhile, is probed against one thread at once.
   static constexpr double kSlowdown = 1.5;
@@ -134,9 +137,10 @@ class TeamTrial {
           // as much: its time becomes the measure. Either way the window's mean is the team's time now, which a
           // probe measures one thread against.
           if (team_ && window_sum_ / double(kMinInterval) > kSlowdown * typical_) {
-            if (!preemptions_ || preemptions_() > window_preemptions_)
+            if (!preemptions_ || preemptions_() > window_preemptions_) {
               countdown_ = 1;
-            else
+              slowed_ = true;
+            } else
               typical_ = window_sum_ / double(kMinInterval);
             mean_ = window_sum_ / double(kMinInterval);
             count_ = kMinInterval;
@@ -147,6 +151,17 @@ class TeamTrial {
       }
       first_ = false;
       if (--countdown_ > 0) return;
+      if (team_ && decisive_ && !slowed_ && count_ > 0 && mean_ <= kSlowdown * typical_) {
+        // A team that beat one thread by kDecisive and has not slowed since: one thread could replace it only by
+        // taking under kLeaveTeam of its time, which its work alone does not make it do (CS184's selfCollision: 0.52
+        // to 0.78 over the run, and each probe cost the team its settling; the threads of a quiet run are preempted
+        // 10-130 times, so a count of them says little here). Not probed, and the interval doubles as for a lost
+        // probe. Another job taking a core slows the team by far more: the window's check probes it at once.
+        interval_ = std::min(kMaxInterval, 2 * interval_);
+        countdown_ = interval_;
+        return;
+      }
+      slowed_ = false;
       if (team_ || room_()) {
         startProbe();
         refused_ = 0;
@@ -181,6 +196,8 @@ class TeamTrial {
     const double ratio = other / current;  // the other way's time over this way's
     team_over_solo_ = team_ ? 1 / ratio : ratio;
     probing_ = false;
+    // A team measured at kDecisive of one thread's time or less (by a probe of either way that ran to its end)
+    decisive_ = team_over_solo_ <= kDecisive;
     if (!lost && ratio <= needed) {
       team_ = !team_;
       typical_ = other;
@@ -218,6 +235,8 @@ class TeamTrial {
   std::function<bool()> room_;
   std::function<long long()> preemptions_;
   long long window_preemptions_ = 0;  // preemptions_() at the window's start
+  bool decisive_ = false;             // the last probe put the team at kDecisive of one thread's time or less
+  bool slowed_ = false;               // the window's check calls for a probe now
   bool team_ = false;  // the way substeps run between probes: one thread until the team has measured faster
   bool probing_ = false;
   bool team_tried_ = false;  // whether a probe of the team has finished
