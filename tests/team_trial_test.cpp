@@ -6,9 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace drape {
@@ -115,22 +117,34 @@ TEST(TeamTrial, FollowsTheMachineWhenItChanges) {
   EXPECT_FALSE(trial.useTeam());
 }
 
-// A team whose substeps took 1.5 times what it measured is probed against one thread at once where its threads were
-// preempted (another job took a core), and not where they ran undisturbed: a cloth that folds gives the team more
-// work, and one thread as much more.
-TEST(TeamTrial, ASlowdownWithoutPreemptionsIsTheWork) {
-  long long preempted = 0;
-  TeamTrial undisturbed([] { return true; }, [] { return 0LL; });
-  TeamTrial preempting([] { return true; }, [&] { return ++preempted; });
+// A team whose substeps took 1.5 times what it measured is probed against one thread at once where it missed a tenth
+// of a processor's time or more over them (another job took a core), and not where it missed less: a cloth that folds
+// gives the team more work, and one thread as much more.
+TEST(TeamTrial, ASlowdownWithoutMissedTimeIsTheWork) {
+  double little = 0, lost = 0;
+  // A window of kMinInterval substeps at 1.5 below is 96 seconds: each ask sees 5 more missed (under a tenth), or 100
+  TeamTrial undisturbed([] { return true; }, [&] { return little += 5.0; });
+  TeamTrial deprived([] { return true; }, [&] { return lost += 100.0; });
   // A team at 0.75 of one thread's time is decisive (kDecisive): no probe of one thread after the first
-  for (TeamTrial* trial : {&undisturbed, &preempting})
+  for (TeamTrial* trial : {&undisturbed, &deprived})
     ASSERT_EQ(runTrial(*trial, 1600, 1.0, 0.75), 1600 - TeamTrial::kSamples);
   // The work doubles: two windows of kMinInterval substeps on the team at twice its time.
   const long long n = 2 * TeamTrial::kMinInterval + 2;
   EXPECT_EQ(runTrial(undisturbed, n, 2.0, 1.5), n) << "no probe: the team ran as fast as it could";
-  EXPECT_EQ(runTrial(preempting, n, 2.0, 1.5), n - (TeamTrial::kClearAfter + 1)) << "a probe, lost";
+  EXPECT_EQ(runTrial(deprived, n, 2.0, 1.5), n - (TeamTrial::kClearAfter + 1)) << "a probe, lost";
   EXPECT_TRUE(undisturbed.useTeam());
-  EXPECT_TRUE(preempting.useTeam());
+  EXPECT_TRUE(deprived.useTeam());
+}
+
+// The processor time a team misses: all of it while the process sleeps, each thread's share of the wall-clock time.
+TEST(TeamTrial, MissedProcessorTimeCountsWhatTheThreadsDidNotRun) {
+  const auto one = missedProcessorTime(1), two = missedProcessorTime(2);
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  const double missed_one = one(), missed_two = two();
+  EXPECT_GE(missed_one, 0.025);
+  EXPECT_LT(missed_one, 5.0);
+  EXPECT_GE(missed_two, 2 * 0.025);
+  EXPECT_GT(missed_two, missed_one);
 }
 
 // A team at kDecisive of one thread's time or less is not probed against one thread again until it slows by

@@ -3,7 +3,7 @@
 
 #include <omp.h>
 #include <sched.h>
-#include <sys/resource.h>
+#include <time.h>
 
 #include <atomic>
 #include <chrono>
@@ -99,9 +99,15 @@ bool spreadTeam(int team) {
   return moved.load() == team;
 }
 
-long long processPreemptions() {
-  rusage usage{};
-  return getrusage(RUSAGE_SELF, &usage) == 0 ? (long long)usage.ru_nivcsw : 0;
+std::function<double()> missedProcessorTime(int team) {
+  const auto processorSeconds = [] {
+    timespec t{};
+    return clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) == 0 ? double(t.tv_sec) + 1e-9 * double(t.tv_nsec) : 0.0;
+  };
+  using Clock = std::chrono::steady_clock;
+  return [team, processorSeconds, wall = Clock::now(), processor = processorSeconds()] {
+    return double(team) * std::chrono::duration<double>(Clock::now() - wall).count() - (processorSeconds() - processor);
+  };
 }
 
 std::function<bool()> machineRoom(int team) {

@@ -50,9 +50,13 @@ inline bool roomAmongRunnable(int runnable, int processors, int team) {
 // until a few ticks have passed, whether the 1-minute load average or the tasks runnable now (roomAmongRunnable) do.
 std::function<bool()> machineRoom(int team);
 
-// The times this process's threads have been preempted so far (getrusage's involuntary context switches): what tells
-// a team that another job took a core from one whose substeps grew with its work (cpu/team_trial.cpp).
-long long processPreemptions();
+// The processor time a team of `team` threads has missed since this call: `team` times the wall-clock time less the
+// process's processor time (CLOCK_PROCESS_CPUTIME_ID), in seconds. A team's threads spin while they wait, so a quiet
+// machine leaves it near 0 however the work grows; another job that takes a core adds to it (cpu/team_trial.cpp).
+// What tells a team slowed by another job from one slowed by its work: a count of preemptions (getrusage's involuntary
+// switches) could not, a quiet two-thread run of CS184's selfCollision having 10-130 of them. The process's other
+// threads (a renderer's) count as the team's: there a slowdown is more often taken for the work.
+std::function<double()> missedProcessorTime(int team);
 
 // Moves each thread of an OpenMP team of `team` to a processor of its own once, then lets the scheduler place it
 // again (cpu/team_trial.cpp). A new thread starts on the core of the thread that made it, and while that one
@@ -78,11 +82,14 @@ class TeamTrial {
   // team that has gone that much slower (a core taken) still loses at once.
   static constexpr double kLeaveTeam = 0.85;
   // A team measured at this fraction of one thread's time or less is probed against one thread again only once it
-  // has slowed by kSlowdown (record).
-  static constexpr double kDecisive = 0.8;
-  // A team whose last kMinInterval substeps took this many times what it measured, and whose threads were
-  // preempted meanwhile, is probed against one thread at once.
+  // has slowed by kSlowdown (record): until then it takes under kDecisive x kSlowdown of one thread's time, too little
+  // for one thread to replace it (kLeaveTeam).
+  static constexpr double kDecisive = 0.78;
+  // A team whose last kMinInterval substeps took this many times what it measured, and which missed more than
+  // kMissedShare of a processor's time over them, is probed against one thread at once.
   static constexpr double kSlowdown = 1.5;
+  static constexpr double kMissedShare = 0.1;
+  static_assert(kDecisive * kSlowdown < 1 / kLeaveTeam);
   // A probe whose first substeps (kClearAfter of them, the slowest left out) took this many times the current way's
   // mean has lost: the rest of it could not bring it under kHysteresis or kLeaveTeam. A one-thread probe of a team at
   // 0.6 of its time ran 11 substeps before the sum said so.
@@ -100,11 +107,11 @@ class TeamTrial {
 
   // `room`: whether the machine has a core for each of the team's other threads now (asked before a probe
   // of the team, not every substep).
-  // `preemptions`: the times the process's threads have been preempted so far (processPreemptions), or none where
-  // a slowdown is to be taken for a lost core whatever the cause.
+  // `missed`: the processor time the team has missed so far, in seconds (missedProcessorTime), or none where a
+  // slowdown is to be taken for a lost core whatever the cause.
   explicit TeamTrial(
-      std::function<bool()> room = [] { return true; }, std::function<long long()> preemptions = nullptr)
-      : room_(std::move(room)), preemptions_(std::move(preemptions)) {}
+      std::function<bool()> room = [] { return true; }, std::function<double()> missed = nullptr)
+      : room_(std::move(room)), missed_(std::move(missed)) {}
 
   bool useTeam() const { return probing_ ? !team_ : team_; }
 
@@ -127,17 +134,17 @@ class TeamTrial {
         // state changes (a team took one thread's time for hundreds of substeps, then 0.6 of it again), and a probe
         // after such a stretch measured one thread against it, won, and kept it for 146 substeps.
         mean_ += (seconds - mean_) / double(std::min(++count_, kMinInterval));
-        if (window_count_ == 0 && preemptions_) window_preemptions_ = preemptions_();
+        if (window_count_ == 0 && missed_) window_missed_ = missed_();
         window_sum_ += seconds;
         if (++window_count_ == kMinInterval) {
-          // A team that has become much slower than it measured because another job took a core (its threads
-          // were preempted) tries one thread now rather than at its next probe; one thread is never that costly
-          // to try. A team slowed by its work alone (a cloth that folds: CS184's selfCollision's team takes 18 us
-          // a substep at first and 40-60 late in the run) ran as fast as it could, and one thread would have slowed
-          // as much: its time becomes the measure. Either way the window's mean is the team's time now, which a
-          // probe measures one thread against.
+          // A team that has become much slower than it measured because another job took a core (it missed a
+          // tenth of a processor's time or more) tries one thread now rather than at its next probe; one thread is
+          // never that costly to try. A team slowed by its work alone (a cloth that folds: CS184's selfCollision's team
+          // takes 18 us a substep at first and 40-60 late in the run) ran as fast as it could, and one thread would
+          // have slowed as much: its time becomes the measure. Either way the window's mean is the team's time now,
+          // which a probe measures one thread against.
           if (team_ && window_sum_ / double(kMinInterval) > kSlowdown * typical_) {
-            if (!preemptions_ || preemptions_() > window_preemptions_) {
+            if (!missed_ || missed_() - window_missed_ > kMissedShare * window_sum_) {
               countdown_ = 1;
               slowed_ = true;
             } else
@@ -154,9 +161,9 @@ class TeamTrial {
       if (team_ && decisive_ && !slowed_ && count_ > 0 && mean_ <= kSlowdown * typical_) {
         // A team that beat one thread by kDecisive and has not slowed since: one thread could replace it only by
         // taking under kLeaveTeam of its time, which its work alone does not make it do (CS184's selfCollision: 0.52
-        // to 0.78 over the run, and each probe cost the team its settling; the threads of a quiet run are preempted
-        // 10-130 times, so a count of them says little here). Not probed, and the interval doubles as for a lost
-        // probe. Another job taking a core slows the team by far more: the window's check probes it at once.
+        // to 0.78 over the run, and each probe cost the team its settling). Not probed, and the interval doubles as
+        // for a lost probe. Another job taking a core slows the team by far more: the window's check probes it at
+        // once.
         interval_ = std::min(kMaxInterval, 2 * interval_);
         countdown_ = interval_;
         return;
@@ -196,7 +203,6 @@ class TeamTrial {
     const double ratio = other / current;  // the other way's time over this way's
     team_over_solo_ = team_ ? 1 / ratio : ratio;
     probing_ = false;
-    // A team measured at kDecisive of one thread's time or less (by a probe of either way that ran to its end)
     decisive_ = team_over_solo_ <= kDecisive;
     if (!lost && ratio <= needed) {
       team_ = !team_;
@@ -233,11 +239,11 @@ class TeamTrial {
   }
 
   std::function<bool()> room_;
-  std::function<long long()> preemptions_;
-  long long window_preemptions_ = 0;  // preemptions_() at the window's start
-  bool decisive_ = false;             // the last probe put the team at kDecisive of one thread's time or less
-  bool slowed_ = false;               // the window's check calls for a probe now
-  bool team_ = false;  // the way substeps run between probes: one thread until the team has measured faster
+  std::function<double()> missed_;
+  double window_missed_ = 0;  // missed_() at the window's start
+  bool decisive_ = false;     // the last probe put the team at kDecisive of one thread's time or less
+  bool slowed_ = false;       // the window's check calls for a probe now
+  bool team_ = false;         // the way substeps run between probes: one thread until the team has measured faster
   bool probing_ = false;
   bool team_tried_ = false;  // whether a probe of the team has finished
   bool first_ = true;
