@@ -64,7 +64,8 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
   const std::size_t n = std::size_t(topo_.pointCount());
   team_ =
       threads_ > 1 && (long long)n >= std::min(options.team_min_points, options.team_trial_min_points) ? threads_ : 1;
-  if (team_ > 1 && (long long)n < options.team_min_points) trial_.emplace(machineRoom(team_), missedProcessorTime(team_));
+  if (team_ > 1 && (long long)n < options.team_min_points)
+    trial_.emplace(machineRoom(team_), missedProcessorTime(team_));
   if constexpr (std::is_same_v<T, float>)
     if (options.grid_path) {
       kernels_ = &drape::gridKernels(options.grid_isa);
