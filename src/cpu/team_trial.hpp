@@ -144,10 +144,9 @@ class TeamTrial {
           // have slowed as much: its time becomes the measure. Either way the window's mean is the team's time now,
           // which a probe measures one thread against.
           if (team_ && window_sum_ / double(kMinInterval) > kSlowdown * typical_) {
-            if (!missed_ || missed_() - window_missed_ > kMissedShare * window_sum_) {
+            if (!missed_ || missed_() - window_missed_ > kMissedShare * window_sum_)
               countdown_ = 1;
-              slowed_ = true;
-            } else
+            else
               typical_ = window_sum_ / double(kMinInterval);
             mean_ = window_sum_ / double(kMinInterval);
             count_ = kMinInterval;
@@ -158,7 +157,8 @@ class TeamTrial {
       }
       first_ = false;
       if (--countdown_ > 0) return;
-      if (team_ && decisive_ && !slowed_ && count_ > 0 && mean_ <= kSlowdown * typical_) {
+      // (A window that called for a probe left its mean over kSlowdown x typical_: it is probed.)
+      if (team_ && decisive_ && count_ > 0 && mean_ <= kSlowdown * typical_) {
         // A team that beat one thread by kDecisive and has not slowed since: one thread could replace it only by
         // taking under kLeaveTeam of its time, which its work alone does not make it do (CS184's selfCollision: 0.52
         // to 0.78 over the run, and each probe cost the team its settling). Not probed, and the interval doubles as
@@ -168,7 +168,6 @@ class TeamTrial {
         countdown_ = interval_;
         return;
       }
-      slowed_ = false;
       if (team_ || room_()) {
         startProbe();
         refused_ = 0;
@@ -242,7 +241,6 @@ class TeamTrial {
   std::function<double()> missed_;
   double window_missed_ = 0;  // missed_() at the window's start
   bool decisive_ = false;     // the last probe put the team at kDecisive of one thread's time or less
-  bool slowed_ = false;       // the window's check calls for a probe now
   bool team_ = false;         // the way substeps run between probes: one thread until the team has measured faster
   bool probing_ = false;
   bool team_tried_ = false;  // whether a probe of the team has finished
