@@ -1,5 +1,6 @@
 #include "gl/context.hpp"
 
+#include "gl/display_libraries.hpp"
 #include "gl/gl.hpp"
 
 #define EGL_NO_X11  // keep Xlib's macros (None, Bool, Status) out of this file
@@ -236,6 +237,8 @@ std::string describe(const ContextInfo& info) {
 }
 
 HeadlessContext HeadlessContext::create(const HeadlessOptions& options) {
+  if (const std::string error = openDisplayLibrary(DisplayLibrary::Egl); !error.empty())
+    throw ContextError("EGL: " + error);
   std::vector<std::string> tried;
   std::string platform = options.platform;
   if (const char* forced = std::getenv("DRAPE_EGL_PLATFORM"); forced && *forced) platform = forced;
@@ -329,6 +332,8 @@ void HeadlessContext::makeCurrent() const {
 }
 
 WindowContext WindowContext::create(int width, int height, const std::string& title, bool visible, bool debug) {
+  if (const std::string error = openDisplayLibrary(DisplayLibrary::Glfw); !error.empty())
+    throw ContextError("GLFW: " + error);
   glfwSetErrorCallback(onGlfwError);
   if (liveWindows == 0 && !glfwInit()) {
     throw ContextError("GLFW: cannot initialise (" + glfwLastError +
