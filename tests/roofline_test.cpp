@@ -1,6 +1,7 @@
 // `drape bench --roofline`'s model and table on made-up runs and ceilings (no probing, no timing): the work
 // counted per pass, which ceiling binds, and the share of it a pass reaches.
 #include "app/roofline.hpp"
+#include "cpu/machine_peak.hpp"
 
 #include <gtest/gtest.h>
 
@@ -202,6 +203,9 @@ TEST(Roofline, ATeamIsHeldToTheCeilingsOfItsThreads) {
   two.barrier_us = 3;
   two.barrier_best_us = 0.25;
   two.omp_barrier_us = 0.5;
+  two.gap_share = 0.0264;
+  two.gaps_per_second = 4512.4;
+  two.long_gaps_per_second = 351.6;
   r.peaks = {one, two};
   BenchRun team = gridRun(50, "avx2");
   team.threads = team.team_threads = 2;
@@ -210,8 +214,21 @@ TEST(Roofline, ATeamIsHeldToTheCeilingsOfItsThreads) {
   // ceilings would allow 65 ns, more than was measured)
   r.runs = {team};
   const std::string md = rooflineMarkdown(r);
-  EXPECT_NE(md.find("| 2 | 2.0 | 0.0 | 100.0 | 2.0 | 2.00 | 3.00, 0.25; 0.50 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 2 | 2.0 | 0.0 | 100.0 | 2.0 | 2.00 | 3.00, 0.25; 0.50 | 2.6%; 4512, 352 |"), std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| 1 | 1.0 | 0.0 | 1.0 | 1.0 | 1.00 | – | 0.0%; 0, 0 |"), std::string::npos) << md;
   EXPECT_NE(md.find("| 7.50 (add+mul) | 15.00 | 50% |"), std::string::npos) << md;
+}
+
+// The time-taken probe's count: steps under 1 µs are the clock's own reads; the rest are gaps, lost whole.
+TEST(Roofline, AGapIsAStepOfAMicrosecondOrMore) {
+  using std::chrono::nanoseconds;
+  GapCount c;
+  for (const long long step : {40, 999, 1000, 15999, 16000, 250000, 30})
+    c.add(nanoseconds(step));
+  EXPECT_EQ(c.gaps, 4);
+  EXPECT_EQ(c.long_gaps, 2);
+  EXPECT_EQ(c.lost, nanoseconds(1000 + 15999 + 16000 + 250000));
 }
 
 }  // namespace

@@ -82,7 +82,10 @@ nlohmann::json peaksJson(const std::vector<MachinePeak>& peaks) {
                    {"divsqrt_gops", p.divsqrt_gops},
                    {"barrier_us", p.barrier_us},
                    {"barrier_best_us", p.barrier_best_us},
-                   {"omp_barrier_us", p.omp_barrier_us}});
+                   {"omp_barrier_us", p.omp_barrier_us},
+                   {"gap_share", p.gap_share},
+                   {"gaps_per_second", p.gaps_per_second},
+                   {"long_gaps_per_second", p.long_gaps_per_second}});
   return out;
 }
 
@@ -166,16 +169,21 @@ std::string rooflineMarkdown(const BenchReport& r) {
       "(memory), 3 × 4 MiB a thread (L3, past a core's L2) and 3 × 64 KiB a thread (L2). Adds and multiplies without "
       "fused multiply-add (the bits "
       "forbid it). A barrier: one barrier of the team (cpu/parallel.hpp's TeamBarrier), what each pass boundary of "
-      "a substep costs, and an OpenMP barrier's median beside it (libgomp's, with a system call each).\n\n",
+      "a substep costs, and an OpenMP barrier's median beside it (libgomp's, with a system call each). Time taken: "
+      "the share of a running thread's wall clock lost in gaps of 1 µs or more between two reads of the clock "
+      "(the threads at once), and such gaps a second a thread, all and of 16 µs or more: time a virtual machine's "
+      "host takes unseen, which a team pays for every thread (a stall of one holds the others at the next "
+      "barrier).\n\n",
       r.peaks.front().isa, r.machine.load_average);
   md +=
       "| threads | memory GB/s | L3 GB/s | L2 GB/s | add+mul GFLOP/s | div+sqrt G/s | barrier µs (median, best; "
-      "OpenMP's) |\n|---|---|---|---|---|---|---|\n";
+      "OpenMP's) | time taken (share; gaps/s, of ≥ 16 µs) |\n|---|---|---|---|---|---|---|---|\n";
   for (const MachinePeak& p : r.peaks)
     md += fmt::format(
-        "| {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.2f} | {} |\n", p.threads, p.dram_gbs, p.l3_gbs, p.cache_gbs,
-        p.addmul_gflops, p.divsqrt_gops,
-        p.threads > 1 ? fmt::format("{:.2f}, {:.2f}; {:.2f}", p.barrier_us, p.barrier_best_us, p.omp_barrier_us) : "–");
+        "| {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.2f} | {} | {:.1f}%; {:.0f}, {:.0f} |\n", p.threads, p.dram_gbs,
+        p.l3_gbs, p.cache_gbs, p.addmul_gflops, p.divsqrt_gops,
+        p.threads > 1 ? fmt::format("{:.2f}, {:.2f}; {:.2f}", p.barrier_us, p.barrier_best_us, p.omp_barrier_us) : "–",
+        100 * p.gap_share, p.gaps_per_second, p.long_gaps_per_second);
   md +=
       "\nPer pass, the work a point and call counted from the code (app/roofline.cpp says what each number "
       "holds), the least time a point the ceilings allow (the binding ceiling in brackets: memory, L3 or L2 "

@@ -54,6 +54,36 @@ double triadGbs(const GridKernels& k, int threads, long long floats, int sweeps)
   return 12.0 * double(floats) * sweeps * threads / s * 1e-9;
 }
 
+// Each thread reads the clock over and over for a quarter of a second (a read takes tens of nanoseconds), counting
+// the steps between two reads as gaps (GapCount).
+void measureGaps(MachinePeak& peak, int threads) {
+  using Clock = std::chrono::steady_clock;
+  constexpr auto kLength = std::chrono::milliseconds(250);
+  struct alignas(64) Count {
+    GapCount gaps;
+    Clock::duration length{};
+  };
+  std::vector<Count> counts(static_cast<std::size_t>(threads));
+#pragma omp parallel num_threads(threads)
+  {
+    Count& mine = counts[std::size_t(omp_get_thread_num())];
+    const Clock::time_point start = Clock::now();
+    Clock::time_point last = start;
+    while (last - start < kLength) {
+      const Clock::time_point now = Clock::now();
+      mine.gaps.add(now - last);
+      last = now;
+    }
+    mine.length = last - start;
+  }
+  for (const Count& c : counts) {
+    const double seconds = std::chrono::duration<double>(c.length).count() * threads;
+    peak.gap_share += std::chrono::duration<double>(c.gaps.lost).count() / seconds;
+    peak.gaps_per_second += double(c.gaps.gaps) / seconds;
+    peak.long_gaps_per_second += double(c.gaps.long_gaps) / seconds;
+  }
+}
+
 }  // namespace
 
 MachinePeak measurePeak(int threads) {
@@ -76,6 +106,7 @@ MachinePeak measurePeak(int threads) {
   volatile float keep = sink[0];
   (void)keep;
   peak.divsqrt_gops = 8.0 * k.width * double(div_reps) * threads / s * 1e-9;
+  measureGaps(peak, threads);
   if (threads > 1) {
     // What a pass boundary costs a team (CpuSolver::step): all threads pass the team's barrier (TeamBarrier),
     // over and over; and OpenMP's own, which the team used before, for comparison.

@@ -6,6 +6,7 @@
 // of square roots and divisions (every spring takes one of each, and they are far slower than the rest).
 #pragma once
 
+#include <chrono>
 #include <string>
 
 namespace drape {
@@ -24,6 +25,25 @@ struct MachinePeak {
   // team passes): the median of 5 tries of 2000, and the best. On a shared machine the two differ by orders of
   // magnitude: a thread whose partner is descheduled waits a slice. And the median of an OpenMP barrier's tries.
   double barrier_us = 0, barrier_best_us = 0, omp_barrier_us = 0;
+  // Time the machine takes from a thread that runs (measureGaps): the share of the wall clock lost in steps of 1 µs
+  // or more between two reads of the clock, and how many such gaps a second, and of 16 µs or more; the mean over
+  // the threads, which ran at once. A virtual machine's host takes it without the guest seeing it (no steal time,
+  // no interrupt counted). A team loses every thread's: a stall of one holds the others at its next barrier.
+  double gap_share = 0, gaps_per_second = 0, long_gaps_per_second = 0;
+};
+
+// The steps between successive reads of a clock, counted as a thread's gaps (measurePeak's time taken): a step of
+// 1 µs or more is time the thread did not run, one of 16 µs or more a long gap.
+struct GapCount {
+  static constexpr std::chrono::nanoseconds kGap{1000}, kLongGap{16000};
+  std::chrono::nanoseconds lost{0};
+  long long gaps = 0, long_gaps = 0;
+  void add(std::chrono::nanoseconds step) {
+    if (step < kGap) return;
+    lost += step;
+    ++gaps;
+    long_gaps += step >= kLongGap;
+  }
 };
 
 // A fraction of a second per probe; the best of a few tries (others share the machine).
