@@ -3,7 +3,8 @@
 // once over arrays far larger than any cache, once over arrays a few times a core's L2 (held by an L3 where the
 // machine has one large enough) and once over arrays that fit the per-core L2, and independent
 // chains of vector multiplies and adds (the model's flops; no fused multiply-add, which the bits forbid) and
-// of square roots and divisions (every spring takes one of each, and they are far slower than the rest).
+// of square roots and divisions (every spring takes one of each, and they are far slower than the rest); and the
+// time the machine takes from a thread that runs (gaps between reads of the clock).
 #pragma once
 
 #include <chrono>
@@ -27,8 +28,9 @@ struct MachinePeak {
   double barrier_us = 0, barrier_best_us = 0, omp_barrier_us = 0;
   // Time the machine takes from a thread that runs (measureGaps): the share of the wall clock lost in steps of 1 µs
   // or more between two reads of the clock, and how many such gaps a second, and of 16 µs or more; the mean over
-  // the threads, which ran at once. A virtual machine's host takes it without the guest seeing it (no steal time,
-  // no interrupt counted). A team loses every thread's: a stall of one holds the others at its next barrier.
+  // the threads, which ran at once. A virtual machine's host takes it without the guest seeing it (no steal time, and
+  // thirty times as many gaps as the guest's interrupts here). A team loses every thread's: a stall of one holds the
+  // others at its next barrier.
   double gap_share = 0, gaps_per_second = 0, long_gaps_per_second = 0;
 };
 
