@@ -1,6 +1,6 @@
 // The display libraries, GLFW and EGL, opened when a command first makes a GL context rather than when drape starts.
 // Linked in, they and the X11 chain they bring (eleven libraries of the twenty) were mapped, relocated and torn
-// down by every run, `drape simulate` on the CPU too: 0.63 ms of a 4.5 ms run of no frames on the development
+// down by every run, `drape simulate` on the CPU too: 0.59 ms of a 4.4 ms run of no frames on the development
 // machine (docs/results/cpu_speed.md). Their functions are defined in display_libraries.cpp, each calling the one
 // of the opened library, so that the code calling them, ImGui's GLFW backend too, is written as if linked.
 #pragma once
