@@ -158,7 +158,7 @@ class TeamTrial {
       first_ = false;
       if (--countdown_ > 0) return;
       // (A window that called for a probe left its mean over kSlowdown x typical_: it is probed.)
-      if (team_ && decisive_ && count_ > 0 && mean_ <= kSlowdown * typical_) {
+      if (team_ && team_over_solo_ <= kDecisive && count_ > 0 && mean_ <= kSlowdown * typical_) {
         // A team that beat one thread by kDecisive and has not slowed since: one thread could replace it only by
         // taking under kLeaveTeam of its time, which its work alone does not make it do (CS184's selfCollision: 0.52
         // to 0.78 over the run, and each probe cost the team its settling). Not probed, and the interval doubles as
@@ -202,7 +202,6 @@ class TeamTrial {
     const double ratio = other / current;  // the other way's time over this way's
     team_over_solo_ = team_ ? 1 / ratio : ratio;
     probing_ = false;
-    decisive_ = team_over_solo_ <= kDecisive;
     if (!lost && ratio <= needed) {
       team_ = !team_;
       typical_ = other;
@@ -240,7 +239,6 @@ class TeamTrial {
   std::function<bool()> room_;
   std::function<double()> missed_;
   double window_missed_ = 0;  // missed_() at the window's start
-  bool decisive_ = false;     // the last probe put the team at kDecisive of one thread's time or less
   bool team_ = false;         // the way substeps run between probes: one thread until the team has measured faster
   bool probing_ = false;
   bool team_tried_ = false;  // whether a probe of the team has finished
@@ -259,6 +257,7 @@ class TeamTrial {
   };
   Tally tally_;
   int probe_runs_ = 0;
+  // The last probe's team time over one thread's (NaN before one: never under kDecisive)
   double team_over_solo_ = std::numeric_limits<double>::quiet_NaN();
 };
 
