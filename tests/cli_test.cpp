@@ -162,6 +162,20 @@ TEST(Cli, SimulatePrintsTheSummary) {
     EXPECT_NE(r.out.find(field), std::string::npos) << field << " missing from:\n" << r.out;
 }
 
+// --waits: where a team waited, by line, after the summary; one thread has none to show; the GPU solvers have no team
+TEST(Cli, SimulateWaitsListsTheTeamsWaits) {
+  Result r = run("simulate " + scene("selfCollision.json") + " --frames 1 --threads 2 --team always --waits");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("waits        a team of 2 ran 30 substeps"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("cpu/cpu_solver_self_collision.cpp:"), std::string::npos) << r.out;
+  r = run("simulate " + scene("selfCollision.json") + " --frames 1 --threads 1 --waits");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("waits        none: no substep ran on a team"), std::string::npos) << r.out;
+  r = run("simulate " + scene("selfCollision.json") + " --frames 1 --solver gpu --waits");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--waits: the CPU solvers only"), std::string::npos) << r.err;
+}
+
 TEST(Cli, SameCommandSameOutputByteForByte) {
   const fs::path a = tempDir() / "a.json", b = tempDir() / "b.json";
   for (const fs::path& p : {a, b}) {

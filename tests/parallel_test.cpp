@@ -1,6 +1,8 @@
 // cpu/parallel.hpp: balanceShares (contiguous shares of the points that move towards equal times), the team's
-// barrier and its threads' progress counts.
+// barrier and its threads' progress counts, and the log of their waits (cpu/wait_log.hpp).
 #include "cpu/parallel.hpp"
+
+#include "cpu/wait_log.hpp"
 
 #include <gtest/gtest.h>
 
@@ -272,6 +274,70 @@ TEST(TeamBarrier, ATeamScopeGivesItsThreadsTheirNumbersOneSingleAndItsBarrier) {
   EXPECT_EQ(numbers.load(), 0x111) << "threads 0, 1 and 2, each once";
   EXPECT_EQ(singles.load(), kRounds);
   EXPECT_EQ(late.load(), 0);
+}
+
+// Two lines of this file, each filed apart and summed over the threads, the longest first.
+TEST(WaitLog, FilesEachLineApartAndSortsTheLongestFirst) {
+  WaitLog log;
+  log.prepare(2);
+  const std::source_location a = std::source_location::current();
+  const std::source_location b = std::source_location::current();
+  log.add(0, a, 0.001);
+  log.add(1, b, 0.004);
+  log.add(0, b, 0.002);
+  log.add(0, a, 0.001);
+  log.add(2, a, 1.0);  // a thread the log was not prepared for: not filed
+  const std::vector<WaitLog::Site> sites = log.sites();
+  ASSERT_EQ(sites.size(), 2u);
+  EXPECT_EQ(sites[0].line, b.line());
+  EXPECT_EQ(sites[0].count, (std::vector<long long>{1, 1}));
+  EXPECT_DOUBLE_EQ(sites[0].seconds[1], 0.004);
+  EXPECT_EQ(sites[1].count, (std::vector<long long>{2, 0}));
+  EXPECT_DOUBLE_EQ(sites[1].seconds[0], 0.002);
+  EXPECT_NE(sites[1].file.find("parallel_test.cpp"), std::string::npos) << sites[1].file;
+  EXPECT_EQ(log.totals(), (std::vector<double>{0.004, 0.004}));
+}
+
+// A team given a log times each wait on the thread that waits, under the line that called it: thread 1 sleeps 2 ms
+// before each barrier, so thread 0 waits for it there; thread 1 then waits at a single for thread 0's 2 ms body.
+TEST(WaitLog, ATeamsWaitsAreTimedUnderTheLinesThatCalledThem) {
+  constexpr int kRounds = 10;
+  constexpr auto kNap = std::chrono::milliseconds(2);
+  WaitLog log;
+  TeamBarrier barrier;
+  unsigned barrier_line = 0, single_line = 0;
+  std::atomic<int> logged{0};
+  runOnTeam(2, barrier, &log, [&] {
+    if (!inTeam()) return;
+    logged += current_team.waits == &log;
+    for (int r = 0; r < kRounds; ++r) {
+      if (teamThread() == 1) std::this_thread::sleep_for(kNap);
+      barrier_line = __LINE__ + 1;
+      teamBarrier();
+      single_line = __LINE__ + 1;
+      teamSingle([&] { std::this_thread::sleep_for(kNap); });
+    }
+  });
+  if (logged.load() == 0) GTEST_SKIP() << "OpenMP gave runOnTeam one thread";
+  EXPECT_EQ(logged.load(), 2);
+  const std::vector<WaitLog::Site> sites = log.sites();
+  ASSERT_EQ(sites.size(), 2u);
+  for (const WaitLog::Site& s : sites) {
+    EXPECT_EQ(s.count, (std::vector<long long>{kRounds, kRounds})) << s.line;
+    const double slept = 0.9 * kRounds * std::chrono::duration<double>(kNap).count();
+    if (s.line == barrier_line) {
+      EXPECT_GT(s.seconds[0], slept);
+      EXPECT_LT(s.seconds[1], s.seconds[0]);
+    } else {
+      EXPECT_EQ(s.line, single_line);
+      EXPECT_GT(s.seconds[1], slept);
+      EXPECT_LT(s.seconds[0], s.seconds[1]);
+    }
+  }
+  // Without a log the team times nothing
+  std::atomic<int> unlogged{0};
+  runOnTeam(2, barrier, [&] { unlogged += current_team.waits != nullptr; });
+  EXPECT_EQ(unlogged.load(), 0);
 }
 
 }  // namespace

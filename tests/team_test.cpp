@@ -245,6 +245,37 @@ TEST(TeamShares, VerboseOutputGivesEachThreadsShare) {
   EXPECT_EQ(describeThreads(one), "") << "one thread: no team to describe";
 }
 
+// A team that records its waits (`simulate --waits`) files the two barriers that close each substep (in cpu_solver.cpp)
+// once a substep on each thread, waits no longer than it ran, and computes the bytes it computes unrecorded.
+TEST(TeamWaits, EachSubstepsClosingBarriersAreFiledOnceASubstep) {
+  const Scene scene = loadScene(std::string(drape::test::sourceDir()) + "/scenes/selfCollision.json");
+  CpuSolver<float> recorded(scene, CpuSolverOptions{.threads = 2, .team_min_points = 0, .record_waits = true});
+  CpuSolver<float> plain(scene, CpuSolverOptions{.threads = 2, .team_min_points = 0});
+  for (int f = 0; f < 3; ++f) {
+    recorded.stepFrame();
+    plain.stepFrame();
+  }
+  EXPECT_TRUE(sameBytes(recorded.positions(), plain.positions()));
+  EXPECT_EQ(plain.waits(), nullptr);
+  EXPECT_EQ(describeWaits(plain), "");
+  const WaitLog* log = recorded.waits();
+  ASSERT_NE(log, nullptr);
+  ASSERT_EQ(recorded.teamSubsteps(), 90);
+  int closing = 0;
+  for (const WaitLog::Site& s : log->sites())
+    closing += s.file == "cpu/cpu_solver.cpp" && s.count == std::vector<long long>{90, 90};
+  EXPECT_EQ(closing, 2);
+  for (const double seconds : log->totals()) {
+    EXPECT_GT(seconds, 0);
+    EXPECT_LT(seconds, recorded.teamSeconds());
+  }
+  const std::string said = describeWaits(recorded);
+  EXPECT_NE(said.find("a team of 2 ran 90 substeps"), std::string::npos) << said;
+  EXPECT_NE(said.find("cpu/cpu_solver.cpp:"), std::string::npos) << said;
+  recorded.reset();
+  EXPECT_TRUE(recorded.waits()->sites().empty()) << "reset() starts the log again";
+}
+
 // From kSplitTiles tiles a team splits the lists' check (boxes and comparisons of the tiles) between its
 // threads: the same builds at the same substeps, so the same bytes.
 TEST(TeamBytesLarge, ATeamSharesTheListCheckOfALargeCloth) {

@@ -38,6 +38,7 @@ struct SimulateOptions {
   int every = 1;
   std::string integrator;  // empty: the scene's
   bool collide_held_pairs = false;
+  bool waits = false;
 };
 
 void printSummary(const Scene& scene, Solver& solver, int frames, double wall_ms) {
@@ -100,9 +101,11 @@ void runSimulate(const SimulateOptions& o) {
   applyIntegrator(loaded, o.integrator);
   const Scene scene = guardStability(std::move(loaded), o.auto_substeps);
   SolverFactory factory({.verbose = o.verbose});  // before the solver: it owns the solver's GL context
-  auto solver = factory.make(
-      scene, o.solver,
-      {.threads = o.threads, .collide_held_pairs = o.collide_held_pairs, .team_always = o.team == "always"});
+  auto solver = factory.make(scene, o.solver,
+                             {.threads = o.threads,
+                              .collide_held_pairs = o.collide_held_pairs,
+                              .team_always = o.team == "always",
+                              .record_waits = o.waits});
   if (!o.collide_held_pairs) warnAboutHeldPairs(scene, solver->topology());
   std::optional<ClothExport> exporter;
   if (!o.export_path.empty()) exporter.emplace(export_target, scene, solver->topology(), o.frames / o.every * o.every);
@@ -138,6 +141,7 @@ void runSimulate(const SimulateOptions& o) {
   if (!o.out.empty()) writePositionsJson(o.out, x);
   if (exporter) exporter->finish();
   printSummary(scene, *solver, o.frames, ms);
+  if (o.waits) fmt::print("{}", describeWaits(*solver));
   if (o.verbose) fmt::print(stderr, "{}{}", describeSelfCollision(*solver), describeThreads(*solver));
   if (std::fflush(stdout) != 0 || std::ferror(stdout))
     throw CommandError(kExitFailure,
@@ -167,6 +171,9 @@ void addSimulateCommand(CLI::App& app) {
                   "below 32768 points) or always (every substep on the team, to measure it)")
       ->check(CLI::IsMember({"auto", "always"}))
       ->capture_default_str();
+  cmd->add_flag("--waits", opts->waits,
+                "CPU solvers on a team: where its threads waited for each other, by the line of the code that waits, "
+                "and for how long (each wait timed: the run takes a little longer)");
   cmd->add_option("--export", opts->export_path,
                   "Write the cloth per exported frame: PATH_NNNN.obj or .ply, or one PATH.usda; a folder (DIR/) gets "
                   "cloth_NNNN.obj inside; missing folders are made");

@@ -44,8 +44,10 @@ SolverFactory::~SolverFactory() = default;
 
 std::unique_ptr<Solver> SolverFactory::make(const Scene& scene, const std::string& name, SolverRequest request) {
   const MemoryStage stage(fmt::format("building the {} solver for {} points", name, scene.cloth.pointCount()));
-  CpuSolverOptions cpu{
-      .threads = request.threads, .skip_held_pairs = !request.collide_held_pairs, .pass_timing = request.pass_timing};
+  CpuSolverOptions cpu{.threads = request.threads,
+                       .skip_held_pairs = !request.collide_held_pairs,
+                       .pass_timing = request.pass_timing,
+                       .record_waits = request.record_waits};
   if (request.team_always) cpu.team_min_points = 0;
   if (name == "cpu") return std::make_unique<CpuSolver<float>>(scene, cpu);
   if (name == "cpu64") return std::make_unique<CpuSolver<double>>(scene, cpu);
@@ -54,10 +56,12 @@ std::unique_ptr<Solver> SolverFactory::make(const Scene& scene, const std::strin
                                                                       .threads = request.threads,
                                                                       .skip_held_pairs = !request.collide_held_pairs,
                                                                       .team_min_points = cpu.team_min_points,
-                                                                      .pass_timing = cpu.pass_timing});
+                                                                      .pass_timing = cpu.pass_timing,
+                                                                      .record_waits = cpu.record_waits});
   if (isGpuSolver(name)) {
     if (request.collide_held_pairs)
       throw CommandError(kExitBadInput, "--collide-held-pairs: the CPU solvers only (cpu, cpu64)");
+    if (request.record_waits) throw CommandError(kExitBadInput, "--waits: the CPU solvers only (cpu, cpu64)");
     if (request.team_always) throw CommandError(kExitBadInput, "--team always: the CPU solvers only (cpu, cpu64)");
     return makeGpu(scene, name, request);
   }
@@ -172,6 +176,43 @@ std::string describeTeam(const CpuSolver<T>& cpu) {
 }
 
 }  // namespace
+
+namespace {
+
+// The team's waits by line (WaitLog), the longest first: each thread's count, time and share of the team's time.
+template <class T>
+std::string describeTeamWaits(const CpuSolver<T>& cpu) {
+  const WaitLog* log = cpu.waits();
+  if (!log) return "";
+  if (cpu.teamSubsteps() == 0 || log->threads() == 0)
+    return "waits        none: no substep ran on a team (one thread waits for nothing)\n";
+  const double team = cpu.teamSeconds();
+  const auto share = [team](double seconds) { return team > 0 ? 100 * seconds / team : 0.0; };
+  const std::vector<double> totals = log->totals();
+  std::string out = fmt::format("waits        a team of {} ran {} substeps in {:.1f} ms; waiting, thread",
+                                log->threads(), cpu.teamSubsteps(), 1e3 * team);
+  for (std::size_t t = 0; t < totals.size(); ++t)
+    out += fmt::format("{} {} {:.2f} ms ({:.1f}%)", t == 0 ? "" : ", thread", t, 1e3 * totals[t], share(totals[t]));
+  out += "\n  line that waits                               ";
+  for (std::size_t t = 0; t < totals.size(); ++t)
+    out += fmt::format("  thread {}: waits, ms, share", t);
+  out += "\n";
+  for (const WaitLog::Site& s : log->sites()) {
+    out += fmt::format("  {:<44}", fmt::format("{}:{}", s.file, s.line));
+    for (std::size_t t = 0; t < s.count.size(); ++t)
+      out += fmt::format("  {:>9} {:>9.3f} {:>5.1f}%", s.count[t], 1e3 * s.seconds[t], share(s.seconds[t]));
+    out += "\n";
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string describeWaits(const Solver& solver) {
+  if (const auto* f = dynamic_cast<const CpuSolver<float>*>(&solver)) return describeTeamWaits(*f);
+  if (const auto* d = dynamic_cast<const CpuSolver<double>*>(&solver)) return describeTeamWaits(*d);
+  return "";
+}
 
 std::string describeThreads(const Solver& solver) {
   if (const auto* f = dynamic_cast<const CpuSolver<float>*>(&solver)) return describeTeam(*f);

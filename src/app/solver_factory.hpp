@@ -68,6 +68,8 @@ struct SolverRequest {
   // CPU solvers: every substep on a team of `threads`, whatever the cloth's size and the team trial would say
   // (CpuSolverOptions::team_min_points 0), to measure the team against one thread.
   bool team_always = false;
+  // CPU solvers: time each wait of a team's threads for each other (CpuSolverOptions::record_waits; describeWaits)
+  bool record_waits = false;
 };
 
 // Makes solvers by name. It must outlive the solvers it made: it owns their GL context.
@@ -106,5 +108,8 @@ std::string describeSelfCollision(const Solver& solver);
 // The CPU solvers' threads after a run: the substeps a team ran, and for a mid-sized cloth what its trial
 // measured (cpu/team_trial.hpp); "" where one thread ran every substep by design.
 std::string describeThreads(const Solver& solver);
+// Where a CPU solver's team waited for its threads, by the line that waits, made with SolverRequest::record_waits;
+// "" where not recorded (drape simulate --waits).
+std::string describeWaits(const Solver& solver);
 
 }  // namespace drape

@@ -44,6 +44,7 @@ CpuSolver<T>::CpuSolver(Scene scene, CpuSolverOptions options)
   pair_margin_ = options.pair_margin;
   adaptive_skin_ = options.adaptive_skin;
   pass_timing_ = options.pass_timing;
+  record_waits_ = options.record_waits;
   rest_.reserve(topo_.springs.size());
   shortest_spring_ = std::numeric_limits<double>::infinity();
   for (const Spring& s : topo_.springs) {
@@ -163,6 +164,8 @@ void CpuSolver<T>::reset() {
   v_ = form_ == VerletForm::Displacement ? std::vector<vec3>(n, vec3(0)) : x_;
   substeps_ = 0;
   team_substeps_ = 0;
+  team_seconds_ = 0;
+  waits_.clear();
   pair_terms_ = 0;
   pairs_.invalidate();
   wide_skin_ = true;
@@ -268,7 +271,7 @@ int CpuSolver<T>::runTeamSubsteps(int most) {
   bool more = true;
   auto start = Clock::now();
   beginSubstep(true);
-  runOnTeam(team_, team_barrier_, [&] {
+  runOnTeam(team_, team_barrier_, record_waits_ ? &waits_ : nullptr, [&] {
     const bool first = teamThread() == 0;
     for (;;) {
       runPasses();
@@ -314,6 +317,7 @@ bool CpuSolver<T>::endSubstep(bool team, double seconds) {
   if (failure_) return false;
   ++substeps_;
   team_substeps_ += team;
+  if (team) team_seconds_ += seconds;
   return true;
 }
 

@@ -13,6 +13,7 @@
 #include "cpu/parallel.hpp"
 #include "cpu/physics.hpp"
 #include "cpu/team_trial.hpp"
+#include "cpu/wait_log.hpp"
 
 #include <chrono>
 #include <exception>
@@ -75,6 +76,9 @@ struct CpuSolverOptions {
   // The wall clock around each pass, for timings() (bench, the viewer); false only counts the passes, as
   // `drape simulate` runs them: two clock reads a pass on every thread of a team.
   bool pass_timing = true;
+  // Time each wait of a team's threads for each other (barriers, neighbours' progress) into waits(), by the line
+  // that waits: two clock reads a wait, off unless asked (`drape simulate --waits`).
+  bool record_waits = false;
 };
 
 template <class T>
@@ -135,6 +139,8 @@ class CpuSolver final : public Solver {
   std::string gridKernels() const { return grid_ ? grid_->kernels().name : ""; }
   int teamThreads() const { return team_; }                  // threads step() runs its passes on when on a team
   long long teamSubsteps() const { return team_substeps_; }  // substeps run on the team since reset()
+  double teamSeconds() const { return team_seconds_; }       // their wall-clock time
+  const WaitLog* waits() const { return record_waits_ ? &waits_ : nullptr; }  // since reset(); null unless recorded
   const TeamTrial* teamTrial() const { return trial_ ? &*trial_ : nullptr; }  // where a trial decides
   long long pairTerms() const { return pair_terms_; }  // self-collision: pairs in range summed, both ends
   // Self-collision's shares of the points in a team (thread t: [bounds[t], bounds[t + 1])), to sum their terms
@@ -338,6 +344,9 @@ class CpuSolver final : public Solver {
   FaceAdjacency faces_;
   long long substeps_ = 0;
   long long team_substeps_ = 0;
+  double team_seconds_ = 0;
+  bool record_waits_ = false;
+  WaitLog waits_;
   long long pair_terms_ = 0;
   std::vector<PassTiming> timings_;
   QuickHealth quick_health_;  // float: health()'s quick look (refreshDerived)

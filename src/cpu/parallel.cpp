@@ -1,5 +1,7 @@
 #include "cpu/parallel.hpp"
 
+#include "cpu/wait_log.hpp"
+
 #include <omp.h>
 
 #include <climits>
@@ -16,12 +18,12 @@
 
 namespace drape {
 
-TeamScope::TeamScope(TeamBarrier& barrier) : previous_(current_team) {
+TeamScope::TeamScope(TeamBarrier& barrier, WaitLog* waits) : previous_(current_team) {
   const auto threads = unsigned(omp_get_num_threads());
   // More threads than processors: a waiting thread soon gives its processor up (libgomp's own spin count falls
   // from 300,000 to 1,000 there), as the thread it waits for may need it.
   const unsigned spins = threads <= unsigned(omp_get_num_procs()) ? 20000 : 200;
-  current_team = {&barrier, threads, unsigned(omp_get_thread_num()), spins};
+  current_team = {&barrier, threads, unsigned(omp_get_thread_num()), spins, waits};
 }
 
 // A sleeper's timeout: long against a thread's wait for a descheduled one's time slice (it is woken then), short
@@ -49,10 +51,15 @@ void wakeAll(std::atomic<std::uint32_t>& word) {
 }
 
 void runOnTeam(int threads, TeamBarrier& barrier, const std::function<void()>& body) {
+  runOnTeam(threads, barrier, nullptr, body);
+}
+
+void runOnTeam(int threads, TeamBarrier& barrier, WaitLog* waits, const std::function<void()>& body) {
   barrier.prepare(unsigned(threads));
+  if (waits) waits->prepare(unsigned(threads));
 #pragma omp parallel num_threads(threads)
   {
-    const TeamScope scope(barrier);
+    const TeamScope scope(barrier, waits);
     body();
   }
 }

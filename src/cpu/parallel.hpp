@@ -14,14 +14,19 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <exception>
 #include <functional>
 #include <memory>
+#include <source_location>
 #include <span>
 #include <thread>
 
 namespace drape {
+
+class WaitLog;  // cpu/wait_log.hpp
+void recordWait(WaitLog& log, unsigned thread, const std::source_location& where, double seconds);
 
 // Sleeping on a count (TeamCount): until `word` no longer holds `seen`, a wake-up (wakeAll) or a short timeout,
 // whichever comes first (parallel.cpp: a futex on Linux). The timeout is what makes a missed wake-up cost a moment, not
@@ -134,6 +139,7 @@ class TeamBarrier {
 struct TeamContext {
   TeamBarrier* barrier = nullptr;
   unsigned threads = 1, thread = 0, spins = 0;
+  WaitLog* waits = nullptr;  // where given, every wait below is timed into it
 };
 inline thread_local TeamContext current_team;
 
@@ -142,7 +148,8 @@ inline thread_local TeamContext current_team;
 // context (the solver opens none inside its team; the list build's own region is for calls outside one).
 class TeamScope {
  public:
-  explicit TeamScope(TeamBarrier& barrier);  // parallel.cpp: reads the region's size and the thread's number
+  // parallel.cpp: reads the region's size and the thread's number
+  explicit TeamScope(TeamBarrier& barrier, WaitLog* waits = nullptr);
   ~TeamScope() { current_team = previous_; }
   TeamScope(const TeamScope&) = delete;
   TeamScope& operator=(const TeamScope&) = delete;
@@ -205,11 +212,25 @@ inline void teamShare(long long first, long long last, long long& lo, long long&
   hi = first + evenShare(n, t + 1, count);
 }
 
+// wait() in a team that keeps a WaitLog: timed, and filed under the line that called the wait (`where`)
+template <class F>
+void loggedWait(const std::source_location& where, F&& wait) {
+  const TeamContext& team = current_team;
+  if (!team.waits) {
+    wait();
+    return;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  wait();
+  recordWait(*team.waits, team.thread, where,
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+}
+
 // The team waits for all its threads (nothing outside a team): its TeamBarrier, or an OpenMP barrier in a region
-// with no TeamScope.
-inline void teamBarrier() {
+// with no TeamScope. `where`, and that of the waits below: the caller's line, which a WaitLog files the wait under.
+inline void teamBarrier(std::source_location where = std::source_location::current()) {
   if (const TeamContext& team = current_team; team.barrier) {
-    if (team.threads > 1) team.barrier->wait(team.threads, team.thread, team.spins);
+    if (team.threads > 1) loggedWait(where, [&] { team.barrier->wait(team.threads, team.thread, team.spins); });
     return;
   }
 #ifdef _OPENMP
@@ -222,9 +243,11 @@ inline void teamBarrier() {
 // Until thread `other` of this thread's team has published `count` (TeamProgress), spinning as its barrier does.
 // `seen`: a count this thread saw it publish before (it only grows), which spares reading its line again while
 // that is enough: a neighbour a step ahead is awaited at every other step only, not at every one.
-inline void teamAwait(TeamProgress& progress, int other, std::uint32_t count, std::uint32_t& seen) {
+inline void teamAwait(TeamProgress& progress, int other, std::uint32_t count, std::uint32_t& seen,
+                      std::source_location where = std::source_location::current()) {
   if (TeamProgress::reached(seen, count)) return;
-  seen = progress.await(unsigned(other), count, current_team.barrier ? current_team.spins : 20000);
+  loggedWait(where,
+             [&] { seen = progress.await(unsigned(other), count, current_team.barrier ? current_team.spins : 20000); });
 }
 
 // body(lo, hi) on this thread's share of [first, last), with no barrier: for a loop whose next reader reads only
@@ -238,9 +261,10 @@ void teamPart(long long first, long long last, F&& body) {
 
 // body(lo, hi) on this thread's share of [first, last), then a barrier: inside a team each thread calls it.
 template <class F>
-void teamRange(long long first, long long last, F&& body) {
+void teamRange(long long first, long long last, F&& body,
+               std::source_location where = std::source_location::current()) {
   teamPart(first, last, body);
-  teamBarrier();
+  teamBarrier(where);
 }
 
 // Contiguous shares of [0, n) moved towards equal times, where the work is not spread evenly (self-collision's
@@ -272,12 +296,16 @@ inline void balanceShares(std::span<long long> bounds, std::span<const double> s
 // OpenMP region, even of one thread, compiles the body into an outlined function that reloads every member
 // it touches, which measured 30% slower.
 template <class F>
-void parallelFor(long long first, long long last, int threads, F&& body) {
+void parallelFor(long long first, long long last, int threads, F&& body,
+                 std::source_location where = std::source_location::current()) {
   if (inTeam()) {
-    teamRange(first, last, [&](long long lo, long long hi) {
-      for (long long k = lo; k < hi; ++k)
-        body(k);
-    });
+    teamRange(
+        first, last,
+        [&](long long lo, long long hi) {
+          for (long long k = lo; k < hi; ++k)
+            body(k);
+        },
+        where);
     return;
   }
   if (teamFor(threads, last - first) == 1) {
@@ -296,14 +324,14 @@ void parallelFor(long long first, long long last, int threads, F&& body) {
 // others wait; outside a team, the caller. An exception must not leave an OpenMP region, so it is kept and
 // rethrown by `rethrow` once the region is over (CpuSolver::step).
 template <class F>
-void teamSingle(F&& body) {
+void teamSingle(F&& body, std::source_location where = std::source_location::current()) {
   if (!inTeam()) {
     body();
     return;
   }
   if (current_team.barrier) {  // thread 0, where `omp single` takes whichever comes first
     if (current_team.thread == 0) body();
-    teamBarrier();
+    teamBarrier(where);
     return;
   }
 #ifdef _OPENMP
@@ -313,27 +341,31 @@ void teamSingle(F&& body) {
 }
 
 // body() on every thread of a new OpenMP team of `threads` waiting on `barrier` (CpuSolver::step runs a substep's
-// passes so). Compiled in parallel.cpp with OpenMP, so that tests compiled without it run a real team too; the
-// second form gives the team a barrier of its own.
+// passes so). Compiled in parallel.cpp with OpenMP, so that tests compiled without it run a real team too. The
+// second form times the team's waits into `waits` (where not null: prepared for `threads` rows); the third gives
+// the team a barrier of its own.
 void runOnTeam(int threads, TeamBarrier& barrier, const std::function<void()>& body);
+void runOnTeam(int threads, TeamBarrier& barrier, WaitLog* waits, const std::function<void()>& body);
 void runOnTeam(int threads, const std::function<void()>& body);
 
 // teamSingle for a step that may throw (an allocation) among steps that every thread of a team runs: in a team the
 // exception is kept in `failure`, shared by the team, and every thread reads the answer after the step's barrier, so
 // all take the same way; outside a team it is thrown. Returns whether no step has failed.
 template <class F>
-bool teamSerial(std::exception_ptr& failure, F&& body) {
+bool teamSerial(std::exception_ptr& failure, F&& body, std::source_location where = std::source_location::current()) {
   if (!inTeam()) {
     body();
     return true;
   }
-  teamSingle([&] {
-    try {
-      body();
-    } catch (...) {
-      failure = std::current_exception();
-    }
-  });
+  teamSingle(
+      [&] {
+        try {
+          body();
+        } catch (...) {
+          failure = std::current_exception();
+        }
+      },
+      where);
   return !failure;
 }
 

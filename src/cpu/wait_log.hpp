@@ -1,0 +1,48 @@
+// Where the threads of a team waited for each other, and for how long: each barrier and progress wait of
+// cpu/parallel.hpp, timed by the thread that waits and filed under the line that called it (CpuSolverOptions::
+// record_waits, `drape simulate --waits`). A team's time that is neither its work nor these waits is the work done
+// more slowly on a team (lines moved between the cores, what a thread recomputes of its neighbour's rows):
+// docs/results/cpu_speed.md measures both.
+#pragma once
+
+#include <source_location>
+#include <string>
+#include <vector>
+
+namespace drape {
+
+class WaitLog {
+ public:
+  // A line's waits on each thread of the team: count[t] waits took seconds[t] on thread t
+  struct Site {
+    std::string file;  // from the source tree's src/ on, where the path has one
+    unsigned line = 0;
+    std::vector<long long> count;
+    std::vector<double> seconds;
+  };
+
+  // Before a team of `threads` runs (runOnTeam): a row for each thread, what was logged kept
+  void prepare(unsigned threads);
+  // On thread `thread` only (each thread writes its own row): a wait of `seconds` called from `where`
+  void add(unsigned thread, const std::source_location& where, double seconds);
+  // Every line a team waited at, the longest waits (summed over the threads) first
+  std::vector<Site> sites() const;
+  unsigned threads() const { return unsigned(rows_.size()); }
+  // Each thread's waits in all, in seconds
+  std::vector<double> totals() const;
+  void clear() { rows_.clear(); }
+
+ private:
+  struct Entry {
+    const char* file;  // source_location's: static storage
+    unsigned line;
+    long long count;
+    double seconds;
+  };
+  struct alignas(64) Row {  // a line of its own per thread: the threads write them at once
+    std::vector<Entry> entries;
+  };
+  std::vector<Row> rows_;
+};
+
+}  // namespace drape
