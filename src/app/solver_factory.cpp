@@ -175,10 +175,6 @@ std::string describeTeam(const CpuSolver<T>& cpu) {
   return out + "\n";
 }
 
-}  // namespace
-
-namespace {
-
 // The team's waits by line (WaitLog), the longest first: each thread's count, time and share of the team's time.
 template <class T>
 std::string describeTeamWaits(const CpuSolver<T>& cpu) {
