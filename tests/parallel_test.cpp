@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -286,16 +287,24 @@ TEST(WaitLog, FilesEachLineApartAndSortsTheLongestFirst) {
   log.add(1, b, 0.004);
   log.add(0, b, 0.002);
   log.add(0, a, 0.001);
-  log.add(2, a, 1.0);  // a thread the log was not prepared for: not filed
+  log.add(2, a, 1.0);   // a thread the log was not prepared for: not filed
+  log.add(1, b, 5e-7);  // under 1 us, 1-20 us, 20 us or more
+  log.add(1, b, 5e-6);
+  log.add(1, b, 0);
   const std::vector<WaitLog::Site> sites = log.sites();
   ASSERT_EQ(sites.size(), 2u);
   EXPECT_EQ(sites[0].line, b.line());
-  EXPECT_EQ(sites[0].count, (std::vector<long long>{1, 1}));
-  EXPECT_DOUBLE_EQ(sites[0].seconds[1], 0.004);
+  EXPECT_EQ(sites[0].count, (std::vector<long long>{1, 4}));
+  EXPECT_DOUBLE_EQ(sites[0].seconds[1], 0.004 + 5e-7 + 5e-6);
   EXPECT_EQ(sites[1].count, (std::vector<long long>{2, 0}));
   EXPECT_DOUBLE_EQ(sites[1].seconds[0], 0.002);
   EXPECT_NE(sites[1].file.find("parallel_test.cpp"), std::string::npos) << sites[1].file;
-  EXPECT_EQ(log.totals(), (std::vector<double>{0.004, 0.004}));
+  EXPECT_DOUBLE_EQ(log.totals()[0], 0.004);
+  EXPECT_DOUBLE_EQ(log.totals()[1], 0.004 + 5e-7 + 5e-6);
+  const std::vector<WaitLog::Lengths> lengths = log.lengths();
+  EXPECT_EQ(lengths[0].count, (std::array<long long, 3>{0, 0, 3}));
+  EXPECT_EQ(lengths[1].count, (std::array<long long, 3>{2, 1, 1}));
+  EXPECT_DOUBLE_EQ(lengths[1].seconds[1], 5e-6);
 }
 
 // A team given a log times each wait on the thread that waits, under the line that called it: thread 1 sleeps 2 ms
@@ -326,7 +335,7 @@ TEST(WaitLog, ATeamsWaitsAreTimedUnderTheLinesThatCalledThem) {
     EXPECT_EQ(s.count, (std::vector<long long>{kRounds, kRounds})) << s.line;
     const double slept = 0.9 * kRounds * std::chrono::duration<double>(kNap).count();
     if (s.line == barrier_line) {
-      EXPECT_GT(s.seconds[0], slept);
+      EXPECT_GT(s.seconds[0], slept);  // each of thread 0's waits there 2 ms or more: 20 us or more (lengths below)
       EXPECT_LT(s.seconds[1], s.seconds[0]);
     } else {
       EXPECT_EQ(s.line, single_line);
@@ -334,6 +343,9 @@ TEST(WaitLog, ATeamsWaitsAreTimedUnderTheLinesThatCalledThem) {
       EXPECT_LT(s.seconds[0], s.seconds[1]);
     }
   }
+  const std::vector<WaitLog::Lengths> lengths = log.lengths();
+  EXPECT_GE(lengths[0].count[2], kRounds);
+  EXPECT_GE(lengths[1].count[2], kRounds);
   // Without a log the team times nothing
   std::atomic<int> unlogged{0};
   runOnTeam(2, barrier, [&] { unlogged += current_team.waits != nullptr; });

@@ -189,7 +189,16 @@ std::string describeTeamWaits(const CpuSolver<T>& cpu) {
                                 log->threads(), cpu.teamSubsteps(), 1e3 * team);
   for (std::size_t t = 0; t < totals.size(); ++t)
     out += fmt::format("{} {} {:.2f} ms ({:.1f}%)", t == 0 ? "" : ", thread", t, 1e3 * totals[t], share(totals[t]));
-  out += "\n  line that waits                               ";
+  out += "\n";
+  // By length: the syncs' own latency, uneven shares, a thread that did not run (WaitLog::kLengthBounds)
+  const std::vector<WaitLog::Lengths> lengths = log->lengths();
+  for (std::size_t t = 0; t < lengths.size(); ++t) {
+    const WaitLog::Lengths& l = lengths[t];
+    out += fmt::format(
+        "  thread {}: {} waits under 1 us took {:.2f} ms, {} of 1-20 us {:.2f} ms, {} of 20 us or more {:.2f} ms\n", t,
+        l.count[0], 1e3 * l.seconds[0], l.count[1], 1e3 * l.seconds[1], l.count[2], 1e3 * l.seconds[2]);
+  }
+  out += "  line that waits                               ";
   for (std::size_t t = 0; t < totals.size(); ++t)
     out += fmt::format("  thread {}: waits, ms, share", t);
   out += "\n";

@@ -18,6 +18,10 @@ void WaitLog::prepare(unsigned threads) {
 
 void WaitLog::add(unsigned thread, const std::source_location& where, double seconds) {
   if (thread >= rows_.size()) return;  // a team larger than prepared for: not logged rather than a race on the rows
+  Lengths& lengths = rows_[thread].lengths;
+  const std::size_t length = seconds < kLengthBounds[0] ? 0 : seconds < kLengthBounds[1] ? 1 : 2;
+  ++lengths.count[length];
+  lengths.seconds[length] += seconds;
   std::vector<Entry>& entries = rows_[thread].entries;
   // A few dozen lines at most: a search, and the file names compared only where the lines agree
   for (Entry& e : entries)
@@ -47,6 +51,13 @@ std::vector<WaitLog::Site> WaitLog::sites() const {
     }
   const auto total = [](const Site& s) { return std::accumulate(s.seconds.begin(), s.seconds.end(), 0.0); };
   std::stable_sort(out.begin(), out.end(), [&](const Site& a, const Site& b) { return total(a) > total(b); });
+  return out;
+}
+
+std::vector<WaitLog::Lengths> WaitLog::lengths() const {
+  std::vector<Lengths> out;
+  for (const Row& row : rows_)
+    out.push_back(row.lengths);
   return out;
 }
 

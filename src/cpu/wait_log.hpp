@@ -5,6 +5,7 @@
 // docs/results/cpu_speed.md measures both.
 #pragma once
 
+#include <array>
 #include <source_location>
 #include <string>
 #include <vector>
@@ -30,6 +31,15 @@ class WaitLog {
   unsigned threads() const { return unsigned(rows_.size()); }
   // Each thread's waits in all, in seconds
   std::vector<double> totals() const;
+  // Each thread's waits by length, whatever their line: under 1 us, about a crossing of the waited-for count's line
+  // between cores (the sync itself); 1-20 us, one thread's share of the work before it took longer; 20 us or more, a
+  // thread that did not run for a while (the host, another job) or a long uneven share
+  static constexpr std::array<double, 2> kLengthBounds = {1e-6, 20e-6};
+  struct Lengths {
+    std::array<long long, 3> count{};
+    std::array<double, 3> seconds{};
+  };
+  std::vector<Lengths> lengths() const;
   void clear() { rows_.clear(); }
 
  private:
@@ -41,6 +51,7 @@ class WaitLog {
   };
   struct alignas(64) Row {  // a line of its own per thread: the threads write them at once
     std::vector<Entry> entries;
+    Lengths lengths;
   };
   std::vector<Row> rows_;
 };
