@@ -314,7 +314,7 @@ TEST(WaitLog, ATeamsWaitsAreTimedUnderTheLinesThatCalledThem) {
   constexpr auto kNap = std::chrono::milliseconds(2);
   WaitLog log;
   TeamBarrier barrier;
-  unsigned barrier_line = 0, single_line = 0;
+  std::atomic<unsigned> barrier_line{0}, single_line{0};  // both threads store the same value
   std::atomic<int> logged{0};
   runOnTeam(2, barrier, &log, [&] {
     if (!inTeam()) return;
@@ -334,11 +334,11 @@ TEST(WaitLog, ATeamsWaitsAreTimedUnderTheLinesThatCalledThem) {
   for (const WaitLog::Site& s : sites) {
     EXPECT_EQ(s.count, (std::vector<long long>{kRounds, kRounds})) << s.line;
     const double slept = 0.9 * kRounds * std::chrono::duration<double>(kNap).count();
-    if (s.line == barrier_line) {
+    if (s.line == barrier_line.load()) {
       EXPECT_GT(s.seconds[0], slept);  // each of thread 0's waits there 2 ms or more: 20 us or more (lengths below)
       EXPECT_LT(s.seconds[1], s.seconds[0]);
     } else {
-      EXPECT_EQ(s.line, single_line);
+      EXPECT_EQ(s.line, single_line.load());
       EXPECT_GT(s.seconds[1], slept);
       EXPECT_LT(s.seconds[0], s.seconds[1]);
     }

@@ -1,7 +1,5 @@
 #include "cpu/parallel.hpp"
 
-#include "cpu/wait_log.hpp"
-
 #include <omp.h>
 
 #include <climits>

@@ -8,6 +8,8 @@
 // own and a short one runs as a plain loop.
 #pragma once
 
+#include "cpu/wait_log.hpp"
+
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -24,9 +26,6 @@
 #include <thread>
 
 namespace drape {
-
-class WaitLog;  // cpu/wait_log.hpp
-void recordWait(WaitLog& log, unsigned thread, const std::source_location& where, double seconds);
 
 // Sleeping on a count (TeamCount): until `word` no longer holds `seen`, a wake-up (wakeAll) or a short timeout,
 // whichever comes first (parallel.cpp: a futex on Linux). The timeout is what makes a missed wake-up cost a moment, not
@@ -222,8 +221,7 @@ void loggedWait(const std::source_location& where, F&& wait) {
   }
   const auto start = std::chrono::steady_clock::now();
   wait();
-  recordWait(*team.waits, team.thread, where,
-             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  team.waits->add(team.thread, where, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 // The team waits for all its threads (nothing outside a team): its TeamBarrier, or an OpenMP barrier in a region

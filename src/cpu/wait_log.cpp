@@ -1,16 +1,10 @@
 #include "cpu/wait_log.hpp"
 
-#include "cpu/parallel.hpp"
-
 #include <algorithm>
 #include <cstring>
 #include <numeric>
 
 namespace drape {
-
-void recordWait(WaitLog& log, unsigned thread, const std::source_location& where, double seconds) {
-  log.add(thread, where, seconds);
-}
 
 void WaitLog::prepare(unsigned threads) {
   if (rows_.size() < threads) rows_.resize(threads);
@@ -64,8 +58,7 @@ std::vector<WaitLog::Lengths> WaitLog::lengths() const {
 std::vector<double> WaitLog::totals() const {
   std::vector<double> out;
   for (const Row& row : rows_)
-    out.push_back(std::accumulate(row.entries.begin(), row.entries.end(), 0.0,
-                                  [](double sum, const Entry& e) { return sum + e.seconds; }));
+    out.push_back(std::accumulate(row.lengths.seconds.begin(), row.lengths.seconds.end(), 0.0));
   return out;
 }
 
