@@ -139,7 +139,7 @@ class CpuSolver final : public Solver {
   std::string gridKernels() const { return grid_ ? grid_->kernels().name : ""; }
   int teamThreads() const { return team_; }                  // threads step() runs its passes on when on a team
   long long teamSubsteps() const { return team_substeps_; }  // substeps run on the team since reset()
-  double teamSeconds() const { return team_seconds_; }       // their wall-clock time
+  double teamSeconds() const { return team_seconds_; }       // the wall-clock time of the team regions that ran them
   const WaitLog* waits() const { return record_waits_ ? &waits_ : nullptr; }  // since reset(); null unless recorded
   const TeamTrial* teamTrial() const { return trial_ ? &*trial_ : nullptr; }  // where a trial decides
   long long pairTerms() const { return pair_terms_; }  // self-collision: pairs in range summed, both ends
