@@ -65,9 +65,37 @@ TEST_P(TopologyGrid, CountsAdjacencyAndTriangles) {
       EXPECT_LT(t.adjacency[e].spring, t.adjacency[e + 1].spring) << "adjacency order is ascending spring index";
 }
 
+// A grid's adjacency, made from its layout, is entry for entry the one made from its springs (buildAdjacency), and
+// each entry is its spring seen from the point that lists it.
+TEST_P(TopologyGrid, AdjacencyFromTheLayoutIsTheSpringsOwn) {
+  const auto [name, W, H] = GetParam();
+  const Topology t = buildTopology(grid(W, H));
+  Topology from_springs = t;
+  from_springs.offsets.clear();
+  from_springs.adjacency.clear();
+  buildAdjacency(from_springs);
+  ASSERT_EQ(t.offsets, from_springs.offsets) << name;
+  ASSERT_EQ(t.adjacency.size(), from_springs.adjacency.size()) << name;
+  for (std::size_t e = 0; e < t.adjacency.size(); ++e) {
+    const Neighbor &a = t.adjacency[e], &b = from_springs.adjacency[e];
+    ASSERT_EQ(a.other, b.other) << name << ", entry " << e;
+    ASSERT_EQ(a.spring, b.spring) << name << ", entry " << e;
+    ASSERT_EQ(a.type, b.type) << name << ", entry " << e;
+    ASSERT_EQ(a.rest, b.rest) << name << ", entry " << e;
+  }
+  for (int i = 0; i < W * H; ++i)
+    for (std::uint32_t e = t.offsets[i]; e < t.offsets[i + 1]; ++e) {
+      const Spring& s = t.springs[t.adjacency[e].spring];
+      EXPECT_TRUE((s.a == std::uint32_t(i) && s.b == t.adjacency[e].other) ||
+                  (s.b == std::uint32_t(i) && s.a == t.adjacency[e].other))
+          << name << ", point " << i;
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Grids, TopologyGrid,
                          ::testing::Values(GridCase{"square", 50, 50}, GridCase{"wide", 7, 3}, GridCase{"tall", 2, 9},
-                                           GridCase{"smallest", 2, 2}, GridCase{"thin", 13, 2}),
+                                           GridCase{"smallest", 2, 2}, GridCase{"thin", 13, 2},
+                                           GridCase{"narrow", 3, 17}),
                          [](const auto& row) { return std::string(row.param.name); });
 
 TEST(Topology, InteriorPointHasTwelveNeighbours) {

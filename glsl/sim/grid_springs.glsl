@@ -1,6 +1,6 @@
 // A flat grid cloth's springs found from the grid instead of read from the adjacency or the ColourPartner
 // table, where every spring of a direction has one rest length (gpu::uniformGridRests, src/gpu/path_choice.cpp). The
-// six directions are kGridDirections of src/core/colouring.hpp, in the order topology.cpp makes them; a spring of
+// six directions are kGridDirections of src/core/topology.hpp, in the order topology.cpp makes them; a spring of
 // direction d runs from `start` to start + kDirections[d], and colourGridSprings gives it colour 2 * d + its parity
 // along d. The solver sets u_grid and u_rest.
 #pragma once

@@ -17,11 +17,7 @@ struct SpringColouring {
   int colourCount() const { return start.empty() ? 0 : int(start.size()) - 1; }
 };
 
-// The six directions of a grid's springs, end b minus end a in (x, y), in the order topology.cpp makes
-// them: structural, shearing, bending. glsl/sim/limit_stretch_tiled.comp has the same table.
-inline constexpr int kGridDirectionCount = 6;
-inline constexpr int kGridDirections[kGridDirectionCount][2] = {{1, 0}, {0, 1}, {1, 1}, {-1, 1}, {2, 0}, {0, 2}};
-// Which of them a grid cloth's spring runs in.
+// Which of the grid's directions (kGridDirections, core/topology.hpp) a grid cloth's spring runs in.
 int gridDirection(const Topology& topo, const Spring& s);
 
 // A grid's springs by direction and parity: 12 colours, colour 2 * direction + the parity of the

@@ -53,7 +53,20 @@ struct Topology {
   std::size_t springCount(SpringType t) const;
 };
 
+// The six directions of a grid's springs, end b minus end a in (x, y), in the order buildTopology makes them:
+// structural, shearing, bending, two of each (gridDirectionType). glsl/sim/limit_stretch_tiled.comp has the same
+// table.
+inline constexpr int kGridDirectionCount = 6;
+inline constexpr int kGridDirections[kGridDirectionCount][2] = {{1, 0}, {0, 1}, {1, 1}, {-1, 1}, {2, 0}, {0, 2}};
+inline constexpr SpringType gridDirectionType(int direction) {
+  return SpringType(direction / 2);
+}
+
 Topology buildTopology(const ClothSpec& cloth);
+
+// offsets and adjacency from topo.springs, for any cloth: each spring listed at both ends, in spring order. A grid's
+// (buildTopology) come from its layout instead, in one pass, and are the same.
+void buildAdjacency(Topology& topo);
 
 // Deterministic offset in [-1e-3, 1e-3] for vertical cloths (seeded by the point index).
 double verticalOffset(std::uint32_t index);

@@ -31,7 +31,7 @@ struct GridShape {
   std::ptrdiff_t at(int x, int y) const;  // not inline: no AVX2 copy of it may exist (cpu/simd.hpp)
 };
 
-// The six grid directions (core/colouring.hpp, kGridDirections) and, per direction, the spring's stiffness
+// The six grid directions (core/topology.hpp, kGridDirections) and, per direction, the spring's stiffness
 // (enabled = false for a disabled type) and rest lengths, each at its start point a in the padded layout.
 struct GridSprings {
   const float* rest[6] = {};

@@ -23,7 +23,7 @@ std::ptrdiff_t at(const GridShape& g, int x, int y) {
   return std::ptrdiff_t(y + GridShape::kTop) * g.stride + GridShape::kLeft + x;
 }
 
-constexpr int kDx[6] = {1, 0, 1, -1, 2, 0}, kDy[6] = {0, 1, 1, 1, 0, 2};  // core/colouring.hpp, kGridDirections
+constexpr int kDx[6] = {1, 0, 1, -1, 2, 0}, kDy[6] = {0, 1, 1, 1, 0, 2};  // core/topology.hpp, kGridDirections
 
 // What every kernel's lanes share: the vector type, its width and two helpers.
 template <class V>
