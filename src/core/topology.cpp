@@ -21,6 +21,11 @@ std::size_t Topology::springCount(SpringType t) const {
 
 namespace {
 
+// Direction d's springs on a W x H grid: one for each end (x, y) whose start (x - dx, y - dy) is on the grid
+std::size_t gridSpringCount(int W, int H, int d) {
+  return std::size_t(W - std::abs(kGridDirections[d][0])) * std::size_t(H - kGridDirections[d][1]);
+}
+
 void addSprings(Topology& topo, SpringType type, int dx, int dy) {
   // The spring from (x, y) to (x - dx, y - dy): "left" is dx > 0, "above" is dy > 0, upper-right dx < 0.
   for (int y = 0; y < topo.H; ++y)
@@ -38,12 +43,11 @@ void addSprings(Topology& topo, SpringType type, int dx, int dy) {
 // two entries a spring across the array: at 512 x 512, 3.1 million entries of 24 bytes, a quarter of a solver's set-up.
 void buildGridAdjacency(Topology& topo) {
   const int W = topo.W, H = topo.H;
-  // Direction d's springs, one for each end (x, y) whose start (x - dx, y - dy) is on the grid
-  std::uint32_t base[kGridDirectionCount];
+  std::uint32_t base[kGridDirectionCount];  // the index of direction d's first spring
   std::uint32_t springs = 0;
   for (int d = 0; d < kGridDirectionCount; ++d) {
     base[d] = springs;
-    springs += std::uint32_t((W - std::abs(kGridDirections[d][0])) * (H - kGridDirections[d][1]));
+    springs += std::uint32_t(gridSpringCount(W, H, d));
   }
   // The index addSprings gave the spring of direction d that ends at (x, y), a valid end
   const auto index = [&](int d, int x, int y) {
@@ -175,8 +179,10 @@ Topology buildTopology(const ClothSpec& cloth) {
   // Structural, then shearing, then bending (counts in docs/design.md section 2). Reserved up front: growing
   // a vector of 6 springs per point doubles its memory while it copies, which made the largest grid
   // take minutes and twice its final size.
-  const std::size_t w = std::size_t(W), h = std::size_t(H);
-  topo.springs.reserve((w - 1) * h + w * (h - 1) + 2 * (w - 1) * (h - 1) + (w - 2) * h + w * (h - 2));
+  std::size_t springs = 0;
+  for (int d = 0; d < kGridDirectionCount; ++d)
+    springs += gridSpringCount(W, H, d);
+  topo.springs.reserve(springs);
   for (int d = 0; d < kGridDirectionCount; ++d)
     addSprings(topo, gridDirectionType(d), kGridDirections[d][0], kGridDirections[d][1]);
   buildGridAdjacency(topo);
